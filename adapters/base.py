@@ -1,0 +1,92 @@
+"""The adapter contract: what every engine adapter declares and does.
+
+An adapter translates a Case into one engine's own API and the engine's
+answer back into the harness's conventions (signed distance, gap positive;
+unit normal from A to B).  ``prepare`` builds what the case needs and is not
+timed; ``query`` does only the measured work.  An adapter declares:
+
+- ``name`` (the report row; variants such as ``pybullet-default`` are separate
+  adapters) and ``settings`` (what this variant configures);
+- ``capabilities``: the (kind, dim) pairs it supports; anything else is a
+  ``skip`` with the reason from :meth:`Adapter.unsupported`;
+- ``conventions``: the engine's documented rules.  They feed the report's
+  conventions table and the category of every disagreement.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+from crosscheck.model import Kind, Observation
+from crosscheck.schema import AnyCase
+
+Capability = tuple[Kind, int]
+
+
+def all_capabilities(*kinds: Kind, dims: tuple[int, ...] = (2, 3)) -> frozenset[Capability]:
+    """Every (kind, dim) pair for the given kinds."""
+    return frozenset((k, d) for k in kinds for d in dims)
+
+
+@dataclass(frozen=True, slots=True)
+class Conventions:
+    """An engine's documented rules, each with its source.
+
+    ``touching_is_contact`` is None when the adapter follows the textbook
+    rule of each kind (AABB: touching overlaps; spheres: touching does not
+    collide).  ``margin`` is an absolute distance tolerance (collision margin,
+    slop); ``rtol`` a relative one (the engine's arithmetic precision), scaled
+    by the case's size.
+    """
+
+    box_extents: str = "half"
+    normal: str = "A to B"
+    touching_is_contact: bool | None = None
+    margin: float = 0.0
+    rtol: float = 0.0
+    restitution: str = "case value"
+    notes: str = ""
+    sources: tuple[str, ...] = field(default=())
+
+    def touching_rule(self) -> str:
+        """The touching rule in words, for the conventions table."""
+        if self.touching_is_contact is None:
+            return "textbook: AABB touching overlaps, spheres touching do not collide"
+        return "touching is contact" if self.touching_is_contact else "touching is not contact"
+
+
+class Adapter(ABC):
+    """Base class of every engine adapter (see the module docstring)."""
+
+    name: ClassVar[str]
+    engine: ClassVar[str]
+    settings: ClassVar[str] = "defaults"
+    capabilities: ClassVar[frozenset[Capability]]
+    conventions: ClassVar[Conventions]
+
+    @abstractmethod
+    def version(self) -> str:
+        """The engine's version string."""
+
+    def available(self) -> str | None:
+        """None when the engine can run here, else the reason it cannot."""
+        return None
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        """The reason to skip ``case``, or None if the adapter supports it."""
+        if (case.kind_enum, case.dim) in self.capabilities:
+            return None
+        return f"{self.name} does not support {case.kind} in {case.dim}-D"
+
+    @abstractmethod
+    def prepare(self, case: AnyCase) -> Any:
+        """Build only what ``case`` needs (untimed)."""
+
+    @abstractmethod
+    def query(self, prepared: Any) -> Observation:
+        """Do the measured work on a prepared case and report in harness conventions."""
+
+    def release(self, prepared: Any) -> None:  # noqa: B027 - optional hook, empty by default
+        """Free what :meth:`prepare` built (optional)."""

@@ -1,0 +1,64 @@
+"""Adapters for the textbook formula itself: ``reference`` (float64) and ``reference-f32``.
+
+They are scored against the exact oracle like any engine, so the report shows
+where the textbook formula in floating point disagrees with exact truth: near
+touching, at large offsets and, for float32 (the textbook's ``float``), almost
+everywhere a size is not a power of two.
+
+Conventions (source: the textbook text in ``shared/reference/`` and
+:mod:`reference_impl.formulas`): half-widths; normal from A to B; AABB
+touching overlaps, spheres touching do not collide; no margin; the relative
+tolerance is the rounding of a handful of operations in the declared precision.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+from adapters.base import Adapter, Capability, Conventions, all_capabilities
+from crosscheck import oracle
+from crosscheck.model import Kind, Observation
+from crosscheck.schema import AnyCase
+
+TEXTBOOK = "shared/reference/blog-posts-aabb-and-sphere-collision.xml"
+
+
+class ReferenceF64(Adapter):
+    """The textbook formula in float64."""
+
+    name: ClassVar[str] = "reference"
+    engine: ClassVar[str] = "reference_impl"
+    settings: ClassVar[str] = "textbook formula, float64"
+    precision: ClassVar[oracle.Precision] = "f64"
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind)
+    conventions: ClassVar[Conventions] = Conventions(
+        rtol=2.0**-50,
+        restitution="case value (textbook generalised with e)",
+        notes="Faithful textbook code; float64 throughout.",
+        sources=(TEXTBOOK,),
+    )
+
+    def version(self) -> str:
+        import crosscheck
+
+        return crosscheck.__version__
+
+    def prepare(self, case: AnyCase) -> Any:
+        return case
+
+    def query(self, prepared: Any) -> Observation:
+        return oracle.textbook(prepared, self.precision)
+
+
+class ReferenceF32(ReferenceF64):
+    """The textbook formula in float32, as the textbook's ``float`` declares."""
+
+    name: ClassVar[str] = "reference-f32"
+    settings: ClassVar[str] = "textbook formula, float32 (inputs rounded to float32)"
+    precision: ClassVar[oracle.Precision] = "f32"
+    conventions: ClassVar[Conventions] = Conventions(
+        rtol=2.0**-21,
+        restitution="case value (textbook generalised with e)",
+        notes="Inputs rounded to float32, every operation in float32.",
+        sources=(TEXTBOOK,),
+    )

@@ -1,0 +1,222 @@
+"""The ``crosscheck`` command line: run, report, validate, new-case, engines, schema."""
+
+from __future__ import annotations
+
+import argparse
+import re
+import shlex
+import sys
+from collections.abc import Sequence
+from dataclasses import asdict
+from datetime import UTC, datetime
+from pathlib import Path
+
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+from rich.table import Table
+
+import adapters
+from adapters.base import Adapter
+from crosscheck import environment, report
+from crosscheck.cases import LoadResult, load_paths
+from crosscheck.model import Kind
+from crosscheck.newcase import case_block
+from crosscheck.runner import RunOptions, run
+from crosscheck.schema import ID_PATTERN, json_schema_text
+from crosscheck.store import ResultsStore, StoreError, read_results
+
+out = Console()
+err = Console(stderr=True)
+
+
+def _now() -> str:
+    return datetime.now(UTC).isoformat(timespec="seconds")
+
+
+def _run_dir(base: Path) -> Path:
+    stamp = datetime.now(UTC).strftime("%Y%m%d-%H%M%S")
+    path, n = base / stamp, 1
+    while path.exists():
+        path, n = base / f"{stamp}-{n}", n + 1
+    return path
+
+
+def _report_errors(loaded: LoadResult) -> None:
+    for problem in loaded.errors:
+        err.print(f"[red]invalid:[/red] {problem.message}", markup=True, highlight=False)
+
+
+def _select_engines(names: Sequence[str] | None) -> list[Adapter]:
+    if names:
+        return [adapters.get(name) for name in names]
+    chosen = [adapters.get(name) for name in adapters.names()]
+    return [a for a in chosen if a.available() is None]
+
+
+def _engine_info(adapter: Adapter) -> dict[str, object]:
+    return {"name": adapter.name, "engine": adapter.engine, "version": adapter.version(),
+            "settings": adapter.settings, "available": adapter.available() or "yes",
+            "capabilities": sorted(f"{k}/{d}D" for k, d in adapter.capabilities),
+            "conventions": asdict(adapter.conventions),
+            "touching_rule": adapter.conventions.touching_rule()}
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    loaded = load_paths(args.paths or [Path("cases")])
+    _report_errors(loaded)
+    engines = _select_engines(args.engine)
+    directory = args.out or _run_dir(Path("reports"))
+    try:
+        store = ResultsStore(directory)
+    except StoreError as exc:
+        err.print(f"[red]error:[/red] {exc}")
+        return 2
+    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample)
+    info = {"run_id": directory.name, "started": _now(), "finished": None,
+            "command": shlex.join(["crosscheck", *sys.argv[1:]]),
+            "options": {"quick": options.quick, "min_sample_s": options.min_sample_s,
+                        "samples": options.samples},
+            "machine": environment.machine(), "engines": [_engine_info(a) for a in engines],
+            "case_files": [str(p) for p in loaded.files], "cases_run": len(loaded.cases),
+            "case_errors": [e.message for e in loaded.errors]}
+    store.write_run_info(info)
+    _run_with_progress(loaded, engines, store, options)
+    store.write_run_info({**info, "finished": _now()})
+    store.close()
+    paths = report.render(directory)
+    _print_summary(directory)
+    out.print(f"report: {paths['report']}")
+    return 1 if loaded.errors else 0
+
+
+def _run_with_progress(loaded: LoadResult, engines: list[Adapter], store: ResultsStore,
+                       options: RunOptions) -> None:
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+               TimeRemainingColumn())
+    with Progress(*columns, console=err, transient=True) as bar:
+        task = bar.add_task("running", total=len(loaded.cases) * len(engines))
+        run(loaded.cases, engines, store, options,
+            progress=lambda label: bar.update(task, advance=1, description=label[:40]))
+
+
+def _print_summary(directory: Path) -> None:
+    table = report.summary(read_results(directory))
+    rich_table = Table(title=f"summary of {directory}")
+    for column in ("engine", "kind", "agree", "disagree", "undefined", "skip", "error"):
+        rich_table.add_column(column)
+    for row in table.itertuples(index=False):
+        rich_table.add_row(*(str(getattr(row, c)) for c in (
+            "engine", "kind", "agree", "disagree", "undefined", "skip", "error")))
+    out.print(rich_table)
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    try:
+        paths = report.render(args.directory)
+    except (OSError, StoreError) as exc:
+        err.print(f"[red]error:[/red] cannot render {args.directory}: {exc}")
+        return 2
+    if args.markdown:
+        print(report.markdown_summary(read_results(args.directory)))
+    out.print(f"report: {paths['report']}")
+    return 0
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    loaded = load_paths(args.paths or [Path("cases")])
+    _report_errors(loaded)
+    if not loaded.files:
+        err.print("[red]invalid:[/red] no case files found")
+        return 1
+    status = "[red]FAILED[/red]" if loaded.errors else "[green]ok[/green]"
+    out.print(f"{status}: {len(loaded.cases)} valid cases in {len(loaded.files)} files, "
+              f"{len(loaded.errors)} errors")
+    return 1 if loaded.errors else 0
+
+
+def cmd_new_case(args: argparse.Namespace) -> int:
+    if not re.fullmatch(ID_PATTERN, args.id):
+        err.print(f"[red]error:[/red] id {args.id!r} must match {ID_PATTERN}")
+        return 2
+    existing = load_paths([p for p in (Path("cases"), args.file) if p.exists()])
+    if any(case.id == args.id for case in existing.cases):
+        err.print(f"[red]error:[/red] id {args.id!r} is already used")
+        return 2
+    text = case_block(Kind(args.kind), args.dim, args.id)
+    args.file.parent.mkdir(parents=True, exist_ok=True)
+    prefix = "" if not args.file.exists() else "\n"
+    if not args.file.exists():
+        prefix = "#:schema ./schema.json\n\n"
+    with args.file.open("a", encoding="utf-8") as handle:
+        handle.write(prefix + text)
+    out.print(f"appended case {args.id!r} to {args.file}; edit it, then run crosscheck validate")
+    return 0
+
+
+def cmd_engines(args: argparse.Namespace) -> int:
+    table = Table(title="engines")
+    for column in ("name", "version", "available", "capabilities", "settings"):
+        table.add_column(column)
+    for name in adapters.names():
+        info = _engine_info(adapters.get(name))
+        caps = info["capabilities"]
+        assert isinstance(caps, list)
+        table.add_row(str(info["name"]), str(info["version"]), str(info["available"]),
+                      ", ".join(caps), str(info["settings"]))
+    out.print(table)
+    return 0
+
+
+def cmd_schema(args: argparse.Namespace) -> int:
+    text = json_schema_text()
+    if args.check:
+        current = args.output.read_text() if args.output.exists() else ""
+        if current != text:
+            err.print(f"{args.output} is out of date; run: crosscheck schema")
+            return 1
+        return 0
+    args.output.write_text(text)
+    out.print(f"wrote {args.output}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="crosscheck", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    p = sub.add_parser("run", help="run cases on engines and write a report")
+    p.add_argument("paths", nargs="*", type=Path, help="case files or folders (default: cases/)")
+    p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
+    p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
+    p.add_argument("--quick", action="store_true", help="skip timing")
+    p.add_argument("--min-sample", type=float, default=0.02, help="seconds per timing sample")
+    p.set_defaults(func=cmd_run)
+    p = sub.add_parser("report", help="re-render CSV and HTML from a stored run")
+    p.add_argument("directory", type=Path)
+    p.add_argument("--markdown", action="store_true", help="also print the summary as Markdown")
+    p.set_defaults(func=cmd_report)
+    p = sub.add_parser("validate", help="check case files")
+    p.add_argument("paths", nargs="*", type=Path)
+    p.set_defaults(func=cmd_validate)
+    p = sub.add_parser("new-case", help="append a valid template case to a file")
+    p.add_argument("--kind", required=True, choices=[str(k) for k in Kind])
+    p.add_argument("--dim", required=True, type=int, choices=[2, 3])
+    p.add_argument("--id", required=True)
+    p.add_argument("--file", type=Path, default=Path("cases/user.toml"))
+    p.set_defaults(func=cmd_new_case)
+    p = sub.add_parser("engines", help="list adapters, versions, capabilities, availability")
+    p.set_defaults(func=cmd_engines)
+    p = sub.add_parser("schema", help="write the case-file JSON Schema")
+    p.add_argument("--output", type=Path, default=Path("cases/schema.json"))
+    p.add_argument("--check", action="store_true", help="fail if the file is out of date")
+    p.set_defaults(func=cmd_schema)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    code: int = args.func(args)
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())

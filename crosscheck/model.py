@@ -1,0 +1,142 @@
+"""The value types that flow through the harness: kinds, outcomes, observations and records.
+
+Everything here is small, typed and immutable.  A :class:`Observation` is what
+an engine (or the exact oracle) says about one case; a :class:`Record` is one
+tidy row of the results table: one case x engine x quantity.
+
+>>> obs = Observation(hit=True, distance=-0.25, normal=(1.0, 0.0, 0.0))
+>>> obs.get("distance")
+-0.25
+>>> obs.get("v1") is None
+True
+>>> quantities_of(Kind.SPHERE_RESPONSE)
+('v1', 'v2')
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from enum import StrEnum
+
+from reference_impl.types import Undefined, Vec
+
+__all__ = [
+    "Category",
+    "Kind",
+    "Observation",
+    "Record",
+    "Status",
+    "Undefined",
+    "Value",
+    "Vec",
+    "quantities_of",
+]
+
+
+class Kind(StrEnum):
+    """What a case asks: box overlap, sphere detection or sphere response."""
+
+    AABB = "aabb"
+    SPHERE = "sphere"
+    SPHERE_RESPONSE = "sphere_response"
+
+
+class Status(StrEnum):
+    """Outcome of one case x engine x quantity."""
+
+    AGREE = "agree"
+    DISAGREE = "disagree"
+    UNDEFINED = "undefined"
+    SKIP = "skip"
+    ERROR = "error"
+    CRASH = "crash"
+    TIMEOUT = "timeout"
+
+
+class Category(StrEnum):
+    """Why a ``disagree`` happened, judged from the adapter's declared conventions."""
+
+    CONVENTION = "convention"
+    TOLERANCE = "tolerance"
+    ERROR = "error"
+
+
+_QUANTITIES: dict[Kind, tuple[str, ...]] = {
+    Kind.AABB: ("hit", "distance", "normal"),
+    Kind.SPHERE: ("hit", "distance", "normal"),
+    Kind.SPHERE_RESPONSE: ("v1", "v2"),
+}
+
+
+def quantities_of(kind: Kind) -> tuple[str, ...]:
+    """The quantities scored for a kind, in report order."""
+    return _QUANTITIES[kind]
+
+
+Value = bool | float | Vec | Undefined
+"""One reported quantity: a verdict, a distance, a vector, or an explicit Undefined."""
+
+
+@dataclass(frozen=True, slots=True)
+class Observation:
+    """What one engine (or the oracle) reports for one case, in the harness's conventions.
+
+    Any quantity may be an explicit :class:`Undefined` (no defined value).
+    ``distance`` is signed (gap positive), ``normal`` is a unit vector from A to
+    B.  A quantity the engine cannot give is ``None`` (absent), never faked.
+    """
+
+    hit: bool | Undefined | None = None
+    distance: float | Undefined | None = None
+    normal: Vec | Undefined | None = None
+    v1: Vec | Undefined | None = None
+    v2: Vec | Undefined | None = None
+
+    def get(self, quantity: str) -> Value | None:
+        """The value of ``quantity`` (one of :func:`quantities_of`), or None if absent."""
+        value: Value | None = getattr(self, quantity)
+        return value
+
+    @classmethod
+    def undefined(cls, quantities: tuple[str, ...], reason: str) -> Observation:
+        """An observation in which every quantity is Undefined for ``reason``."""
+        return cls(**{q: Undefined(reason) for q in quantities})
+
+
+@dataclass(frozen=True, slots=True)
+class Record:
+    """One tidy row of ``results.csv``: one case x engine x quantity.
+
+    ``value`` and ``truth`` are JSON text (exact float round trip); missing
+    numbers are NaN, never a sentinel.
+    """
+
+    case_id: str
+    source: str
+    kind: str
+    dim: int
+    tags: str
+    engine: str
+    quantity: str
+    value: str
+    truth: str
+    error: float
+    tolerance: float
+    status: Status
+    category: str
+    reason: str
+    setup_s: float
+    query_s: float
+    query_iqr_s: float
+    loops: int
+    unstable: bool
+
+    def row(self) -> dict[str, object]:
+        """The record as a plain dict, ready for a DataFrame or CSV writer."""
+        out = asdict(self)
+        out["status"] = str(self.status)
+        return out
+
+
+COLUMNS: tuple[str, ...] = tuple(Record.__dataclass_fields__)
+"""The columns of results.csv, in order."""

@@ -1,0 +1,99 @@
+"""Report rendering: results DataFrame -> summary tables, CSV files and a self-contained HTML page.
+
+Reporting reads only the run directory (``results.jsonl``, ``cases.jsonl``,
+``run.json``); it never runs an engine, so ``crosscheck report DIR`` can
+re-render any stored run.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+from jinja2 import Environment, PackageLoader, select_autoescape
+
+from crosscheck.model import Status
+from crosscheck.store import read_cases, read_results, read_run_info, write_csv
+
+STATUSES = [str(s) for s in Status]
+
+
+def summary(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x kind: counts of each status, median and max error, median query time."""
+    if frame.empty:
+        return pd.DataFrame(columns=["engine", "kind", *STATUSES])
+    counts = pd.crosstab([frame["engine"], frame["kind"]], frame["status"])
+    counts = counts.reindex(columns=STATUSES, fill_value=0)
+    scored = frame[frame["status"].isin(["agree", "disagree"])]
+    errors = scored.groupby(["engine", "kind"])["error"].agg(["median", "max"])
+    errors.columns = ["median_error", "max_error"]
+    per_case = frame.drop_duplicates(["engine", "case_id"])
+    times = per_case.groupby(["engine", "kind"])["query_s"].median().rename("median_query_s")
+    out = counts.join(errors).join(times).reset_index()
+    order = {name: i for i, name in enumerate(dict.fromkeys(frame["engine"]))}
+    return out.sort_values(["engine", "kind"], key=lambda s: s.map(order).fillna(s.rank()))
+
+
+def disagreements(frame: pd.DataFrame) -> pd.DataFrame:
+    """Every row that is not agree/skip/undefined, most severe first."""
+    bad = frame[~frame["status"].isin(["agree", "skip", "undefined"])].copy()
+    severity = {"crash": 0, "timeout": 1, "error": 2, "disagree": 3}
+    category = {"error": 0, "tolerance": 1, "convention": 2, "": 3}
+    bad["_s"] = bad["status"].map(severity)
+    bad["_c"] = bad["category"].fillna("").map(category)
+    bad = bad.sort_values(["_s", "_c", "error"], ascending=[True, True, False])
+    return bad.drop(columns=["_s", "_c"])
+
+
+def markdown_summary(frame: pd.DataFrame) -> str:
+    """The summary as a Markdown table (counts only), for README excerpts."""
+    table = summary(frame)[["engine", "kind", "agree", "disagree", "undefined", "skip", "error"]]
+    header = "| " + " | ".join(table.columns) + " |"
+    rule = "|" + "---|" * len(table.columns)
+    rows = ["| " + " | ".join(str(v) for v in row) + " |" for row in table.itertuples(index=False)]
+    return "\n".join([header, rule, *rows])
+
+
+def _case_details(frame: pd.DataFrame, cases: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:
+    details = []
+    for case_id, rows in frame.groupby("case_id", sort=False):
+        case = cases.get(str(case_id), {"id": case_id})
+        inputs = {k: v for k, v in case.items() if k in ("a", "b", "restitution", "tolerance")}
+        details.append({
+            "id": case_id, "description": case.get("description", ""),
+            "kind": case.get("kind", ""), "dim": case.get("dim", ""),
+            "tags": " ".join(case.get("tags", [])), "source": case.get("source", ""),
+            "inputs": json.dumps(inputs), "bad": bool((rows["status"] != "agree").any()),
+            "rows": rows.to_dict("records"),
+        })
+    return details
+
+
+def _environment() -> Environment:
+    return Environment(loader=PackageLoader("crosscheck", "templates"),
+                       autoescape=select_autoescape(default=True, default_for_string=True))
+
+
+def render_html(frame: pd.DataFrame, info: dict[str, Any], cases: dict[str, dict[str, Any]]) -> str:
+    """The self-contained HTML report (inline CSS and JS, no network fetches)."""
+    template = _environment().get_template("report.html.j2")
+    return template.render(
+        info=info, summary=summary(frame).to_dict("records"), statuses=STATUSES,
+        disagreements=disagreements(frame).to_dict("records"),
+        cases=_case_details(frame, cases), total=len(frame),
+    )
+
+
+def render(directory: Path) -> dict[str, Path]:
+    """Write results.csv, summary.csv, disagreements.csv and report.html from stored results."""
+    frame = read_results(directory)
+    info = read_run_info(directory)
+    paths = {"results": write_csv(frame, directory)}
+    for name, table in (("summary", summary(frame)), ("disagreements", disagreements(frame))):
+        paths[name] = directory / f"{name}.csv"
+        table.to_csv(paths[name], index=False)
+    paths["report"] = directory / "report.html"
+    paths["report"].write_text(render_html(frame, info, read_cases(directory)), encoding="utf-8")
+    return paths

@@ -1,0 +1,139 @@
+"""The case schema: pydantic models for ``[[case]]`` blocks, and their JSON Schema.
+
+The models check structure and types (strict numbers: a string "1.0" or a
+boolean is not a number).  The rules that a bad-input case may break on
+purpose (finite numbers, sizes >= 0, masses > 0) are checked afterwards by
+:mod:`crosscheck.cases`, so they can be waived for cases tagged ``bad-input``.
+
+>>> case = SphereCase(id="s", description="d", kind="sphere", dim=2,
+...                   a={"center": [0, 0], "radius": 0.5}, b={"center": [1, 0], "radius": 0.5})
+>>> case.b.center
+(1.0, 0.0)
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, Strict, TypeAdapter
+from pydantic.json_schema import SkipJsonSchema
+
+from crosscheck.model import Kind
+
+BAD_INPUT_TAG = "bad-input"
+ID_PATTERN = r"^[a-z0-9][a-z0-9.\-]*$"
+
+Num = Annotated[float, Strict()]
+"""A TOML integer or float (nan and inf parse, and are rejected later unless bad-input)."""
+Vector = tuple[Num, ...]
+
+
+class _Frozen(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class AabbBody(_Frozen):
+    """An axis-aligned box: centre and half-widths, as in the textbook."""
+
+    center: Vector
+    half: Vector = Field(description="Half-widths per axis (not full extents).")
+
+
+class SphereBody(_Frozen):
+    """A sphere (a disc in 2-D): centre and radius."""
+
+    center: Vector
+    radius: Num
+
+
+class MovingSphere(SphereBody):
+    """A sphere with mass and velocity, for response cases."""
+
+    mass: Num
+    velocity: Vector
+
+
+class Tolerance(_Frozen):
+    """Absolute tolerances overriding the harness defaults for this case."""
+
+    distance: Num | None = None
+    normal: Num | None = Field(None, description="Angle in radians.")
+    velocity: Num | None = None
+
+
+class Expect(_Frozen):
+    """An author's pinned expectation; it must agree with the exact oracle."""
+
+    hit: Annotated[bool, Strict()] | None = None
+    distance: Num | None = None
+
+
+class _CaseBase(_Frozen):
+    id: str = Field(pattern=ID_PATTERN, description="Unique across the suite.")
+    description: str = Field(min_length=1, description="Short; says what the case probes.")
+    dim: Literal[2, 3]
+    tags: tuple[str, ...] = ()
+    tolerance: Tolerance | None = None
+    source: SkipJsonSchema[str] = Field("", exclude=True)
+
+    @property
+    def kind_enum(self) -> Kind:
+        return Kind(getattr(self, "kind"))  # noqa: B009
+
+    @property
+    def bad_input(self) -> bool:
+        return BAD_INPUT_TAG in self.tags
+
+
+class AabbCase(_CaseBase):
+    """Do two axis-aligned boxes overlap (touching counts)?"""
+
+    kind: Literal["aabb"]
+    a: AabbBody
+    b: AabbBody
+    expect: Expect | None = None
+
+
+class SphereCase(_CaseBase):
+    """Do two spheres collide (touching does not count)?"""
+
+    kind: Literal["sphere"]
+    a: SphereBody
+    b: SphereBody
+    expect: Expect | None = None
+
+
+class ResponseCase(_CaseBase):
+    """Velocities after an elastic (or restituted) sphere-sphere collision."""
+
+    kind: Literal["sphere_response"]
+    a: MovingSphere
+    b: MovingSphere
+    restitution: Num = 1.0
+
+
+Case = Annotated[AabbCase | SphereCase | ResponseCase, Field(discriminator="kind")]
+"""One validated case of any kind."""
+
+AnyCase = AabbCase | SphereCase | ResponseCase
+CASE_ADAPTER: TypeAdapter[AnyCase] = TypeAdapter(Case)
+
+
+class CaseFile(_Frozen):
+    """A case file: one or more ``[[case]]`` blocks."""
+
+    case: list[Case] = Field(min_length=1)
+
+
+def json_schema() -> dict[str, Any]:
+    """The JSON Schema of a case file, for editors (Taplo, VS Code Even Better TOML)."""
+    schema = CaseFile.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    schema["title"] = "Collision Crosscheck case file"
+    return schema
+
+
+def json_schema_text() -> str:
+    """The schema as the exact text stored in ``cases/schema.json``."""
+    return json.dumps(json_schema(), indent=2, sort_keys=True) + "\n"

@@ -1,0 +1,145 @@
+"""Scoring: compare an Observation with the oracle's truth, quantity by quantity.
+
+Errors: ``hit`` 0 or 1; ``distance`` absolute difference; ``normal`` the
+angle in radians between the unit vectors; ``v1``/``v2`` the Euclidean norm
+of the difference.  A quantity agrees when its error is within the case's
+tolerance (default: ``DEFAULT_RTOL`` x the case's size for lengths and
+velocities, ``DEFAULT_NORMAL_TOL`` radians for normals; a case may set its
+own).  A disagreement gets a category from the adapter's declared conventions.
+
+>>> error_of("normal", (1.0, 0.0), (0.0, 1.0))  # doctest: +ELLIPSIS
+1.5707963...
+>>> error_of("hit", True, False)
+1.0
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+
+from adapters.base import Conventions
+from crosscheck.model import Category, Kind, Observation, Status, Undefined, Value
+from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+
+DEFAULT_RTOL = 1e-9
+"""Relative tolerance for distances and velocities, scaled by the case's size."""
+DEFAULT_NORMAL_TOL = 1e-9
+"""Tolerance on the normal's direction, in radians."""
+
+
+@dataclass(frozen=True, slots=True)
+class Verdict:
+    """The judgement of one quantity."""
+
+    status: Status
+    error: float = math.nan
+    tolerance: float = math.nan
+    category: str = ""
+    reason: str = ""
+
+
+def encode(value: Value | None) -> str:
+    """JSON text of a value (floats round-trip exactly); '' when absent."""
+    if value is None:
+        return ""
+    if isinstance(value, Undefined):
+        return "undefined"
+    return json.dumps(list(value) if isinstance(value, tuple) else value)
+
+
+def _finite(xs: Iterator[float]) -> list[float]:
+    return [abs(x) for x in xs if math.isfinite(x)]
+
+
+def length_scale(case: AnyCase) -> float:
+    """The size of the case's numbers: largest |coordinate|, radius or half-width."""
+    nums = [*case.a.center, *case.b.center]
+    if isinstance(case, AabbCase):
+        nums += [*case.a.half, *case.b.half]
+    else:
+        nums += [case.a.radius, case.b.radius]
+    return max(_finite(iter(nums)), default=0.0)
+
+
+def velocity_scale(case: AnyCase) -> float:
+    """Largest |velocity component| of a response case (0 for detection cases)."""
+    if not isinstance(case, ResponseCase):
+        return 0.0
+    return max(_finite(iter([*case.a.velocity, *case.b.velocity])), default=0.0)
+
+
+def tolerance_for(case: AnyCase, quantity: str) -> float:
+    """The absolute tolerance for ``quantity`` in ``case``."""
+    own = case.tolerance
+    if quantity == "hit":
+        return 0.0
+    if quantity == "normal":
+        return own.normal if own and own.normal is not None else DEFAULT_NORMAL_TOL
+    if quantity == "distance":
+        return own.distance if own and own.distance is not None else (
+            DEFAULT_RTOL * length_scale(case))
+    return own.velocity if own and own.velocity is not None else (
+        DEFAULT_RTOL * velocity_scale(case))
+
+
+def _norm(v: Sequence[float]) -> float:
+    return math.sqrt(math.fsum(x * x for x in v))
+
+
+def error_of(quantity: str, value: Value, truth: Value) -> float:
+    """The error of ``value`` against ``truth`` (both defined) for ``quantity``."""
+    if quantity == "hit":
+        return 0.0 if value == truth else 1.0
+    if isinstance(value, tuple) and isinstance(truth, tuple):
+        if len(value) != len(truth):
+            return math.inf
+        diff = _norm([x - y for x, y in zip(value, truth, strict=True)])
+        return 2.0 * math.asin(min(1.0, diff / 2.0)) if quantity == "normal" else diff
+    assert isinstance(value, float | int) and isinstance(truth, float | int)
+    return abs(float(value) - float(truth))
+
+
+def judge(case: AnyCase, conventions: Conventions, quantity: str,
+          value: Value | None, truth: Observation) -> Verdict:
+    """Judge one quantity of an engine's observation against the truth."""
+    want = truth.get(quantity)
+    if value is None:
+        return Verdict(Status.SKIP, reason=f"engine does not report {quantity}")
+    if isinstance(want, Undefined) or want is None:
+        why = want.reason if isinstance(want, Undefined) else "no truth"
+        return Verdict(Status.UNDEFINED, reason=f"no defined value: {why}")
+    tol = tolerance_for(case, quantity)
+    if isinstance(value, Undefined):
+        return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
+                       f"engine gave undefined ({value.reason}) where truth is defined")
+    err = error_of(quantity, value, want)
+    if err <= tol:
+        return Verdict(Status.AGREE, err, tol)
+    category, reason = categorize(case, conventions, quantity, err, truth)
+    return Verdict(Status.DISAGREE, err, tol, category, reason)
+
+
+def _textbook_touch_is_contact(kind: Kind) -> bool:
+    return kind is Kind.AABB
+
+
+def categorize(case: AnyCase, conv: Conventions, quantity: str, err: float,
+               truth: Observation) -> tuple[Category, str]:
+    """Category and reason of a disagreement, from the adapter's declared conventions."""
+    allowed = conv.margin + conv.rtol * max(length_scale(case), velocity_scale(case))
+    gap = truth.distance if isinstance(truth.distance, float) else math.nan
+    touch = conv.touching_is_contact
+    if quantity == "hit" and gap == 0.0 and touch is not None and (
+            touch != _textbook_touch_is_contact(case.kind_enum)):
+        return Category.CONVENTION, f"exact touch; engine rule: {conv.touching_rule()}"
+    if quantity in ("hit", "normal") and abs(gap) < allowed:
+        return Category.TOLERANCE, f"|gap| {abs(gap):.3g} within declared tolerance {allowed:.3g}"
+    if quantity == "normal":
+        separation = _norm([y - x for x, y in zip(case.a.center, case.b.center, strict=False)])
+        allowed = allowed / separation if separation > 0 else 0.0
+    if quantity != "hit" and err <= allowed:
+        return Category.TOLERANCE, f"error {err:.3g} within declared tolerance {allowed:.3g}"
+    return Category.ERROR, f"error {err:.3g} beyond tolerance and declared conventions"

@@ -1,0 +1,50 @@
+"""Shared fixtures: case builders and a temporary run directory."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from crosscheck.schema import CASE_ADAPTER, AnyCase
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def sphere(a: float, b: float, ra: float = 0.5, rb: float = 0.5, dim: int = 3,
+           **extra: Any) -> AnyCase:
+    """A sphere case with centres on the x axis."""
+    pad = [0.0] * (dim - 1)
+    return CASE_ADAPTER.validate_python({
+        "id": extra.pop("id", "s"), "description": "d", "kind": "sphere", "dim": dim,
+        "a": {"center": [a, *pad], "radius": ra}, "b": {"center": [b, *pad], "radius": rb},
+        **extra})
+
+
+def aabb(ca: list[float], ha: list[float], cb: list[float], hb: list[float],
+         **extra: Any) -> AnyCase:
+    """An AABB case."""
+    return CASE_ADAPTER.validate_python({
+        "id": extra.pop("id", "b"), "description": "d", "kind": "aabb", "dim": len(ca),
+        "a": {"center": ca, "half": ha}, "b": {"center": cb, "half": hb}, **extra})
+
+
+def response(pa: list[float], va: list[float], pb: list[float], vb: list[float],
+             ma: float = 1.0, mb: float = 1.0, **extra: Any) -> AnyCase:
+    """A sphere response case with radius 0.5 spheres."""
+    return CASE_ADAPTER.validate_python({
+        "id": extra.pop("id", "r"), "description": "d", "kind": "sphere_response",
+        "dim": len(pa),
+        "a": {"center": pa, "radius": 0.5, "mass": ma, "velocity": va},
+        "b": {"center": pb, "radius": 0.5, "mass": mb, "velocity": vb}, **extra})
+
+
+@pytest.fixture
+def write_toml(tmp_path: Path) -> Any:
+    """Write TOML text to a file in a temporary folder and return its path."""
+    def write(text: str, name: str = "cases.toml") -> Path:
+        path = tmp_path / name
+        path.write_text(text, encoding="utf-8")
+        return path
+    return write

@@ -1,0 +1,84 @@
+"""Fake adapters with known behaviour, to test the harness without any engine."""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar
+
+from adapters.base import Adapter, Capability, Conventions, all_capabilities
+from crosscheck import oracle
+from crosscheck.model import Kind, Observation
+from crosscheck.schema import AnyCase
+
+
+class _Fake(Adapter):
+    engine: ClassVar[str] = "fake"
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind)
+    conventions: ClassVar[Conventions] = Conventions()
+
+    def version(self) -> str:
+        return "0"
+
+    def prepare(self, case: AnyCase) -> Any:
+        return case
+
+
+class AlwaysRight(_Fake):
+    """Answers with the exact truth."""
+
+    name: ClassVar[str] = "fake-right"
+
+    def query(self, prepared: Any) -> Observation:
+        return oracle.truth(prepared)
+
+
+class OffByOne(_Fake):
+    """Distance always 1.0 too large; everything else right."""
+
+    name: ClassVar[str] = "fake-off"
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        assert isinstance(truth.distance, float)
+        return Observation(hit=truth.hit, distance=truth.distance + 1.0, normal=truth.normal)
+
+
+class Raises(_Fake):
+    """Raises on every query."""
+
+    name: ClassVar[str] = "fake-raises"
+
+    def query(self, prepared: Any) -> Observation:
+        raise RuntimeError("engine exploded")
+
+
+class HitOnly(_Fake):
+    """Reports only the verdict; distance and normal are absent."""
+
+    name: ClassVar[str] = "fake-hit-only"
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.AABB, Kind.SPHERE)
+
+    def query(self, prepared: Any) -> Observation:
+        return Observation(hit=oracle.truth(prepared).hit)
+
+
+class TouchingIsContact(_Fake):
+    """Declares that touching counts as contact, and reports spheres that way."""
+
+    name: ClassVar[str] = "fake-touch"
+    conventions: ClassVar[Conventions] = Conventions(touching_is_contact=True)
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        return Observation(hit=truth.distance == 0.0 or truth.hit)
+
+
+class Unavailable(_Fake):
+    """An engine that is not installed."""
+
+    name: ClassVar[str] = "fake-missing"
+
+    def available(self) -> str | None:
+        return "not installed here"
+
+    def query(self, prepared: Any) -> Observation:
+        raise AssertionError("must never be queried")

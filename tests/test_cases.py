@@ -1,0 +1,196 @@
+"""The case loader: every validation rule, and error messages naming file, case, field, reason."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from crosscheck.cases import load_paths
+from crosscheck.schema import json_schema_text
+from tests.conftest import ROOT
+
+GOOD_SPHERE = """
+[[case]]
+id = "{id}"
+description = "two spheres"
+kind = "sphere"
+dim = 3
+tags = [{tags}]
+a = {{ center = [0.0, 0.0, 0.0], radius = {ra} }}
+b = {{ center = [{bx}, 0.0, 0.0], radius = 0.5 }}
+"""
+
+GOOD_RESPONSE = """
+[[case]]
+id = "resp"
+description = "head-on"
+kind = "sphere_response"
+dim = 2
+tags = [{tags}]
+restitution = {e}
+a = {{ center = [0.0, 0.0], radius = 0.5, mass = {ma}, velocity = [1.0, 0.0] }}
+b = {{ center = [1.0, 0.0], radius = 0.5, mass = 1.0, velocity = [{vb}, 0.0] }}
+"""
+
+Write = Callable[..., Path]
+
+
+def sphere_text(id: str = "s1", tags: str = "", ra: str = "0.5", bx: str = "1.0") -> str:
+    return GOOD_SPHERE.format(id=id, tags=tags, ra=ra, bx=bx)
+
+
+def response_text(tags: str = "", e: str = "1.0", ma: str = "1.0", vb: str = "-1.0") -> str:
+    return GOOD_RESPONSE.format(tags=tags, e=e, ma=ma, vb=vb)
+
+
+def only_error(path: Path) -> str:
+    result = load_paths([path])
+    assert result.cases == []
+    assert len(result.errors) == 1, result.errors
+    message = result.errors[0].message
+    assert message.startswith(str(path)), message
+    return message
+
+
+def test_shipped_suite_is_valid() -> None:
+    result = load_paths([ROOT / "cases"])
+    assert result.errors == []
+    assert len(result.cases) >= 30
+
+
+def test_shipped_suite_covers_every_kind_and_dim() -> None:
+    covered = {(c.kind, c.dim) for c in load_paths([ROOT / "cases"]).cases}
+    kinds = ("aabb", "sphere", "sphere_response")
+    assert covered == {(k, d) for k in kinds for d in (2, 3)}
+
+
+def test_good_case_loads(write_toml: Write) -> None:
+    result = load_paths([write_toml(sphere_text())])
+    assert result.errors == []
+    assert result.cases[0].id == "s1"
+    assert result.cases[0].source.endswith("cases.toml")
+
+
+@pytest.mark.parametrize(("ra", "field", "reason"), [
+    ("nan", "a.radius", "must be finite"),
+    ("inf", "a.radius", "must be finite"),
+    ("-0.5", "a.radius", "must be >= 0"),
+    ('"0.5"', "a.radius", "valid number"),
+    ("true", "a.radius", "valid number"),
+])
+def test_bad_radius(write_toml: Write, ra: str, field: str, reason: str) -> None:
+    message = only_error(write_toml(sphere_text(ra=ra)))
+    assert "case 's1'" in message
+    assert f"field {field}:" in message
+    assert reason in message
+
+
+def test_non_finite_centre(write_toml: Write) -> None:
+    message = only_error(write_toml(sphere_text(bx="-inf")))
+    assert "field b.center[0]: must be finite" in message
+
+
+@pytest.mark.parametrize(("ma", "reason"), [("0.0", "must be > 0"), ("-1.0", "must be > 0"),
+                                            ("nan", "must be finite")])
+def test_bad_mass(write_toml: Write, ma: str, reason: str) -> None:
+    message = only_error(write_toml(response_text(ma=ma)))
+    assert "case 'resp'" in message and "field a.mass:" in message and reason in message
+
+
+def test_restitution_out_of_range(write_toml: Write) -> None:
+    message = only_error(write_toml(response_text(e="1.5")))
+    assert "field restitution: must be in [0, 1]" in message
+
+
+@pytest.mark.parametrize("text", [
+    sphere_text(ra="nan"), sphere_text(ra="-1.0"), sphere_text(bx="inf"),
+    response_text(ma="0.0"), response_text(ma="-1.0"), response_text(e="2.0"),
+])
+def test_bad_input_tag_waives_value_rules(write_toml: Write, text: str) -> None:
+    tagged = text.replace("tags = []", 'tags = ["bad-input"]')
+    result = load_paths([write_toml(tagged)])
+    assert result.errors == []
+    assert len(result.cases) == 1
+
+
+def test_bad_input_tag_does_not_waive_vector_length(write_toml: Write) -> None:
+    text = sphere_text(tags='"bad-input"').replace("[1.0, 0.0, 0.0]", "[1.0, 0.0]")
+    message = only_error(write_toml(text))
+    assert "field b.center: expected 3 components for dim = 3, got 2" in message
+
+
+def test_wrong_vector_length(write_toml: Write) -> None:
+    text = response_text().replace("velocity = [1.0, 0.0]", "velocity = [1.0, 0.0, 0.0]")
+    assert "field a.velocity: expected 2 components" in only_error(write_toml(text))
+
+
+def test_unknown_kind(write_toml: Write) -> None:
+    message = only_error(write_toml(sphere_text().replace('"sphere"', '"capsule"')))
+    assert "field kind:" in message and "capsule" in message
+
+
+def test_missing_field(write_toml: Write) -> None:
+    text = "\n".join(line for line in sphere_text().splitlines() if not line.startswith("b ="))
+    message = only_error(write_toml(text))
+    assert "field b: Field required" in message
+
+
+def test_unknown_key(write_toml: Write) -> None:
+    message = only_error(write_toml(sphere_text() + 'colour = "red"\n'))
+    assert "field colour: Extra inputs are not permitted" in message
+
+
+def test_unknown_body_key(write_toml: Write) -> None:
+    text = sphere_text().replace("radius = 0.5 }", "radius = 0.5, r = 1 }", 1)
+    assert "field a.r: Extra inputs are not permitted" in only_error(write_toml(text))
+
+
+def test_wrong_dim(write_toml: Write) -> None:
+    assert "field dim:" in only_error(write_toml(sphere_text().replace("dim = 3", "dim = 4")))
+
+
+def test_bad_id(write_toml: Write) -> None:
+    message = only_error(write_toml(sphere_text(id="Has Space")))
+    assert "case 'Has Space'" in message and "field id:" in message
+
+
+def test_broken_toml(write_toml: Write) -> None:
+    message = only_error(write_toml(sphere_text() + "[[case]\n"))
+    assert "TOML syntax error" in message
+
+
+def test_file_without_cases(write_toml: Write) -> None:
+    path = write_toml("title = 'x'\n")
+    messages = [e.message for e in load_paths([path]).errors]
+    assert messages == [f"{path}: field title: unknown top-level key (expected only [[case]])",
+                        f"{path}: field case: no [[case]] blocks in file"]
+
+
+def test_duplicate_ids_across_files(write_toml: Write) -> None:
+    first = write_toml(sphere_text(), "a.toml")
+    second = write_toml(sphere_text(), "b.toml")
+    result = load_paths([first, second])
+    assert len(result.cases) == 1
+    (error,) = result.errors
+    assert error.file == str(second) and error.field == "id"
+    assert f"first defined in {first}" in error.reason
+
+
+def test_one_bad_block_does_not_stop_the_others(write_toml: Write) -> None:
+    result = load_paths([write_toml(sphere_text("good") + sphere_text("bad", ra="-1.0"))])
+    assert [c.id for c in result.cases] == ["good"]
+    assert len(result.errors) == 1 and result.errors[0].case_id == "'bad'"
+
+
+def test_expect_must_agree_with_oracle(write_toml: Write) -> None:
+    touching = sphere_text() + "expect = { hit = true }\n"
+    message = only_error(write_toml(touching))
+    assert "field expect.hit: pinned True but the exact oracle says False" in message
+    right = sphere_text() + "expect = { hit = false, distance = 0.0 }\n"
+    assert load_paths([write_toml(right, "ok.toml")]).errors == []
+
+
+def test_published_schema_is_current() -> None:
+    assert (ROOT / "cases" / "schema.json").read_text() == json_schema_text()

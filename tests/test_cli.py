@@ -1,0 +1,129 @@
+"""The crosscheck command line, end to end on small case files."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import adapters
+from crosscheck.cli import main
+from tests.conftest import ROOT
+from tests.test_cases import sphere_text
+
+EVIL = "<script>alert('pwned')</script>"
+
+
+@pytest.fixture
+def small_suite(tmp_path: Path) -> Path:
+    text = sphere_text("touch") + sphere_text("evil").replace("two spheres", EVIL)
+    path = tmp_path / "cases" / "small.toml"
+    path.parent.mkdir()
+    path.write_text(text)
+    return path
+
+
+def test_validate_shipped_cases(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["validate", str(ROOT / "cases")]) == 0
+    assert "0 errors" in capsys.readouterr().out
+
+
+def test_validate_names_file_case_and_field(tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    bad = tmp_path / "bad.toml"
+    bad.write_text(sphere_text("broken-one", ra="-2.0"))
+    assert main(["validate", str(bad)]) == 1
+    err = capsys.readouterr().err.replace("\n", "")
+    assert str(bad) in err and "case 'broken-one'" in err and "field a.radius" in err
+
+
+def test_new_case_appends_a_valid_block(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    target = tmp_path / "cases" / "mine.toml"
+    for kind, dim in [("aabb", 2), ("sphere", 3), ("sphere_response", 2)]:
+        case_id = f"new-{kind}-{dim}".replace("_", "-")
+        assert main(["new-case", "--kind", kind, "--dim", str(dim), "--id", case_id,
+                     "--file", str(target)]) == 0
+    assert main(["validate", str(target)]) == 0
+    assert main(["new-case", "--kind", "aabb", "--dim", "2", "--id", "new-aabb-2",
+                 "--file", str(target)]) == 2
+
+
+def test_run_writes_results_run_info_and_report(small_suite: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert main(["run", str(small_suite), "--quick", "--out", str(out)]) == 0
+    assert {"results.csv", "run.json", "report.html", "summary.csv",
+            "disagreements.csv"} <= {p.name for p in out.iterdir()}
+    info = json.loads((out / "run.json").read_text())
+    assert info["machine"]["packages"]["numpy"] and info["finished"]
+    assert [e["name"] for e in info["engines"]] == adapters.names()
+    header = (out / "results.csv").read_text().splitlines()[0].split(",")
+    assert header[:1] == ["case_id"]
+    for column in ("kind", "dim", "engine", "quantity", "value", "truth", "error", "status"):
+        assert column in header
+
+
+def test_report_escapes_case_text(small_suite: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    main(["run", str(small_suite), "--quick", "--out", str(out), "--engine", "reference"])
+    html = (out / "report.html").read_text()
+    assert EVIL not in html
+    assert "&lt;script&gt;" in html
+
+
+def test_report_rerenders_without_running_engines(small_suite: Path, tmp_path: Path,
+                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    out = tmp_path / "out"
+    main(["run", str(small_suite), "--quick", "--out", str(out)])
+    before = (out / "results.csv").read_text()
+    (out / "results.csv").unlink()
+    (out / "report.html").unlink()
+
+    def forbidden(name: str) -> None:
+        raise AssertionError("a report must not run engines")
+
+    monkeypatch.setattr(adapters, "get", forbidden)
+    assert main(["report", str(out)]) == 0
+    assert (out / "results.csv").read_text() == before
+    assert (out / "report.html").exists()
+
+
+def test_run_goes_on_past_a_bad_case_and_exits_nonzero(small_suite: Path, tmp_path: Path) -> None:
+    with small_suite.open("a") as handle:
+        handle.write(sphere_text("bad-radius", ra="nan"))
+    out = tmp_path / "out"
+    assert main(["run", str(small_suite), "--quick", "--out", str(out)]) == 1
+    info = json.loads((out / "run.json").read_text())
+    assert info["cases_run"] == 2
+    assert any("bad-radius" in e and "a.radius" in e for e in info["case_errors"])
+
+
+def test_unwritable_output_is_a_clear_error(small_suite: Path, tmp_path: Path,
+                                            capsys: pytest.CaptureFixture[str]) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    assert main(["run", str(small_suite), "--quick", "--out", str(blocker / "sub")]) == 2
+    assert "cannot write results" in capsys.readouterr().err
+
+
+def test_schema_check(tmp_path: Path) -> None:
+    assert main(["schema", "--check", "--output", str(ROOT / "cases" / "schema.json")]) == 0
+    stale = tmp_path / "schema.json"
+    stale.write_text("{}")
+    assert main(["schema", "--check", "--output", str(stale)]) == 1
+
+
+def test_engines_lists_every_adapter(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["engines"]) == 0
+    listing = capsys.readouterr().out
+    for name in adapters.names():
+        assert name in listing
+
+
+def test_console_script_is_installed() -> None:
+    script = Path(sys.executable).parent / "crosscheck"
+    done = subprocess.run([str(script), "--help"], capture_output=True, text=True, check=True)
+    assert "validate" in done.stdout

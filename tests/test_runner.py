@@ -1,0 +1,97 @@
+"""The runner, tested with fake adapters of known behaviour."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from adapters.base import Adapter
+from crosscheck.runner import RunOptions, run
+from crosscheck.schema import AnyCase
+from crosscheck.store import ResultsStore, read_cases, read_results
+from tests import fakes
+from tests.conftest import response, sphere
+
+CASES: list[AnyCase] = [sphere(0.0, 2.0, id="apart"), sphere(0.0, 1.0, id="touch"),
+                        sphere(0.0, 0.0, id="coincident"),
+                        response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0], id="resp")]
+
+
+def run_fakes(tmp_path: Path, *engines: Adapter, quick: bool = True) -> pd.DataFrame:
+    store = ResultsStore(tmp_path / "run")
+    run(CASES, list(engines), store, RunOptions(quick=quick, min_sample_s=0.001, samples=3))
+    store.close()
+    return read_results(tmp_path / "run")
+
+
+def statuses(frame: pd.DataFrame, engine: str) -> dict[tuple[str, str], str]:
+    rows = frame[frame["engine"] == engine]
+    return {(r.case_id, r.quantity): r.status for r in rows.itertuples()}
+
+
+def test_always_right_agrees_except_undefined(tmp_path: Path) -> None:
+    frame = run_fakes(tmp_path, fakes.AlwaysRight())
+    got = statuses(frame, "fake-right")
+    assert got.pop(("coincident", "normal")) == "undefined"
+    assert set(got.values()) == {"agree"}
+    assert len(frame) == 3 * 3 + 2
+
+
+def test_off_by_one_disagrees_on_distance_only(tmp_path: Path) -> None:
+    frame = run_fakes(tmp_path, fakes.OffByOne())
+    bad = frame[frame["status"] == "disagree"]
+    assert set(bad["quantity"]) == {"distance"}
+    assert (bad["error"] == 1.0).all() and (bad["category"] == "error").all()
+
+
+def test_raising_engine_gives_error_rows_and_run_continues(tmp_path: Path) -> None:
+    frame = run_fakes(tmp_path, fakes.Raises(), fakes.AlwaysRight())
+    raised = frame[frame["engine"] == "fake-raises"]
+    assert set(raised["status"]) == {"error"}
+    assert raised["reason"].str.contains("RuntimeError: engine exploded").all()
+    assert (frame["engine"] == "fake-right").sum() == 11
+
+
+def test_missing_capability_and_quantities_are_skips(tmp_path: Path) -> None:
+    frame = run_fakes(tmp_path, fakes.HitOnly())
+    got = statuses(frame, "fake-hit-only")
+    assert got[("resp", "v1")] == "skip"
+    assert got[("apart", "distance")] == "skip" and got[("apart", "hit")] == "agree"
+    reasons = frame.set_index(["case_id", "quantity"])["reason"]
+    assert "does not support sphere_response in 2-D" in reasons[("resp", "v1")]
+
+
+def test_unavailable_engine_is_skipped_with_reason(tmp_path: Path) -> None:
+    frame = run_fakes(tmp_path, fakes.Unavailable())
+    assert set(frame["status"]) == {"skip"}
+    assert set(frame["reason"]) == {"not installed here"}
+
+
+def test_touching_convention_is_categorised(tmp_path: Path) -> None:
+    frame = run_fakes(tmp_path, fakes.TouchingIsContact())
+    row = frame[(frame["case_id"] == "touch") & (frame["quantity"] == "hit")].iloc[0]
+    assert (row["status"], row["category"]) == ("disagree", "convention")
+
+
+def test_timing_columns_filled_unless_quick(tmp_path: Path) -> None:
+    quick = run_fakes(tmp_path / "q", fakes.AlwaysRight())
+    timed = run_fakes(tmp_path / "t", fakes.AlwaysRight(), quick=False)
+    assert quick["query_s"].isna().all() and (quick["loops"] == 0).all()
+    assert (timed["query_s"] > 0).all() and (timed["loops"] >= 1).all()
+    assert (timed["setup_s"] >= 0).all()
+
+
+def test_cases_are_stored_for_the_report(tmp_path: Path) -> None:
+    run_fakes(tmp_path, fakes.AlwaysRight())
+    stored = read_cases(tmp_path / "run")
+    assert list(stored) == [c.id for c in CASES]
+    assert stored["resp"]["a"]["velocity"] == [1.0, 0.0]
+
+
+def test_half_written_line_is_ignored(tmp_path: Path) -> None:
+    run_fakes(tmp_path, fakes.AlwaysRight())
+    path = tmp_path / "run" / "results.jsonl"
+    with path.open("a") as handle:
+        handle.write('{"case_id": "trunc')
+    assert len(read_results(tmp_path / "run")) == 11

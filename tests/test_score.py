@@ -1,0 +1,92 @@
+"""Scoring: errors, tolerances, statuses and categories of disagreements."""
+
+from __future__ import annotations
+
+import math
+
+from adapters.base import Conventions
+from crosscheck import oracle
+from crosscheck.model import Category, Observation, Status, Undefined
+from crosscheck.score import encode, error_of, judge, length_scale, tolerance_for
+from tests.conftest import aabb, response, sphere
+
+TEXTBOOK = Conventions()
+
+
+def test_encode_round_trips_floats_exactly() -> None:
+    x = 0.1 + 0.2
+    assert float(encode(x)) == x
+    assert encode((1.0, -0.5)) == "[1.0, -0.5]"
+    assert encode(True) == "true"
+    assert encode(None) == ""
+    assert encode(Undefined("x")) == "undefined"
+
+
+def test_normal_error_is_an_angle() -> None:
+    assert math.isclose(error_of("normal", (1.0, 0.0), (-1.0, 0.0)), math.pi)
+    assert error_of("normal", (0.6, 0.8), (0.6, 0.8)) == 0.0
+
+
+def test_exact_answer_agrees() -> None:
+    case = sphere(0.0, 2.0)
+    truth = oracle.truth(case)
+    for q in ("hit", "distance", "normal"):
+        assert judge(case, TEXTBOOK, q, truth.get(q), truth).status is Status.AGREE
+
+
+def test_distance_tolerance_scales_with_case_size() -> None:
+    small, big = sphere(0.0, 2.0), sphere(0.0, 2e6, rb=1e6)
+    assert length_scale(big) == 2e6
+    assert tolerance_for(big, "distance") == 1e6 * tolerance_for(small, "distance")
+
+
+def test_case_tolerance_overrides_default() -> None:
+    case = sphere(0.0, 2.0, tolerance={"distance": 0.5})
+    truth = oracle.truth(case)
+    verdict = judge(case, TEXTBOOK, "distance", 1.4, truth)
+    assert verdict.status is Status.AGREE and verdict.tolerance == 0.5
+
+
+def test_absent_quantity_is_skip() -> None:
+    case = sphere(0.0, 2.0)
+    verdict = judge(case, TEXTBOOK, "normal", None, oracle.truth(case))
+    assert verdict.status is Status.SKIP and "does not report normal" in verdict.reason
+
+
+def test_undefined_truth_gives_undefined_status() -> None:
+    case = sphere(0.0, 0.0)
+    verdict = judge(case, TEXTBOOK, "normal", (1.0, 0.0, 0.0), oracle.truth(case))
+    assert verdict.status is Status.UNDEFINED and "coincident" in verdict.reason
+
+
+def test_engine_undefined_where_truth_defined_is_error() -> None:
+    case = sphere(0.0, 2.0)
+    verdict = judge(case, TEXTBOOK, "normal", Undefined("gave up"), oracle.truth(case))
+    assert verdict.status is Status.DISAGREE and verdict.category == Category.ERROR
+
+
+def test_touching_rule_difference_is_convention() -> None:
+    case = sphere(0.0, 1.0)  # exactly touching: textbook says no collision
+    truth = oracle.truth(case)
+    engine = Conventions(touching_is_contact=True)
+    verdict = judge(case, engine, "hit", True, truth)
+    assert verdict.status is Status.DISAGREE and verdict.category == Category.CONVENTION
+    boxes = aabb([0.0, 0.0], [0.5, 0.5], [1.0, 0.0], [0.5, 0.5])  # touching boxes do overlap
+    box_verdict = judge(boxes, engine, "hit", False, oracle.truth(boxes))
+    assert box_verdict.category == Category.ERROR
+
+
+def test_within_margin_is_tolerance_beyond_is_error() -> None:
+    case = sphere(0.0, 1.0005)  # gap 5e-4
+    truth = oracle.truth(case)
+    within = judge(case, Conventions(margin=1e-3), "hit", True, truth)
+    beyond = judge(case, Conventions(margin=1e-4), "hit", True, truth)
+    assert (within.category, beyond.category) == (Category.TOLERANCE, Category.ERROR)
+
+
+def test_velocity_error_is_euclidean() -> None:
+    case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0])
+    truth = oracle.truth(case)
+    assert truth == Observation(v1=(-1.0, 0.0), v2=(1.0, 0.0))
+    verdict = judge(case, TEXTBOOK, "v1", (-1.0, 3e-3), truth)
+    assert verdict.status is Status.DISAGREE and math.isclose(verdict.error, 3e-3)
