@@ -194,3 +194,19 @@ def test_expect_must_agree_with_oracle(write_toml: Write) -> None:
 
 def test_published_schema_is_current() -> None:
     assert (ROOT / "cases" / "schema.json").read_text() == json_schema_text()
+
+
+def test_negative_half_width(write_toml: Write) -> None:
+    text = """
+[[case]]
+id = "box"
+description = "negative half-width"
+kind = "aabb"
+dim = 2
+a = { center = [0.0, 0.0], half = [1.0, -0.25] }
+b = { center = [1.0, 0.0], half = [1.0, 1.0] }
+"""
+    message = only_error(write_toml(text))
+    assert "case 'box': field a.half[1]: must be >= 0, got -0.25" in message
+    tagged = text.replace('kind = "aabb"', 'kind = "aabb"\ntags = ["bad-input"]')
+    assert load_paths([write_toml(tagged, "tagged.toml")]).errors == []
