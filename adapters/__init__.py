@@ -15,6 +15,11 @@ from adapters.base import Adapter
 REGISTRY: dict[str, tuple[str, str]] = {
     "reference": ("adapters.reference", "ReferenceF64"),
     "reference-f32": ("adapters.reference", "ReferenceF32"),
+    "fcl": ("adapters.fcl_engine", "Fcl"),
+    "pybullet": ("adapters.pybullet_engine", "PyBulletTuned"),
+    "pybullet-default": ("adapters.pybullet_engine", "PyBulletDefault"),
+    "pymunk": ("adapters.pymunk_engine", "PymunkTuned"),
+    "pymunk-default": ("adapters.pymunk_engine", "PymunkDefault"),
 }
 
 

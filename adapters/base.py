@@ -38,7 +38,10 @@ class Conventions:
     rule of each kind (AABB: touching overlaps; spheres: touching does not
     collide).  ``margin`` is an absolute distance tolerance (collision margin,
     slop); ``rtol`` a relative one (the engine's arithmetic precision), scaled
-    by the case's size.
+    by the case's size.  ``restitution_threshold`` is the approach speed
+    below which the engine makes a bounce perfectly inelastic (0: none);
+    ``resolves_separating`` is False for engines that leave bodies which are
+    already moving apart alone (the textbook formula exchanges momentum anyway).
     """
 
     box_extents: str = "half"
@@ -47,6 +50,8 @@ class Conventions:
     margin: float = 0.0
     rtol: float = 0.0
     restitution: str = "case value"
+    restitution_threshold: float = 0.0
+    resolves_separating: bool = True
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
 

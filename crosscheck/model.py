@@ -91,6 +91,11 @@ class Observation:
     normal: Vec | Undefined | None = None
     v1: Vec | Undefined | None = None
     v2: Vec | Undefined | None = None
+    resolved_at: tuple[Vec, Vec] | None = None
+    """For responses: the centres of A and B where the engine resolved the contact.
+
+    When given, the truth is computed at these positions (with the case's
+    velocities), so an engine is not blamed for resolving a step later."""
 
     def get(self, quantity: str) -> Value | None:
         """The value of ``quantity`` (one of :func:`quantities_of`), or None if absent."""
@@ -100,7 +105,8 @@ class Observation:
     @classmethod
     def undefined(cls, quantities: tuple[str, ...], reason: str) -> Observation:
         """An observation in which every quantity is Undefined for ``reason``."""
-        return cls(**{q: Undefined(reason) for q in quantities})
+        values: dict[str, Value] = {q: Undefined(reason) for q in quantities}
+        return cls(**values)  # type: ignore[arg-type]
 
 
 @dataclass(frozen=True, slots=True)

@@ -18,7 +18,7 @@ from typing import Any
 from adapters.base import Adapter
 from crosscheck import oracle
 from crosscheck.model import Observation, Record, Status, quantities_of
-from crosscheck.schema import AnyCase
+from crosscheck.schema import AnyCase, ResponseCase
 from crosscheck.score import Verdict, encode, judge
 from crosscheck.store import ResultsStore
 from crosscheck.timing import Timing, measure
@@ -76,9 +76,20 @@ def score_case(case: AnyCase, adapter: Adapter, outcome: _Outcome,
             value = None
         else:
             value = outcome.observation.get(quantity)
+            truth = truth_at_contact(case, outcome.observation, truth)
             verdict = judge(case, adapter.conventions, quantity, value, truth)
         records.append(_record(case, adapter.name, quantity, value, truth, verdict, outcome))
     return records
+
+
+def truth_at_contact(case: AnyCase, observation: Observation, truth: Observation) -> Observation:
+    """The truth at the centres where the engine resolved a response, if it says where."""
+    if observation.resolved_at is None or not isinstance(case, ResponseCase):
+        return truth
+    pa, pb = observation.resolved_at
+    moved = case.model_copy(update={"a": case.a.model_copy(update={"center": pa}),
+                                    "b": case.b.model_copy(update={"center": pb})})
+    return oracle.truth(moved)
 
 
 def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observation,

@@ -122,6 +122,26 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str,
     return Verdict(Status.DISAGREE, err, tol, category, reason)
 
 
+def approach_speed(case: ResponseCase) -> float:
+    """Speed at which A and B approach along their line of centres (negative: separating)."""
+    d = [y - x for x, y in zip(case.a.center, case.b.center, strict=True)]
+    length = _norm(d)
+    if not length > 0:
+        return math.nan
+    rel = [x - y for x, y in zip(case.a.velocity, case.b.velocity, strict=True)]
+    return math.fsum(r * c for r, c in zip(rel, d, strict=True)) / length
+
+
+def _response_convention(case: ResponseCase, conv: Conventions) -> str:
+    speed = approach_speed(case)
+    if speed <= 0 and not conv.resolves_separating:
+        return f"bodies already separating ({speed:.3g}); the engine leaves them alone"
+    if 0 < speed < conv.restitution_threshold:
+        return (f"approach speed {speed:.3g} below the engine's restitution threshold "
+                f"{conv.restitution_threshold:g}: the bounce is inelastic")
+    return ""
+
+
 def _textbook_touch_is_contact(kind: Kind) -> bool:
     return kind is Kind.AABB
 
@@ -137,6 +157,10 @@ def categorize(case: AnyCase, conv: Conventions, quantity: str, err: float,
         return Category.CONVENTION, f"exact touch; engine rule: {conv.touching_rule()}"
     if quantity in ("hit", "normal") and abs(gap) < allowed:
         return Category.TOLERANCE, f"|gap| {abs(gap):.3g} within declared tolerance {allowed:.3g}"
+    if quantity in ("v1", "v2") and isinstance(case, ResponseCase):
+        rule = _response_convention(case, conv)
+        if rule:
+            return Category.CONVENTION, rule
     if quantity == "normal":
         separation = _norm([y - x for x, y in zip(case.a.center, case.b.center, strict=False)])
         allowed = allowed / separation if separation > 0 else 0.0

@@ -90,3 +90,15 @@ def test_velocity_error_is_euclidean() -> None:
     assert truth == Observation(v1=(-1.0, 0.0), v2=(1.0, 0.0))
     verdict = judge(case, TEXTBOOK, "v1", (-1.0, 3e-3), truth)
     assert verdict.status is Status.DISAGREE and math.isclose(verdict.error, 3e-3)
+
+
+def test_separating_and_slow_impacts_are_conventions_when_declared() -> None:
+    engine = Conventions(resolves_separating=False, restitution_threshold=0.2)
+    apart = response([0.0, 0.0], [-1.0, 0.0], [1.0, 0.0], [1.0, 0.0])
+    slow = response([0.0, 0.0], [0.05, 0.0], [1.0, 0.0], [-0.05, 0.0])
+    fast = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0])
+    for case, category in [(apart, Category.CONVENTION), (slow, Category.CONVENTION),
+                           (fast, Category.ERROR)]:
+        verdict = judge(case, engine, "v1", (0.0, 0.0), oracle.truth(case))
+        assert (verdict.status, verdict.category) == (Status.DISAGREE, category)
+    assert judge(apart, TEXTBOOK, "v1", (0.0, 0.0), oracle.truth(apart)).category == Category.ERROR
