@@ -21,7 +21,8 @@ from crosscheck import environment, report
 from crosscheck.cases import LoadResult, load_paths
 from crosscheck.model import Kind
 from crosscheck.newcase import case_block
-from crosscheck.runner import RunOptions, run
+from crosscheck.execute import RunOptions
+from crosscheck.runner import run
 from crosscheck.schema import ID_PATTERN, json_schema_text
 from crosscheck.store import ResultsStore, StoreError, read_results
 
@@ -71,11 +72,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     except StoreError as exc:
         err.print(f"[red]error:[/red] {exc}")
         return 2
-    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample)
+    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample,
+                         timeout_s=args.timeout, isolate=not args.no_isolation)
     info = {"run_id": directory.name, "started": _now(), "finished": None,
             "command": shlex.join(["crosscheck", *sys.argv[1:]]),
-            "options": {"quick": options.quick, "min_sample_s": options.min_sample_s,
-                        "samples": options.samples},
+            "options": asdict(options),
             "machine": environment.machine(), "engines": [_engine_info(a) for a in engines],
             "case_files": [str(p) for p in loaded.files], "cases_run": len(loaded.cases),
             "case_errors": [e.message for e in loaded.errors]}
@@ -189,6 +190,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
     p.add_argument("--quick", action="store_true", help="skip timing")
     p.add_argument("--min-sample", type=float, default=0.02, help="seconds per timing sample")
+    p.add_argument("--timeout", type=float, default=5.0,
+                   help="seconds allowed per case x engine before it is marked timeout")
+    p.add_argument("--no-isolation", action="store_true",
+                   help="run engines in this process (faster start, no crash or hang safety)")
     p.set_defaults(func=cmd_run)
     p = sub.add_parser("report", help="re-render CSV and HTML from a stored run")
     p.add_argument("directory", type=Path)

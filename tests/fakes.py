@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import os
+import signal
+import time
+
 from typing import Any, ClassVar
 
 from adapters.base import Adapter, Capability, Conventions, all_capabilities
@@ -82,3 +86,42 @@ class Unavailable(_Fake):
 
     def query(self, prepared: Any) -> Observation:
         raise AssertionError("must never be queried")
+
+
+class SleepsForever(_Fake):
+    """Hangs in query, as an engine stuck in a loop."""
+
+    name: ClassVar[str] = "fake-hangs"
+
+    def query(self, prepared: Any) -> Observation:
+        while True:
+            time.sleep(1.0)
+
+
+class Aborts(_Fake):
+    """Kills its own process with SIGABRT, as an engine failing an assertion in C."""
+
+    name: ClassVar[str] = "fake-aborts"
+
+    def query(self, prepared: Any) -> Observation:
+        os.abort()
+
+
+class CrashesOnSpheresAt(_Fake):
+    """Segfault-like death (SIGSEGV) only on the case with id 'boom'; right otherwise."""
+
+    name: ClassVar[str] = "fake-boom"
+
+    def query(self, prepared: Any) -> Observation:
+        if prepared.id == "boom":
+            os.kill(os.getpid(), signal.SIGSEGV)
+        return oracle.truth(prepared)
+
+
+class ClaimsResponse(_Fake):
+    """Claims sphere_response but cannot do it: answers with no velocities."""
+
+    name: ClassVar[str] = "fake-claims"
+
+    def query(self, prepared: Any) -> Observation:
+        return Observation()

@@ -7,7 +7,8 @@ from pathlib import Path
 import pandas as pd
 
 from adapters.base import Adapter
-from crosscheck.runner import RunOptions, run
+from crosscheck.execute import RunOptions
+from crosscheck.runner import run
 from crosscheck.schema import AnyCase
 from crosscheck.store import ResultsStore, read_cases, read_results
 from tests import fakes

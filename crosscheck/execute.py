@@ -1,0 +1,69 @@
+"""Executing one case on one adapter: prepare (untimed), query, and the calibrated timing loop.
+
+This is what a worker process does for each task (see :mod:`crosscheck.worker`);
+it also runs in-process for tests and for ``--no-isolation``.  An exception
+raised by the engine becomes an ``error`` outcome with its reason.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import traceback
+from dataclasses import dataclass
+from typing import Any
+
+from adapters.base import Adapter
+from crosscheck.model import Observation, Status
+from crosscheck.schema import AnyCase
+from crosscheck.timing import Timing, measure
+
+
+@dataclass(frozen=True, slots=True)
+class RunOptions:
+    """How to run: ``quick`` skips timing; sample length and count otherwise.
+
+    ``timeout_s`` limits one case x engine (prepare, query and timing) in its
+    worker; ``isolate`` False runs engines in this process (no crash safety).
+    """
+
+    quick: bool = False
+    min_sample_s: float = 0.02
+    samples: int = 5
+    timeout_s: float = 5.0
+    isolate: bool = True
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What executing one case on one adapter gave: an observation, or a status and reason."""
+
+    observation: Observation | None
+    status: Status | None = None
+    reason: str = ""
+    setup_s: float = math.nan
+    timing: Timing | None = None
+
+
+def execute(adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
+    """Prepare, query and (unless quick) time ``case`` on ``adapter``, in this process."""
+    skip = adapter.available() or adapter.unsupported(case)
+    if skip:
+        return Outcome(None, Status.SKIP, skip)
+    prepared: Any = None
+    try:
+        start = time.perf_counter()
+        prepared = adapter.prepare(case)
+        setup = time.perf_counter() - start
+        observation = adapter.query(prepared)
+        timing = None if options.quick else measure(
+            lambda: adapter.query(prepared), min_sample_s=options.min_sample_s,
+            samples=options.samples)
+        return Outcome(observation, setup_s=setup, timing=timing)
+    except Exception as exc:  # an engine fault is data, not a harness failure
+        where = traceback.extract_tb(exc.__traceback__)[-1]
+        return Outcome(None, Status.ERROR,
+                        f"{type(exc).__name__}: {exc} (at {where.name}:{where.lineno})")
+    finally:
+        if prepared is not None:
+            adapter.release(prepared)

@@ -1,0 +1,127 @@
+"""Isolation: each engine runs in its own worker process, so a crash or hang costs one case.
+
+A :class:`WorkerPool` keeps one long-lived worker per adapter (engine clients
+such as a PyBullet connection live there and are reused across cases).  Each
+task is sent over a pipe; the parent waits at most ``timeout_s``:
+
+- an answer: the :class:`~crosscheck.execute.Outcome` of the case;
+- the pipe closes (the worker died: segfault, abort, ``os._exit``): a
+  ``crash`` outcome naming the signal or exit code;
+- no answer in time: the worker is killed and the outcome is ``timeout``.
+
+A dead or killed worker is replaced on the next task.  Workers are started by
+the ``forkserver`` method, which is safe with the parent's threads (the
+progress bar) and cheap to restart.  Their C-level stdout and stderr go to
+/dev/null, so engine banners and warnings never reach the CLI.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import signal
+from multiprocessing.connection import Connection
+from multiprocessing.process import BaseProcess
+
+from adapters.base import Adapter
+from crosscheck.execute import Outcome, RunOptions, execute
+from crosscheck.model import Status
+from crosscheck.schema import AnyCase
+
+_CONTEXT = mp.get_context("forkserver")
+_CONTEXT.set_forkserver_preload(["crosscheck.execute"])
+
+Task = tuple[type[Adapter], AnyCase, RunOptions]
+
+
+def _silence_output() -> None:
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    for fd in (1, 2):
+        os.dup2(devnull, fd)
+    os.close(devnull)
+
+
+def _serve(conn: Connection) -> None:
+    """Worker main loop: run tasks until the parent closes the pipe."""
+    _silence_output()
+    adapters: dict[type[Adapter], Adapter] = {}
+    while True:
+        try:
+            cls, case, options = conn.recv()
+        except (EOFError, OSError):
+            return
+        adapter = adapters.setdefault(cls, cls())
+        conn.send(execute(adapter, case, options))
+
+
+def _death(code: int | None) -> str:
+    if code is None:
+        return "worker died"
+    if code < 0:
+        try:
+            return f"worker killed by {signal.Signals(-code).name}"
+        except ValueError:
+            return f"worker killed by signal {-code}"
+    return f"worker exited with code {code}"
+
+
+class _Worker:
+    """One worker process and its pipe."""
+
+    def __init__(self) -> None:
+        self.conn, child = _CONTEXT.Pipe()
+        self.process: BaseProcess = _CONTEXT.Process(target=_serve, args=(child,), daemon=True)
+        self.process.start()
+        child.close()
+
+    def call(self, task: Task, timeout_s: float) -> Outcome:
+        try:
+            self.conn.send(task)
+            if not self.conn.poll(timeout_s):
+                self.kill()
+                return Outcome(None, Status.TIMEOUT, f"no answer within {timeout_s:g} s")
+            outcome: Outcome = self.conn.recv()
+            return outcome
+        except (EOFError, OSError, BrokenPipeError):
+            self.process.join(timeout=2)
+            return Outcome(None, Status.CRASH, _death(self.process.exitcode))
+
+    def alive(self) -> bool:
+        return self.process.is_alive()
+
+    def kill(self) -> None:
+        if self.process.is_alive():
+            self.process.kill()
+        self.process.join(timeout=5)
+        self.conn.close()
+
+    def close(self) -> None:
+        self.conn.close()
+        self.process.join(timeout=2)
+        if self.process.is_alive():
+            self.kill()
+
+
+class WorkerPool:
+    """One worker per adapter, restarted after a crash or timeout."""
+
+    def __init__(self, options: RunOptions) -> None:
+        self.options = options
+        self._workers: dict[str, _Worker] = {}
+
+    def execute(self, adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
+        """Run ``case`` on ``adapter`` in the adapter's worker, within the time limit."""
+        worker = self._workers.get(adapter.name)
+        if worker is None or not worker.alive():
+            worker = self._workers[adapter.name] = _Worker()
+        outcome = worker.call((type(adapter), case, options), options.timeout_s)
+        if outcome.status in (Status.CRASH, Status.TIMEOUT):
+            worker.kill()
+            del self._workers[adapter.name]
+        return outcome
+
+    def close(self) -> None:
+        """Stop every worker."""
+        for worker in self._workers.values():
+            worker.close()
+        self._workers.clear()

@@ -1,0 +1,78 @@
+"""Isolation: engines that hang or die cost one case x engine, never the run.
+
+Fakes with known behaviour test the mechanism; tests/test_engine_faults.py
+checks it with real engine inputs that crash or hang today.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import pandas as pd
+
+from adapters.base import Adapter
+from crosscheck.execute import RunOptions
+from crosscheck.runner import run
+from crosscheck.store import ResultsStore, read_results
+from tests import fakes
+from tests.conftest import response, sphere
+
+CASES = [sphere(0.0, 2.0, id="before"), sphere(0.0, 1.5, id="boom"), sphere(0.0, 3.0, id="after")]
+
+
+def run_isolated(tmp_path: Path, engines: list[Adapter], timeout_s: float = 1.0) -> pd.DataFrame:
+    store = ResultsStore(tmp_path / "run")
+    run(CASES, engines, store, RunOptions(quick=True, timeout_s=timeout_s))
+    store.close()
+    return read_results(tmp_path / "run")
+
+
+def by_case(frame: pd.DataFrame, engine: str) -> dict[str, set[str]]:
+    rows = frame[frame["engine"] == engine]
+    return {str(k): set(v) for k, v in rows.groupby("case_id")["status"]}
+
+
+def test_hang_is_a_timeout_and_the_run_goes_on(tmp_path: Path) -> None:
+    start = time.monotonic()
+    frame = run_isolated(tmp_path, [fakes.SleepsForever(), fakes.AlwaysRight()], timeout_s=0.5)
+    assert time.monotonic() - start < 20
+    assert by_case(frame, "fake-hangs") == {c.id: {"timeout"} for c in CASES}
+    assert by_case(frame, "fake-right") == {c.id: {"agree"} for c in CASES}
+    reasons = set(frame[frame["engine"] == "fake-hangs"]["reason"])
+    assert reasons == {"no answer within 0.5 s"}
+
+
+def test_abort_is_a_crash_naming_the_signal(tmp_path: Path) -> None:
+    frame = run_isolated(tmp_path, [fakes.Aborts()])
+    assert set(frame["status"]) == {"crash"}
+    assert set(frame["reason"]) == {"worker killed by SIGABRT"}
+
+
+def test_worker_is_restarted_after_a_crash(tmp_path: Path) -> None:
+    frame = run_isolated(tmp_path, [fakes.CrashesOnSpheresAt()])
+    assert by_case(frame, "fake-boom") == {"before": {"agree"}, "boom": {"crash"},
+                                           "after": {"agree"}}
+    boom = frame[frame["case_id"] == "boom"]
+    assert set(boom["reason"]) == {"worker killed by SIGSEGV"}
+
+
+def test_claimed_capability_without_answers_is_skip_per_quantity(tmp_path: Path) -> None:
+    store = ResultsStore(tmp_path / "run")
+    case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0])
+    run([case], [fakes.ClaimsResponse()], store, RunOptions(quick=True))
+    store.close()
+    frame = read_results(tmp_path / "run")
+    assert set(frame["status"]) == {"skip"}
+    assert set(frame["reason"]) == {"engine does not report v1", "engine does not report v2"}
+
+
+def test_in_process_mode_gives_the_same_records(tmp_path: Path) -> None:
+    engines: list[Adapter] = [fakes.AlwaysRight(), fakes.OffByOne(), fakes.Raises()]
+    frames = []
+    for isolate in (True, False):
+        store = ResultsStore(tmp_path / str(isolate))
+        run(CASES, engines, store, RunOptions(quick=True, isolate=isolate))
+        store.close()
+        frames.append(read_results(tmp_path / str(isolate)).drop(columns=["setup_s"]))
+    pd.testing.assert_frame_equal(frames[0], frames[1])
