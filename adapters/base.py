@@ -62,6 +62,18 @@ class Conventions:
         return "touching is contact" if self.touching_is_contact else "touching is not contact"
 
 
+def describe(capabilities: frozenset[Capability]) -> list[str]:
+    """Capabilities grouped by kind, e.g. ``['aabb 2-D/3-D', 'sphere 3-D']``.
+
+    >>> describe(all_capabilities(Kind.SPHERE) | {(Kind.AABB, 3)})
+    ['aabb 3-D', 'sphere 2-D/3-D']
+    """
+    dims: dict[str, list[int]] = {}
+    for kind, dim in sorted(capabilities):
+        dims.setdefault(str(kind), []).append(dim)
+    return [f"{kind} {'/'.join(f'{d}-D' for d in ds)}" for kind, ds in dims.items()]
+
+
 class Adapter(ABC):
     """Base class of every engine adapter (see the module docstring)."""
 

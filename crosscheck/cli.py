@@ -16,7 +16,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from rich.table import Table
 
 import adapters
-from adapters.base import Adapter
+from adapters.base import Adapter, describe
 from crosscheck import environment, report
 from crosscheck.cases import LoadResult, load_paths
 from crosscheck.model import Kind
@@ -57,7 +57,7 @@ def _select_engines(names: Sequence[str] | None) -> list[Adapter]:
 def _engine_info(adapter: Adapter) -> dict[str, object]:
     return {"name": adapter.name, "engine": adapter.engine, "version": adapter.version(),
             "settings": adapter.settings, "available": adapter.available() or "yes",
-            "capabilities": sorted(f"{k}/{d}D" for k, d in adapter.capabilities),
+            "capabilities": describe(adapter.capabilities),
             "conventions": asdict(adapter.conventions),
             "touching_rule": adapter.conventions.touching_rule()}
 
@@ -163,7 +163,7 @@ def cmd_engines(args: argparse.Namespace) -> int:
         caps = info["capabilities"]
         assert isinstance(caps, list)
         table.add_row(str(info["name"]), str(info["version"]), str(info["available"]),
-                      ", ".join(caps), str(info["settings"]))
+                      "\n".join(caps), str(info["settings"]))
     out.print(table)
     return 0
 
