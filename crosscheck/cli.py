@@ -19,9 +19,9 @@ import adapters
 from adapters.base import Adapter, describe
 from crosscheck import environment, report
 from crosscheck.cases import LoadResult, load_paths
+from crosscheck.execute import RunOptions
 from crosscheck.model import Kind
 from crosscheck.newcase import case_block
-from crosscheck.execute import RunOptions
 from crosscheck.runner import run
 from crosscheck.schema import ID_PATTERN, json_schema_text
 from crosscheck.store import ResultsStore, StoreError, read_results

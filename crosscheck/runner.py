@@ -36,20 +36,21 @@ def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
             value = None
         else:
             value = outcome.observation.get(quantity)
-            truth = truth_at_contact(case, outcome.observation, truth)
-            verdict = judge(case, adapter.conventions, quantity, value, truth)
+            judged, truth = at_contact(case, outcome.observation, truth)
+            verdict = judge(judged, adapter.conventions, quantity, value, truth)
         records.append(_record(case, adapter.name, quantity, value, truth, verdict, outcome))
     return records
 
 
-def truth_at_contact(case: AnyCase, observation: Observation, truth: Observation) -> Observation:
-    """The truth at the centres where the engine resolved a response, if it says where."""
+def at_contact(case: AnyCase, observation: Observation,
+               truth: Observation) -> tuple[AnyCase, Observation]:
+    """The case and truth at the centres where the engine resolved a response, if it says."""
     if observation.resolved_at is None or not isinstance(case, ResponseCase):
-        return truth
+        return case, truth
     pa, pb = observation.resolved_at
     moved = case.model_copy(update={"a": case.a.model_copy(update={"center": pa}),
                                     "b": case.b.model_copy(update={"center": pb})})
-    return oracle.truth(moved)
+    return moved, oracle.truth(moved)
 
 
 def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observation,

@@ -89,6 +89,10 @@ def _norm(v: Sequence[float]) -> float:
     return math.sqrt(math.fsum(x * x for x in v))
 
 
+def _is_unit(v: Sequence[float]) -> bool:
+    return abs(_norm(v) - 1.0) <= 1e-6
+
+
 def error_of(quantity: str, value: Value, truth: Value) -> float:
     """The error of ``value`` against ``truth`` (both defined) for ``quantity``."""
     if quantity == "hit":
@@ -115,6 +119,9 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str,
     if isinstance(value, Undefined):
         return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
                        f"engine gave undefined ({value.reason}) where truth is defined")
+    if quantity == "normal" and isinstance(value, tuple) and not _is_unit(value):
+        return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
+                       f"engine normal is not a unit vector (length {_norm(value):.3g})")
     err = error_of(quantity, value, want)
     if err <= tol:
         return Verdict(Status.AGREE, err, tol)

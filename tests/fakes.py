@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import signal
 import time
-
 from typing import Any, ClassVar
 
 from adapters.base import Adapter, Capability, Conventions, all_capabilities

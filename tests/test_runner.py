@@ -7,8 +7,10 @@ from pathlib import Path
 import pandas as pd
 
 from adapters.base import Adapter
+from crosscheck import oracle
 from crosscheck.execute import RunOptions
-from crosscheck.runner import run
+from crosscheck.model import Observation
+from crosscheck.runner import at_contact, run
 from crosscheck.schema import AnyCase
 from crosscheck.store import ResultsStore, read_cases, read_results
 from tests import fakes
@@ -96,3 +98,12 @@ def test_half_written_line_is_ignored(tmp_path: Path) -> None:
     with path.open("a") as handle:
         handle.write('{"case_id": "trunc')
     assert len(read_results(tmp_path / "run")) == 11
+
+
+def test_response_truth_is_taken_where_the_engine_resolved_it() -> None:
+    case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0])
+    seen = Observation(v1=(0.0, 1.0), v2=(0.0, -1.0), resolved_at=((0.0, 0.0), (0.0, 1.0)))
+    moved, truth = at_contact(case, seen, oracle.truth(case))
+    assert moved.b.center == (0.0, 1.0)
+    assert truth.v1 == (1.0, 0.0) and truth.v2 == (-1.0, 0.0)  # along y: nothing exchanged
+    assert at_contact(case, Observation(v1=(0.0, 0.0)), oracle.truth(case))[0] is case

@@ -102,3 +102,9 @@ def test_separating_and_slow_impacts_are_conventions_when_declared() -> None:
         verdict = judge(case, engine, "v1", (0.0, 0.0), oracle.truth(case))
         assert (verdict.status, verdict.category) == (Status.DISAGREE, category)
     assert judge(apart, TEXTBOOK, "v1", (0.0, 0.0), oracle.truth(apart)).category == Category.ERROR
+
+
+def test_non_unit_normal_is_an_error() -> None:
+    case = sphere(0.0, 2.0)
+    verdict = judge(case, TEXTBOOK, "normal", (0.0, -0.0, 0.0), oracle.truth(case))
+    assert verdict.status is Status.DISAGREE and "not a unit vector" in verdict.reason

@@ -1,0 +1,306 @@
+"""Adapters for pymunk 7.3.1 (Munk2D 2.0.1, a Chipmunk2D fork): ``pymunk``, ``pymunk-default``.
+
+pymunk is a 2-D engine: every 3-D case is skipped with the reason "2-D engine".
+
+Detection (``aabb``, ``sphere``): each body is a static ``pymunk.Body`` placed at
+the case's centre carrying a ``pymunk.Poly.create_box`` (full width and height,
+so the adapter passes ``2 * half``; radius 0, no bevel) or a ``pymunk.Circle``.
+``prepare`` builds the shapes and calls ``cache_bb()`` (shapes outside a Space
+keep stale positions until then).  ``query`` is one ``a.shapes_collide(b)``:
+
+- points -> ``hit`` True; ``distance`` = the smallest ``ContactPoint.distance``
+  (negative when penetrating); ``normal`` = ``ContactPointSet.normal``, which
+  points from the first shape to the second (``cpShapesCollide`` flips it when
+  the collision function swapped the pair), so it is used as is.
+- no contact: pymunk raises ``AssertionError`` (it asserts ``count in (1, 2)``
+  while building the ``ContactPointSet``).  Exactly that is caught and reported
+  as ``hit`` False with distance and normal absent: pymunk gives no separation
+  distance.  Because the signal is an assert, ``available()`` refuses ``python -O``.
+``Space.shape_query`` returns the same ``ContactPointSet`` after a bounding-box
+pre-filter, and segment/point queries do not give a pair's distance, so the
+direct pairwise call is used.
+
+Response (``sphere_response``, 2-D): two dynamic circles (mass from the case,
+moment ``moment_for_circle(m, 0, r)``) in a Space with gravity (0, 0) and
+damping 1.0.  Restitution: Munk2D combines the shapes' elasticities as their
+product, so A gets the case's ``e`` and B gets 1.0.  ``prepare`` builds the
+Space, the bodies and the shapes.  ``query`` removes and re-adds the shapes
+(dropping the cached arbiter: no contact persistence or warm-start impulse),
+zeroes the bias velocity the last solve left in each body with
+``Body.update_position(body, 0)`` (measured: without it a second query of a
+deep overlap starts from other positions), resets centres and velocities, and
+steps with the variant's ``dt`` until the first step in which the solver handled
+the contact (seen by a ``pre_solve`` callback registered with
+``Space.on_collision(pre_solve=f)``, ``f(arbiter, space, data)``), or until the
+bodies no longer approach without having touched, or ``MAX_STEPS``.
+Munk2D integrates positions first and then collides, so the centres read in
+``pre_solve`` are where the resolving contact was computed: they are returned
+as ``resolved_at`` (the truth is computed there, not at the case's centres).
+
+Variants (Space settings; sources below):
+
+- ``pymunk``: dt = 1e-3 s (1 kHz: the contact is resolved closer to the touching
+  configuration), collision_slop 0, collision_bias 1.0 (no positional
+  correction; bias impulses go to separate bias velocities, and v1/v2 were
+  measured bit-identical with the default bias), iterations 10 stated
+  explicitly (measured on 162 random and suite cases: one pass leaves up to
+  8e-16 relative rounding, two or more reach the same fixed point, 4e-16 at
+  most), friction 0.
+- ``pymunk-default``: dt = 1/60 s (the usual game step); slop (0.1f, i.e.
+  0.10000000149), bias ((1 - 0.1f)^60), iterations (10) and friction (0) left
+  at their defaults.
+
+collision_slop is a Space setting: it only sets how much overlap the bias term
+leaves uncorrected.  It does not apply to ``shapes_collide`` nor to the
+velocity impulse, so both variants declare margin 0.  rtol 2^-49: float64
+throughout (cpFloat is double); the worst distance error measured on 20 000
+random 2-D box and circle pairs (offsets up to 1e6) was 7.6e-16 x the size.
+
+Measured native behaviour (pinned in tests/test_adapter_pymunk.py): touching
+boxes (edge, corner, face) collide with distance 0; touching circles do not
+(``distsq < mindist^2``); coincident equal boxes and zero-size boxes report a
+contact with a zero normal (0, -0) and distance 0, even 2^-30 apart, and
+coincident crossed boxes report distance 0 instead of their overlap;
+coincident circles get normal (1, 0); ``Body(mass <= 0, nan, inf)`` aborts the
+interpreter (SIGABRT, caught by the harness worker; not guarded here); the
+impulse accumulator is clamped at 0, so bodies already separating are left
+alone; there is no restitution threshold (``bounce = vrn * e``); a grazing
+approach (normal speed 2^-10 against tangential 2) is never seen overlapping at
+a step, so it is not resolved at all (at dt = 1e-3 and 1/60).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+from adapters.base import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.model import Kind, Observation, Vec
+from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+
+MUNK2D = "https://github.com/viblo/Munk2D/blob/master/src/"
+PYMUNK = "https://github.com/viblo/pymunk/blob/master/pymunk/"
+SOURCES = (
+    MUNK2D + "cpShape.c",  # cpShapesCollide: normal flipped to a->b, distance = (p2 - p1).n
+    MUNK2D + "cpCollision.c",  # CircleToCircle strict <, PolyToPoly d <= 0, ContactPoints
+    MUNK2D + "cpArbiter.c",  # e = a->e * b->e; bounce = vrn * e; jnAcc = max(.., 0)
+    MUNK2D + "cpSpaceStep.c",  # positions, collide + pre_solve, prestep, velocities, solver
+    PYMUNK + "contact_point_set.py",  # assert count in (1, 2): no contact raises
+    PYMUNK + "shapes.py",  # create_box(size=(width, height), radius=0), shapes_collide
+    PYMUNK + "space.py",  # collision_slop 0.1, collision_bias, iterations 10, on_collision
+)
+MAX_STEPS = 100_000
+"""Step cap of a response query (bodies still approaching without touching)."""
+
+_NOTES = ("Detection uses Shape.shapes_collide (independent of any Space: collision_slop "
+          "does not apply, so no margin); no contact raises AssertionError and is reported "
+          "as hit False with distance and normal absent.  Response: first step in which "
+          "the solver handled the contact; resolved_at = centres in pre_solve.  Touching "
+          "boxes collide, touching circles do not (textbook rule of each kind).  ")
+
+
+def _conventions(settings: str) -> Conventions:
+    return Conventions(
+        box_extents="full (Poly.create_box takes width and height; the adapter passes 2*half)",
+        normal="A to B (ContactPointSet.normal points from the first shape to the second); "
+               "used as is",
+        touching_is_contact=None,
+        margin=0.0,
+        rtol=2.0**-49,
+        restitution="product of the shapes' elasticities; A = e, B = 1.0 gives e exactly",
+        restitution_threshold=0.0,
+        resolves_separating=False,
+        notes=_NOTES + settings,
+        sources=SOURCES,
+    )
+
+
+@dataclass
+class _Detection:
+    """Two shapes with cached bounding boxes, ready for ``shapes_collide``."""
+
+    a: Any
+    b: Any
+
+
+@dataclass
+class _Response:
+    """A configured Space holding A and B; every query resets them and steps."""
+
+    case: ResponseCase
+    space: Any
+    dt: float
+    bodies: list[Any]
+    shapes: list[Any]
+    contact: list[tuple[Vec, Vec]] = field(default_factory=list)
+
+
+def _vec(v: Any) -> Vec:
+    return (float(v.x), float(v.y))
+
+
+def _xy(v: Vec) -> tuple[float, float]:
+    return (v[0], v[1])
+
+
+def _static_shape(case: AnyCase, which: str) -> Any:
+    import pymunk
+
+    body = pymunk.Body(body_type=pymunk.Body.STATIC)
+    data = getattr(case, which)
+    body.position = _xy(data.center)
+    shape: Any
+    if isinstance(case, AabbCase):
+        shape = pymunk.Poly.create_box(body, (2.0 * data.half[0], 2.0 * data.half[1]))
+    else:
+        shape = pymunk.Circle(body, data.radius)
+    shape.cache_bb()
+    return shape
+
+
+def _detect(prepared: _Detection) -> Observation:
+    try:
+        points = prepared.a.shapes_collide(prepared.b)
+    except AssertionError:  # pymunk's signal for a ContactPointSet with no points
+        return Observation(hit=False)
+    distance = min(float(p.distance) for p in points.points)
+    return Observation(hit=True, distance=distance, normal=_vec(points.normal))
+
+
+def _approaching(a: Any, b: Any) -> bool:
+    """Whether B moves towards A along their line of centres (False for NaN)."""
+    return bool((b.velocity - a.velocity).dot(b.position - a.position) < 0.0)
+
+
+def _discs(case: ResponseCase, friction: float | None) -> tuple[list[Any], list[Any]]:
+    import pymunk
+
+    bodies, shapes = [], []
+    for data, elasticity in ((case.a, case.restitution), (case.b, 1.0)):
+        body = pymunk.Body(data.mass, pymunk.moment_for_circle(data.mass, 0.0, data.radius))
+        shape = pymunk.Circle(body, data.radius)
+        shape.elasticity = elasticity
+        if friction is not None:
+            shape.friction = friction
+        bodies.append(body)
+        shapes.append(shape)
+    return bodies, shapes
+
+
+def _reset(prepared: _Response) -> None:
+    """Put A and B back at the case's start, with no state left from an earlier query."""
+    import pymunk
+
+    space = prepared.space
+    space.remove(*prepared.shapes)  # drops the cached arbiter (contact persistence, warm start)
+    for body, data in zip(prepared.bodies, (prepared.case.a, prepared.case.b), strict=True):
+        pymunk.Body.update_position(body, 0.0)  # zeroes the bias velocity of the last solve
+        body.angle = 0.0
+        body.angular_velocity = 0.0
+        body.position = _xy(data.center)
+        body.velocity = _xy(data.velocity)
+    space.add(*prepared.shapes)
+    prepared.contact.clear()
+
+
+def _respond(prepared: _Response) -> Observation:
+    _reset(prepared)
+    a, b = prepared.bodies
+    for _ in range(MAX_STEPS):
+        prepared.space.step(prepared.dt)
+        if prepared.contact or not _approaching(a, b):
+            break
+    return Observation(v1=_vec(a.velocity), v2=_vec(b.velocity),
+                       resolved_at=prepared.contact[0] if prepared.contact else None)
+
+
+class PymunkTuned(Adapter):
+    """pymunk set for accuracy: small step, no slop, no positional correction, no friction."""
+
+    name: ClassVar[str] = "pymunk"
+    engine: ClassVar[str] = "pymunk"
+    settings: ClassVar[str] = ("dt 1e-3 s, collision_slop 0, collision_bias 1.0 (no positional "
+                               "correction), iterations 10, friction 0, elasticity A = e, B = 1")
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind, dims=(2,))
+    conventions: ClassVar[Conventions] = _conventions(settings)
+    dt: ClassVar[float] = 1e-3
+    slop: ClassVar[float | None] = 0.0
+    bias: ClassVar[float | None] = 1.0
+    iterations: ClassVar[int | None] = 10
+    friction: ClassVar[float | None] = 0.0
+
+    def version(self) -> str:
+        import pymunk
+
+        return f"{pymunk.version} (Munk2D {pymunk.chipmunk_version.split('-')[0]})"
+
+    def available(self) -> str | None:
+        try:
+            import pymunk  # noqa: F401
+        except ImportError as exc:
+            return str(exc)
+        if not __debug__:
+            return "pymunk signals 'no contact' with an assert, which python -O strips"
+        return None
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        if case.dim != 2:
+            return f"pymunk is a 2-D engine: no {case.kind} in {case.dim}-D"
+        return super().unsupported(case)
+
+    def prepare(self, case: AnyCase) -> Any:
+        if isinstance(case, ResponseCase):
+            bodies, shapes = _discs(case, self.friction)
+            prepared = _Response(case, self._space(), self.dt, bodies, shapes)
+            prepared.space.add(*bodies, *shapes)
+            _watch(prepared)
+            return prepared
+        return _Detection(_static_shape(case, "a"), _static_shape(case, "b"))
+
+    def _space(self) -> Any:
+        import pymunk
+
+        space = pymunk.Space()
+        space.gravity = (0.0, 0.0)
+        space.damping = 1.0
+        if self.slop is not None:
+            space.collision_slop = self.slop
+        if self.bias is not None:
+            space.collision_bias = self.bias
+        if self.iterations is not None:
+            space.iterations = self.iterations
+        return space
+
+    def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, _Response):
+            return _respond(prepared)
+        return _detect(prepared)
+
+    def release(self, prepared: Any) -> None:
+        if isinstance(prepared, _Response):
+            prepared.space.remove(*prepared.bodies, *prepared.shapes)
+
+
+def _watch(prepared: _Response) -> None:
+    """Record the centres of A and B the first time a query's contact reaches pre_solve."""
+
+    def pre_solve(arbiter: Any, space: Any, data: Any) -> None:
+        if not prepared.contact:
+            a, b = prepared.bodies
+            prepared.contact.append((_vec(a.position), _vec(b.position)))
+
+    prepared.space.on_collision(pre_solve=pre_solve)
+
+
+class PymunkDefault(PymunkTuned):
+    """pymunk out of the box: only geometry, mass, velocity and elasticity are set."""
+
+    name: ClassVar[str] = "pymunk-default"
+    settings: ClassVar[str] = ("dt 1/60 s; collision_slop (0.1f), collision_bias ((1-0.1f)^60), "
+                               "iterations (10), friction (0) at defaults; elasticity A = e, B = 1")
+    conventions: ClassVar[Conventions] = _conventions(settings)
+    dt: ClassVar[float] = 1.0 / 60.0
+    slop: ClassVar[float | None] = None
+    bias: ClassVar[float | None] = None
+    iterations: ClassVar[int | None] = None
+    friction: ClassVar[float | None] = None
