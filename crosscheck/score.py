@@ -111,7 +111,7 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str,
     """Judge one quantity of an engine's observation against the truth."""
     want = truth.get(quantity)
     if value is None:
-        return Verdict(Status.SKIP, reason=f"engine does not report {quantity}")
+        return Verdict(Status.SKIP, reason=f"engine reported no {quantity}")
     if isinstance(want, Undefined) or want is None:
         why = want.reason if isinstance(want, Undefined) else "no truth"
         return Verdict(Status.UNDEFINED, reason=f"no defined value: {why}")
@@ -156,7 +156,10 @@ def _textbook_touch_is_contact(kind: Kind) -> bool:
 def categorize(case: AnyCase, conv: Conventions, quantity: str, err: float,
                truth: Observation) -> tuple[Category, str]:
     """Category and reason of a disagreement, from the adapter's declared conventions."""
-    allowed = conv.margin + conv.rtol * max(length_scale(case), velocity_scale(case))
+    velocity = quantity in ("v1", "v2")
+    # margin is a distance: it bounds lengths, never velocities
+    allowed = (conv.rtol * velocity_scale(case) if velocity
+               else conv.margin + conv.rtol * length_scale(case))
     gap = truth.distance if isinstance(truth.distance, float) else math.nan
     touch = conv.touching_is_contact
     if quantity == "hit" and gap == 0.0 and touch is not None and (

@@ -64,7 +64,7 @@ def test_claimed_capability_without_answers_is_skip_per_quantity(tmp_path: Path)
     store.close()
     frame = read_results(tmp_path / "run")
     assert set(frame["status"]) == {"skip"}
-    assert set(frame["reason"]) == {"engine does not report v1", "engine does not report v2"}
+    assert set(frame["reason"]) == {"engine reported no v1", "engine reported no v2"}
 
 
 def test_in_process_mode_gives_the_same_records(tmp_path: Path) -> None:

@@ -50,7 +50,7 @@ def test_case_tolerance_overrides_default() -> None:
 def test_absent_quantity_is_skip() -> None:
     case = sphere(0.0, 2.0)
     verdict = judge(case, TEXTBOOK, "normal", None, oracle.truth(case))
-    assert verdict.status is Status.SKIP and "does not report normal" in verdict.reason
+    assert verdict.status is Status.SKIP and "reported no normal" in verdict.reason
 
 
 def test_undefined_truth_gives_undefined_status() -> None:
