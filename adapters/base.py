@@ -24,6 +24,10 @@ from crosscheck.schema import AnyCase
 
 Capability = tuple[Kind, int]
 
+TEXTBOOK_TOUCHING: dict[str, bool] = {"sphere": False, "face": True, "edge": True,
+                                      "corner": True}
+"""The textbook's rule: touching boxes overlap (any feature); touching spheres do not collide."""
+
 
 def all_capabilities(*kinds: Kind, dims: tuple[int, ...] = (2, 3)) -> frozenset[Capability]:
     """Every (kind, dim) pair for the given kinds."""
@@ -34,19 +38,21 @@ def all_capabilities(*kinds: Kind, dims: tuple[int, ...] = (2, 3)) -> frozenset[
 class Conventions:
     """An engine's documented rules, each with its source.
 
-    ``touching_is_contact`` is None when the adapter follows the textbook
-    rule of each kind (AABB: touching overlaps; spheres: touching does not
-    collide).  ``margin`` is an absolute distance tolerance (collision margin,
-    slop); ``rtol`` a relative one (the engine's arithmetic precision), scaled
-    by the case's size.  ``restitution_threshold`` is the approach speed
-    below which the engine makes a bounce perfectly inelastic (0: none);
-    ``resolves_separating`` is False for engines that leave bodies which are
-    already moving apart alone (the textbook formula exchanges momentum anyway).
+    ``touching`` maps a touching feature (``sphere``; ``face``, ``edge`` or
+    ``corner`` for boxes) to whether the engine counts exact touching there as
+    contact; a feature not listed follows the textbook (boxes touching
+    overlap, spheres touching do not collide).  ``margin`` is an absolute
+    distance tolerance (collision margin, slop); ``rtol`` a relative one (the
+    engine's arithmetic precision), scaled by the case's size.
+    ``restitution_threshold`` is the approach speed below which the engine
+    makes a bounce perfectly inelastic (0: none); ``resolves_separating`` is
+    False for engines that leave bodies which are already moving apart alone
+    (the textbook formula exchanges momentum anyway).
     """
 
     box_extents: str = "half"
     normal: str = "A to B"
-    touching_is_contact: bool | None = None
+    touching: dict[str, bool] = field(default_factory=dict)
     margin: float = 0.0
     rtol: float = 0.0
     restitution: str = "case value"
@@ -55,11 +61,28 @@ class Conventions:
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
 
+    def touching_is_contact(self, feature: str) -> bool:
+        """Whether the engine counts exact touching at ``feature`` as contact.
+
+        >>> Conventions(touching={"sphere": True}).touching_is_contact("sphere")
+        True
+        >>> Conventions().touching_is_contact("edge")
+        True
+        """
+        return self.touching.get(feature, TEXTBOOK_TOUCHING[feature])
+
     def touching_rule(self) -> str:
-        """The touching rule in words, for the conventions table."""
-        if self.touching_is_contact is None:
-            return "textbook: AABB touching overlaps, spheres touching do not collide"
-        return "touching is contact" if self.touching_is_contact else "touching is not contact"
+        """The touching rule in words, for the conventions table.
+
+        >>> Conventions(touching={"edge": False}).touching_rule()
+        'contact when touching: sphere no, face yes, edge NO, corner yes'
+        """
+        words = []
+        for feature, textbook in TEXTBOOK_TOUCHING.items():
+            rule = self.touching_is_contact(feature)
+            word = "yes" if rule else "no"
+            words.append(f"{feature} {word if rule == textbook else word.upper()}")
+        return "contact when touching: " + ", ".join(words)
 
 
 def describe(capabilities: frozenset[Capability]) -> list[str]:

@@ -228,7 +228,7 @@ class PyBulletTuned(Adapter):
     conventions: ClassVar[Conventions] = Conventions(
         box_extents="half",
         normal="B to A (contactNormalOnB of getClosestPoints); flipped by the adapter",
-        touching_is_contact=True,
+        touching={"sphere": True},
         margin=2 * BOX_MARGIN,
         rtol=2.0**-50,
         restitution="product of the bodies' restitutions; the adapter sets A = e, B = 1",

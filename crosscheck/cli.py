@@ -103,11 +103,11 @@ def _run_with_progress(loaded: LoadResult, engines: list[Adapter], store: Result
 def _print_summary(directory: Path) -> None:
     table = report.summary(read_results(directory))
     rich_table = Table(title=f"summary of {directory}")
-    for column in ("engine", "kind", "agree", "disagree", "undefined", "skip", "error"):
-        rich_table.add_column(column)
+    columns = ("engine", "kind", *report.STATUSES)
+    for column in columns:
+        rich_table.add_column(column, no_wrap=column in ("engine", "kind"))
     for row in table.itertuples(index=False):
-        rich_table.add_row(*(str(getattr(row, c)) for c in (
-            "engine", "kind", "agree", "disagree", "undefined", "skip", "error")))
+        rich_table.add_row(*(str(getattr(row, c)) for c in columns))
     out.print(rich_table)
 
 
@@ -157,7 +157,7 @@ def cmd_new_case(args: argparse.Namespace) -> int:
 def cmd_engines(args: argparse.Namespace) -> int:
     table = Table(title="engines")
     for column in ("name", "version", "available", "capabilities", "settings"):
-        table.add_column(column)
+        table.add_column(column, no_wrap=column in ("name", "version"))
     for name in adapters.names():
         info = _engine_info(adapters.get(name))
         caps = info["capabilities"]

@@ -49,7 +49,7 @@ def disagreements(frame: pd.DataFrame) -> pd.DataFrame:
 
 def markdown_summary(frame: pd.DataFrame) -> str:
     """The summary as a Markdown table (counts only), for README excerpts."""
-    table = summary(frame)[["engine", "kind", "agree", "disagree", "undefined", "skip", "error"]]
+    table = summary(frame)[["engine", "kind", *STATUSES]]
     header = "| " + " | ".join(table.columns) + " |"
     rule = "|" + "---|" * len(table.columns)
     rows = ["| " + " | ".join(str(v) for v in row) + " |" for row in table.itertuples(index=False)]

@@ -19,9 +19,10 @@ import json
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 
-from adapters.base import Conventions
-from crosscheck.model import Category, Kind, Observation, Status, Undefined, Value
+from adapters.base import TEXTBOOK_TOUCHING, Conventions
+from crosscheck.model import Category, Observation, Status, Undefined, Value
 from crosscheck.schema import AabbCase, AnyCase, ResponseCase
 
 DEFAULT_RTOL = 1e-9
@@ -139,6 +140,14 @@ def approach_speed(case: ResponseCase) -> float:
     return math.fsum(r * c for r, c in zip(rel, d, strict=True)) / length
 
 
+def _touch_convention(case: AnyCase, conv: Conventions) -> str:
+    feature = touch_feature(case)
+    counts = conv.touching_is_contact(feature)
+    if counts == TEXTBOOK_TOUCHING[feature]:
+        return ""
+    return f"exact {feature} touch; the engine counts it as {'contact' if counts else 'apart'}"
+
+
 def _response_convention(case: ResponseCase, conv: Conventions) -> str:
     speed = approach_speed(case)
     if speed <= 0 and not conv.resolves_separating:
@@ -149,8 +158,22 @@ def _response_convention(case: ResponseCase, conv: Conventions) -> str:
     return ""
 
 
-def _textbook_touch_is_contact(kind: Kind) -> bool:
-    return kind is Kind.AABB
+def touch_feature(case: AnyCase) -> str:
+    """Where two exactly touching bodies meet: ``sphere``, or a box ``face``/``edge``/``corner``.
+
+    >>> from tests.conftest import aabb
+    >>> touch_feature(aabb([0.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.5, 0.5]))
+    'corner'
+    """
+    if not isinstance(case, AabbCase):
+        return "sphere"
+    touching = sum(
+        abs(Fraction(cb) - Fraction(ca)) == Fraction(ha) + Fraction(hb)
+        for ca, cb, ha, hb in zip(case.a.center, case.b.center, case.a.half, case.b.half,
+                                  strict=True))
+    if touching <= 1:
+        return "face"
+    return "edge" if touching == 2 and case.dim == 3 else "corner"
 
 
 def categorize(case: AnyCase, conv: Conventions, quantity: str, err: float,
@@ -161,16 +184,13 @@ def categorize(case: AnyCase, conv: Conventions, quantity: str, err: float,
     allowed = (conv.rtol * velocity_scale(case) if velocity
                else conv.margin + conv.rtol * length_scale(case))
     gap = truth.distance if isinstance(truth.distance, float) else math.nan
-    touch = conv.touching_is_contact
-    if quantity == "hit" and gap == 0.0 and touch is not None and (
-            touch != _textbook_touch_is_contact(case.kind_enum)):
-        return Category.CONVENTION, f"exact touch; engine rule: {conv.touching_rule()}"
+    rule = _touch_convention(case, conv) if quantity == "hit" and gap == 0.0 else ""
+    if velocity and isinstance(case, ResponseCase):
+        rule = _response_convention(case, conv)
+    if rule:
+        return Category.CONVENTION, rule
     if quantity in ("hit", "normal") and abs(gap) < allowed:
         return Category.TOLERANCE, f"|gap| {abs(gap):.3g} within declared tolerance {allowed:.3g}"
-    if quantity in ("v1", "v2") and isinstance(case, ResponseCase):
-        rule = _response_convention(case, conv)
-        if rule:
-            return Category.CONVENTION, rule
     if quantity == "normal":
         separation = _norm([y - x for x, y in zip(case.a.center, case.b.center, strict=False)])
         allowed = allowed / separation if separation > 0 else 0.0

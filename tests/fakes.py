@@ -68,7 +68,7 @@ class TouchingIsContact(_Fake):
     """Declares that touching counts as contact, and reports spheres that way."""
 
     name: ClassVar[str] = "fake-touch"
-    conventions: ClassVar[Conventions] = Conventions(touching_is_contact=True)
+    conventions: ClassVar[Conventions] = Conventions(touching={"sphere": True})
 
     def query(self, prepared: Any) -> Observation:
         truth = oracle.truth(prepared)

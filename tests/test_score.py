@@ -7,7 +7,14 @@ import math
 from adapters.base import Conventions
 from crosscheck import oracle
 from crosscheck.model import Category, Observation, Status, Undefined
-from crosscheck.score import encode, error_of, judge, length_scale, tolerance_for
+from crosscheck.score import (
+    encode,
+    error_of,
+    judge,
+    length_scale,
+    tolerance_for,
+    touch_feature,
+)
 from tests.conftest import aabb, response, sphere
 
 TEXTBOOK = Conventions()
@@ -68,7 +75,7 @@ def test_engine_undefined_where_truth_defined_is_error() -> None:
 def test_touching_rule_difference_is_convention() -> None:
     case = sphere(0.0, 1.0)  # exactly touching: textbook says no collision
     truth = oracle.truth(case)
-    engine = Conventions(touching_is_contact=True)
+    engine = Conventions(touching={"sphere": True})
     verdict = judge(case, engine, "hit", True, truth)
     assert verdict.status is Status.DISAGREE and verdict.category == Category.CONVENTION
     boxes = aabb([0.0, 0.0], [0.5, 0.5], [1.0, 0.0], [0.5, 0.5])  # touching boxes do overlap
@@ -108,3 +115,15 @@ def test_non_unit_normal_is_an_error() -> None:
     case = sphere(0.0, 2.0)
     verdict = judge(case, TEXTBOOK, "normal", (0.0, -0.0, 0.0), oracle.truth(case))
     assert verdict.status is Status.DISAGREE and "not a unit vector" in verdict.reason
+
+
+def test_box_touch_features_and_per_feature_rules() -> None:
+    face = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.0, 0.0, 0.0], [0.5, 0.5, 0.5])
+    edge = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.0, 1.0, 0.0], [0.5, 0.5, 0.5])
+    corner = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.0, 1.0, 1.0], [0.5, 0.5, 0.5])
+    assert [touch_feature(c) for c in (face, edge, corner)] == ["face", "edge", "corner"]
+    engine = Conventions(touching={"edge": False, "corner": False}, margin=1e-3)
+    for case, category in [(face, Category.TOLERANCE), (edge, Category.CONVENTION),
+                           (corner, Category.CONVENTION)]:
+        verdict = judge(case, engine, "hit", False, oracle.truth(case))
+        assert verdict.category == category, case

@@ -1,0 +1,199 @@
+"""FCL 0.7.0 through python-fcl 0.7.0.11 as an engine: ``fcl``.
+
+FCL answers collision and distance queries; it has no dynamics, so ``sphere_response`` is
+unsupported.  A case becomes two ``CollisionObject`` s (a ``Box`` or ``Sphere`` at the
+case's centre, identity rotation): no world, client or broadphase, and each object owns
+its shape, so ``release`` only drops references.  ``query`` makes two calls, each with
+fresh result objects, so it is repeatable:
+
+- ``collide(A, B, CollisionRequest(enable_contact=True, num_max_contacts=1))``: ``hit`` is
+  ``CollisionResult.is_collision``; in collision, ``normal`` is the contact's normal.
+- ``distance(A, B, DistanceRequest(enable_nearest_points=True,
+  enable_signed_distance=True))``: ``distance`` is its value (gap positive, penetration
+  negative).  Without a collision and with a distance > 0, ``normal`` is the unit vector
+  from A's nearest point to B's (world frame).  Without a collision and with a distance
+  <= 0 (edge-touching boxes), or without nearest points, the engine gives no direction:
+  ``normal`` is None.
+
+Both use the default narrow phase, ``GST_LIBCCD``.  2-D: discs are spheres at z = 0; a 2-D
+box gets the z half-width 2 x the case's largest half-width (1 if all are 0), both centred
+at z = 0, so the z overlap exceeds any x or y overlap and z is never the axis of least
+overlap nor a gap; normals come back without z.
+
+Conventions (sources in ``SOURCES``; FCL files at tag v0.7.0):
+
+- box extents full: ``Box(x, y, z)`` takes side lengths [fcl.pyx]; the adapter passes 2 x
+  the half-widths (exact in binary).  ``Contact.normal`` points "from o1 to o2"
+  [contact.h]: A to B, no flip.
+- touching is contact for spheres (``sphereSphereIntersect`` rejects only ``len > r1 +
+  r2``) and for face-touching boxes (``boxBox2`` separates only on ``s2 > 0``).  Edge- and
+  corner-touching boxes do NOT collide here: ``boxBox2`` finds an intersection but clips
+  no contact point, and with ``enable_contact`` a collision is recorded only through its
+  contacts [shape_collision_traversal_node-inl.h]; with ``enable_contact=False`` the same
+  pair collides (measured).  Declared: touching is contact.
+- margin 1e-6: ``GJKSolver_libccd``'s distance and collision tolerances
+  [gjk_solver_libccd-inl.h].  ``collide`` is analytic for both pairs (sphere-sphere,
+  ``boxBox2``); the signed distance is GJK/EPA on support functions, with no special path
+  for two spheres [issue 345].  rtol 2^-50 (float64 throughout).
+
+Facts measured: signed sphere distances are exact when the centres differ only in x and
+otherwise off by up to 1e-6 (a 0.5 overlap reads -0.49999958, a touch on a 3-4-5
+diagonal +1.2e-7), and the nearest points of separated spheres off by up to 4e-4 rad in
+direction; box-box distances are exact at unit scale, but the absolute GJK tolerance shows
+on 1e-9 boxes (a 2e-9 gap reads 4.5e-9).  Coincident sphere centres hang the signed
+distance (EPA with a zero search direction) [issue 346]; box-box signed distance may hang
+too [issue 578]; NaN or infinite inputs crash it (segmentation fault), except an infinite
+centre, for which it returns DBL_MAX and no nearest points.  Coincident spheres collide
+with contact normal (0, 0, 0); coincident boxes with the axis of least overlap, x on a
+tie.  A zero-size box on another's corner, or a subnormal gap, reads -1 (the "mostly -1"
+of a failed signed distance [distance_request.h]).  With ``enable_contact=False`` the
+Contact's normal and depth are uninitialised memory.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from adapters.base import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.model import Kind, Observation, Vec
+from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+
+FCL = "https://github.com/flexible-collision-library/fcl/"
+TREE = FCL + "blob/v0.7.0/include/fcl/narrowphase/"
+SOURCES = (
+    "https://github.com/BerkeleyAutomation/python-fcl/blob/master/src/fcl/fcl.pyx",
+    TREE + "contact.h",
+    TREE + "distance_request.h",
+    TREE + "detail/primitive_shape_algorithm/sphere_sphere-inl.h",
+    TREE + "detail/primitive_shape_algorithm/box_box-inl.h",
+    TREE + "detail/traversal/collision/shape_collision_traversal_node-inl.h",
+    TREE + "detail/gjk_solver_libccd-inl.h",
+    FCL + "issues/345",
+    FCL + "issues/346",
+    FCL + "issues/578",
+)
+GJK_TOLERANCE = 1e-6
+"""``GJKSolver_libccd``'s default ``distance_tolerance`` and ``collision_tolerance``."""
+
+
+def engine() -> Any:
+    """The ``fcl`` module, imported on first use."""
+    import fcl
+
+    return fcl
+
+
+@dataclass(frozen=True, slots=True)
+class Prepared:
+    """The two collision objects of a case, the two requests and the case's dimension."""
+
+    a: Any
+    b: Any
+    collision: Any
+    distance: Any
+    dim: int
+
+
+def embed(v: Sequence[float]) -> list[float]:
+    """A 2- or 3-vector as a 3-vector (z = 0 for 2-D)."""
+    return [*v, 0.0] if len(v) == 2 else list(v)
+
+
+def z_half(case: AabbCase) -> float:
+    """The z half-width of both boxes of a 2-D case: 2 x the largest half-width, 1 if all are 0."""
+    return 2.0 * max(abs(h) for h in (*case.a.half, *case.b.half)) or 1.0
+
+
+def shapes(case: AnyCase) -> tuple[Any, Any]:
+    """The FCL geometries of A and B (boxes take full side lengths)."""
+    fcl = engine()
+    if isinstance(case, AabbCase):
+        extra = (z_half(case),) if case.dim == 2 else ()
+        sa, sb = ([2.0 * h for h in (*body.half, *extra)] for body in (case.a, case.b))
+        return fcl.Box(*sa), fcl.Box(*sb)
+    return fcl.Sphere(case.a.radius), fcl.Sphere(case.b.radius)
+
+
+def unit(v: Sequence[float]) -> Vec | None:
+    """``v`` normalised, or None for a zero vector."""
+    norm = math.sqrt(math.fsum(x * x for x in v))
+    return tuple(float(x) / norm for x in v) if norm > 0 else None
+
+
+def contact_normal(hits: Any, near: Any, distance: float) -> Vec | None:
+    """The contact's normal in collision, else the direction between the nearest points.
+
+    None when the engine gives no direction: no collision and a distance <= 0, or no
+    nearest points (python-fcl leaves ``[None, None]`` unless the distance is below DBL_MAX).
+    """
+    if hits.is_collision:
+        return tuple(float(x) for x in hits.contacts[0].normal)
+    pa, pb = near.nearest_points
+    if distance > 0 and pa is not None and pb is not None:
+        return unit([y - x for x, y in zip(pa, pb, strict=True)])
+    return None
+
+
+class Fcl(Adapter):
+    """FCL's ``collide`` (verdict, contact normal) and signed ``distance``."""
+
+    name: ClassVar[str] = "fcl"
+    engine: ClassVar[str] = "python-fcl"
+    settings: ClassVar[str] = (
+        "collide: CollisionRequest(enable_contact=True, num_max_contacts=1); distance: "
+        "DistanceRequest(enable_nearest_points=True, enable_signed_distance=True); "
+        "GST_LIBCCD; 2-D: z = 0, boxes get z half-width 2 x the largest half-width")
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.AABB, Kind.SPHERE)
+    conventions: ClassVar[Conventions] = Conventions(
+        box_extents="full (Box takes side lengths; the adapter doubles half-widths)",
+        normal="o1 to o2 (Contact.normal), i.e. A to B; no flip",
+        touching={"sphere": True, "face": True, "edge": False, "corner": False},
+        margin=GJK_TOLERANCE,
+        rtol=2.0**-50,
+        restitution="not applicable: FCL has no dynamics",
+        notes=("Touching spheres and face-touching boxes collide; edge- or corner-touching "
+               "boxes do not (no contact point with enable_contact). Signed distance is "
+               "GJK/EPA, within 1e-6; coincident sphere centres hang it."),
+        sources=SOURCES,
+    )
+
+    def version(self) -> str:
+        return str(engine().__version__)
+
+    def available(self) -> str | None:
+        try:
+            engine()
+        except ImportError as exc:
+            return str(exc)
+        return None
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        if isinstance(case, ResponseCase):
+            return "fcl has no dynamics: collision and distance queries only"
+        return super().unsupported(case)
+
+    def prepare(self, case: AnyCase) -> Any:
+        fcl = engine()
+        shape_a, shape_b = shapes(case)
+        return Prepared(
+            a=fcl.CollisionObject(shape_a, fcl.Transform(embed(case.a.center))),
+            b=fcl.CollisionObject(shape_b, fcl.Transform(embed(case.b.center))),
+            collision=fcl.CollisionRequest(num_max_contacts=1, enable_contact=True),
+            distance=fcl.DistanceRequest(enable_nearest_points=True,
+                                         enable_signed_distance=True),
+            dim=case.dim)
+
+    def query(self, prepared: Any) -> Observation:
+        p: Prepared = prepared
+        fcl = engine()
+        hits = fcl.CollisionResult()
+        fcl.collide(p.a, p.b, p.collision, hits)
+        near = fcl.DistanceResult()
+        distance = float(fcl.distance(p.a, p.b, p.distance, near))
+        normal = contact_normal(hits, near, distance)
+        if normal is not None and p.dim == 2:
+            normal = normal[:2]
+        return Observation(hit=bool(hits.is_collision), distance=distance, normal=normal)

@@ -1,0 +1,62 @@
+"""Isolation with real engine faults that happen today, not mocks.
+
+- FCL signed distance on spheres whose centres coincide loops forever -> ``timeout``;
+- FCL signed distance with NaN input segfaults -> ``crash`` (SIGSEGV);
+- pymunk ``Body(mass=-1)`` aborts the interpreter -> ``crash`` (SIGABRT);
+and in every case the next case on the same engine still runs.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pandas as pd
+
+import adapters
+from crosscheck.execute import RunOptions
+from crosscheck.runner import run
+from crosscheck.schema import AnyCase
+from crosscheck.store import ResultsStore, read_results
+from tests.conftest import response, sphere
+
+BAD = ["bad-input"]
+
+
+def run_engine(tmp_path: Path, engine: str, cases: list[AnyCase],
+               timeout_s: float = 3.0) -> pd.DataFrame:
+    store = ResultsStore(tmp_path / engine)
+    run(cases, [adapters.get(engine)], store, RunOptions(quick=True, timeout_s=timeout_s))
+    store.close()
+    return read_results(tmp_path / engine)
+
+
+def status_of(frame: pd.DataFrame, case_id: str) -> set[str]:
+    return set(frame[frame["case_id"] == case_id]["status"])
+
+
+def test_fcl_hang_on_coincident_spheres_is_a_timeout(tmp_path: Path) -> None:
+    cases = [sphere(0.0, 0.0, id="coincident"), sphere(0.0, 2.0, id="after")]
+    frame = run_engine(tmp_path, "fcl", cases, timeout_s=2.0)
+    assert status_of(frame, "coincident") == {"timeout"}
+    assert status_of(frame, "after") == {"agree"}
+
+
+def test_fcl_segfault_on_nan_is_a_crash(tmp_path: Path) -> None:
+    cases = [sphere(math.nan, 1.0, id="nan", tags=BAD), sphere(0.0, 2.0, id="after")]
+    frame = run_engine(tmp_path, "fcl", cases)
+    nan_rows = frame[frame["case_id"] == "nan"]
+    assert set(nan_rows["status"]) == {"crash"}
+    assert set(nan_rows["reason"]) == {"worker killed by SIGSEGV"}
+    assert status_of(frame, "after") == {"agree"}
+
+
+def test_pymunk_abort_on_negative_mass_is_a_crash(tmp_path: Path) -> None:
+    negative = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0], ma=-1.0, mb=3.0,
+                        id="negative-mass", tags=BAD)
+    after = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0], id="after")
+    frame = run_engine(tmp_path, "pymunk", [negative, after])
+    rows = frame[frame["case_id"] == "negative-mass"]
+    assert set(rows["status"]) == {"crash"}
+    assert set(rows["reason"]) == {"worker killed by SIGABRT"}
+    assert status_of(frame, "after") == {"agree"}
