@@ -30,7 +30,8 @@ Conventions (sources in ``SOURCES``; FCL files at tag v0.7.0):
   corner-touching boxes do NOT collide here: ``boxBox2`` finds an intersection but clips
   no contact point, and with ``enable_contact`` a collision is recorded only through its
   contacts [shape_collision_traversal_node-inl.h]; with ``enable_contact=False`` the same
-  pair collides (measured).  Declared: touching is contact.
+  pair collides (measured).  Declared per feature: sphere, face: contact; edge, corner:
+  apart.
 - margin 1e-6: ``GJKSolver_libccd``'s distance and collision tolerances
   [gjk_solver_libccd-inl.h].  ``collide`` is analytic for both pairs (sphere-sphere,
   ``boxBox2``); the signed distance is GJK/EPA on support functions, with no special path

@@ -67,6 +67,14 @@ impulse accumulator is clamped at 0, so bodies already separating are left
 alone; there is no restitution threshold (``bounce = vrn * e``); a grazing
 approach (normal speed 2^-10 against tangential 2) is never seen overlapping at
 a step, so it is not resolved at all (at dt = 1e-3 and 1/60).
+
+Conventions (each backed by a file in ``SOURCES``, Munk2D and pymunk sources):
+box size full (``create_box``); normal from the first shape to the second,
+A to B (``cpShapesCollide`` in cpShape.c); touching boxes collide (``d <= 0`` in
+cpCollision.c), touching circles do not (strict ``<``); elasticity combines as
+the product (cpArbiter.c); no restitution threshold; collision_slop 0.1,
+collision_bias and 10 iterations by default (space.py); no contact raises
+AssertionError (contact_point_set.py).
 """
 
 from __future__ import annotations

@@ -156,14 +156,15 @@ def cmd_new_case(args: argparse.Namespace) -> int:
 
 def cmd_engines(args: argparse.Namespace) -> int:
     table = Table(title="engines")
-    for column in ("name", "version", "available", "capabilities", "settings"):
+    columns = ["name", "version", "available", "capabilities"]
+    for column in [*columns, "settings"] if args.settings else columns:
         table.add_column(column, no_wrap=column in ("name", "version"))
     for name in adapters.names():
         info = _engine_info(adapters.get(name))
         caps = info["capabilities"]
         assert isinstance(caps, list)
-        table.add_row(str(info["name"]), str(info["version"]), str(info["available"]),
-                      "\n".join(caps), str(info["settings"]))
+        row = [str(info["name"]), str(info["version"]), str(info["available"]), ", ".join(caps)]
+        table.add_row(*row, *([str(info["settings"])] if args.settings else []))
     out.print(table)
     return 0
 
@@ -209,6 +210,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--file", type=Path, default=Path("cases/user.toml"))
     p.set_defaults(func=cmd_new_case)
     p = sub.add_parser("engines", help="list adapters, versions, capabilities, availability")
+    p.add_argument("--settings", action="store_true", help="also show each variant's settings")
     p.set_defaults(func=cmd_engines)
     p = sub.add_parser("schema", help="write the case-file JSON Schema")
     p.add_argument("--output", type=Path, default=Path("cases/schema.json"))

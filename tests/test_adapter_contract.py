@@ -1,0 +1,76 @@
+"""Every registered adapter honours the contract: declared, available, repeatable, sourced."""
+
+from __future__ import annotations
+
+import importlib
+
+import pytest
+
+import adapters
+from adapters.base import Adapter
+from crosscheck.model import Kind, quantities_of
+from crosscheck.schema import AnyCase
+from tests.conftest import aabb, response, sphere
+
+ENGINES = ["fcl", "pybullet", "pybullet-default", "pymunk", "pymunk-default"]
+
+
+def sample(kind: Kind, dim: int) -> AnyCase:
+    pad = [0.0] * (dim - 1)
+    if kind is Kind.AABB:
+        return aabb([0.0, *pad], [0.5] * dim, [0.75, *pad], [0.5] * dim)
+    if kind is Kind.SPHERE:
+        return sphere(0.0, 0.75, dim=dim)
+    return response([0.0, *pad], [1.0, *pad], [1.0, *pad], [-1.0, *pad])
+
+
+@pytest.mark.parametrize("name", adapters.names())
+def test_adapter_is_available_and_declared(name: str) -> None:
+    adapter = adapters.get(name)
+    assert adapter.name == name
+    assert adapter.available() is None
+    assert adapter.version()
+    assert adapter.capabilities
+    assert adapter.conventions.sources
+
+
+@pytest.mark.parametrize("name", ENGINES)
+def test_engine_conventions_cite_public_sources_in_the_module_docstring(name: str) -> None:
+    adapter = adapters.get(name)
+    links = [s for s in adapter.conventions.sources if s.startswith("https://")]
+    assert links, f"{name} cites no link"
+    module = importlib.import_module(type(adapter).__module__)
+    doc = (module.__doc__ or "").lower()
+    assert "conventions" in doc and "sources" in doc
+
+
+@pytest.mark.parametrize("name", adapters.names())
+def test_query_is_repeatable_and_in_harness_conventions(name: str) -> None:
+    adapter: Adapter = adapters.get(name)
+    for kind, dim in sorted(adapter.capabilities):
+        case = sample(kind, dim)
+        assert adapter.unsupported(case) is None
+        prepared = adapter.prepare(case)
+        try:
+            first, second = adapter.query(prepared), adapter.query(prepared)
+        finally:
+            adapter.release(prepared)
+        assert first == second, (name, kind, dim)
+        for quantity in quantities_of(kind):
+            value = first.get(quantity)
+            if isinstance(value, tuple):
+                assert len(value) == dim, (name, kind, dim, quantity)
+        if kind is not Kind.SPHERE_RESPONSE:
+            assert first.hit is True
+            assert isinstance(first.distance, float) and first.distance < 0
+            assert first.normal is None or first.normal[0] > 0.99  # A -> B is +x
+
+
+@pytest.mark.parametrize("name", adapters.names())
+def test_unsupported_pairs_have_a_reason(name: str) -> None:
+    adapter = adapters.get(name)
+    for kind in Kind:
+        for dim in (2, 3):
+            reason = adapter.unsupported(sample(kind, dim))
+            assert (reason is None) == ((kind, dim) in adapter.capabilities)
+            assert reason is None or name.split("-")[0] in reason or "engine" in reason
