@@ -130,3 +130,11 @@ class Adapter(ABC):
 
     def release(self, prepared: Any) -> None:  # noqa: B027 - optional hook, empty by default
         """Free what :meth:`prepare` built (optional)."""
+
+    def observe(self, case: AnyCase) -> Observation:
+        """One untimed prepare, query and release, in this process (tests, exploration)."""
+        prepared = self.prepare(case)
+        try:
+            return self.query(prepared)
+        finally:
+            self.release(prepared)

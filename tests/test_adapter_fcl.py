@@ -34,12 +34,7 @@ def ball(ca: list[float], ra: float, cb: list[float], rb: float) -> AnyCase:
 
 
 def observe(case: AnyCase) -> Observation:
-    prepared = FCL.prepare(case)
-    try:
-        result: Observation = FCL.query(prepared)
-        return result
-    finally:
-        FCL.release(prepared)
+    return FCL.observe(case)
 
 
 def collide(a: Any, b: Any, enable_contact: bool) -> Any:

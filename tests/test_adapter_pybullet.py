@@ -30,12 +30,7 @@ pytestmark = pytest.mark.skipif(adapters.get("pybullet").available() is not None
 
 
 def observe(name: str, case: AnyCase) -> Observation:
-    adapter = adapters.get(name)
-    prepared = adapter.prepare(case)
-    try:
-        return adapter.query(prepared)
-    finally:
-        adapter.release(prepared)
+    return adapters.get(name).observe(case)
 
 
 def spheres(ca: list[float], ra: float, cb: list[float], rb: float) -> AnyCase:

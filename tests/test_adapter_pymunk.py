@@ -17,6 +17,7 @@ import pytest
 pymunk = pytest.importorskip("pymunk")
 
 import adapters  # noqa: E402
+from adapters.base import Adapter  # noqa: E402
 from adapters.pymunk_engine import PymunkDefault, PymunkTuned  # noqa: E402
 from crosscheck.model import Observation  # noqa: E402
 from crosscheck.schema import CASE_ADAPTER, AnyCase  # noqa: E402
@@ -39,13 +40,8 @@ def f32(x: float) -> float:
     return value
 
 
-def observe(case: AnyCase, adapter: Any = TUNED) -> Observation:
-    prepared = adapter.prepare(case)
-    try:
-        result: Observation = adapter.query(prepared)
-        return result
-    finally:
-        adapter.release(prepared)
+def observe(case: AnyCase, adapter: Adapter = TUNED) -> Observation:
+    return adapter.observe(case)
 
 
 # --- native behaviour (conformance) ----------------------------------------------------------
