@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import shlex
 import sys
@@ -10,9 +11,17 @@ from collections.abc import Sequence
 from dataclasses import asdict
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any
 
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
 from rich.table import Table
 
 import adapters
@@ -23,8 +32,14 @@ from crosscheck.execute import RunOptions
 from crosscheck.model import Kind
 from crosscheck.newcase import case_block
 from crosscheck.runner import run
-from crosscheck.schema import ID_PATTERN, json_schema_text
-from crosscheck.store import ResultsStore, StoreError, read_results
+from crosscheck.schema import CASE_ADAPTER, ID_PATTERN, AnyCase, json_schema_text
+from crosscheck.store import (
+    ResultsStore,
+    StoreError,
+    read_cases,
+    read_results,
+    read_run_info,
+)
 
 out = Console()
 err = Console(stderr=True)
@@ -63,6 +78,8 @@ def _engine_info(adapter: Adapter) -> dict[str, object]:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    if args.resume:
+        return _resume(args.resume)
     loaded = load_paths(args.paths or [Path("cases")])
     _report_errors(loaded)
     engines = _select_engines(args.engine)
@@ -72,32 +89,59 @@ def cmd_run(args: argparse.Namespace) -> int:
     except StoreError as exc:
         err.print(f"[red]error:[/red] {exc}")
         return 2
-    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample,
-                         timeout_s=args.timeout, isolate=not args.no_isolation)
+    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample, timeout_s=args.timeout,
+                         isolate=not args.no_isolation, jobs=args.jobs or os.cpu_count() or 1)
     info = {"run_id": directory.name, "started": _now(), "finished": None,
             "command": shlex.join(["crosscheck", *sys.argv[1:]]),
             "options": asdict(options),
             "machine": environment.machine(), "engines": [_engine_info(a) for a in engines],
             "case_files": [str(p) for p in loaded.files], "cases_run": len(loaded.cases),
             "case_errors": [e.message for e in loaded.errors]}
+    code = _finish(store, loaded.cases, engines, options, info)
+    return code or (1 if loaded.errors else 0)
+
+
+def _resume(directory: Path) -> int:
+    try:
+        info = read_run_info(directory)
+        store = ResultsStore(directory, resume=True)
+    except (OSError, StoreError) as exc:
+        err.print(f"[red]error:[/red] cannot resume {directory}: {exc}")
+        return 2
+    cases = [CASE_ADAPTER.validate_python(case) for case in read_cases(directory).values()]
+    engines = [adapters.get(engine["name"]) for engine in info["engines"]]
+    out.print(f"resuming {directory}: {len(store.done)} case x engine pairs already done")
+    info["resumed"] = [*info.get("resumed", []), _now()]
+    return _finish(store, cases, engines, RunOptions(**info["options"]), info)
+
+
+def _finish(store: ResultsStore, cases: list[AnyCase], engines: list[Adapter],
+            options: RunOptions, info: dict[str, Any]) -> int:
+    """Run what is left, then write run.json, the CSV files and the report."""
     store.write_run_info(info)
-    _run_with_progress(loaded, engines, store, options)
+    try:
+        _run_with_progress(cases, engines, store, options)
+    except KeyboardInterrupt:
+        store.close()
+        err.print(f"interrupted; finished rows are kept. Resume with: "
+                  f"crosscheck run --resume {store.directory}")
+        return 130
     store.write_run_info({**info, "finished": _now()})
     store.close()
-    paths = report.render(directory)
-    _print_summary(directory)
+    paths = report.render(store.directory)
+    _print_summary(store.directory)
     out.print(f"report: {paths['report']}")
-    return 1 if loaded.errors else 0
+    return 0
 
 
-def _run_with_progress(loaded: LoadResult, engines: list[Adapter], store: ResultsStore,
+def _run_with_progress(cases: list[AnyCase], engines: list[Adapter], store: ResultsStore,
                        options: RunOptions) -> None:
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-               TimeRemainingColumn())
+               TimeElapsedColumn(), TimeRemainingColumn())
     with Progress(*columns, console=err, transient=True) as bar:
-        task = bar.add_task("running", total=len(loaded.cases) * len(engines))
-        run(loaded.cases, engines, store, options,
-            progress=lambda label: bar.update(task, advance=1, description=label[:40]))
+        total = sum((c.id, a.name) not in store.done for c in cases for a in engines)
+        task = bar.add_task("case x engine", total=total)
+        run(cases, engines, store, options, progress=lambda n: bar.update(task, advance=n))
 
 
 def _print_summary(directory: Path) -> None:
@@ -193,6 +237,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--min-sample", type=float, default=0.02, help="seconds per timing sample")
     p.add_argument("--timeout", type=float, default=5.0,
                    help="seconds allowed per case x engine before it is marked timeout")
+    p.add_argument("--jobs", type=int, default=0,
+                   help="cases run at once, each lane with its own workers (default: cores)")
+    p.add_argument("--resume", type=Path, metavar="DIR",
+                   help="finish a stopped run in DIR without redoing what is done")
     p.add_argument("--no-isolation", action="store_true",
                    help="run engines in this process (faster start, no crash or hang safety)")
     p.set_defaults(func=cmd_run)

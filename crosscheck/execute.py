@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,7 +25,8 @@ class RunOptions:
     """How to run: ``quick`` skips timing; sample length and count otherwise.
 
     ``timeout_s`` limits one case x engine (prepare, query and timing) in its
-    worker; ``isolate`` False runs engines in this process (no crash safety).
+    worker; ``isolate`` False runs engines in this process (no crash safety);
+    ``jobs`` is the number of cases run at once.
     """
 
     quick: bool = False
@@ -32,6 +34,7 @@ class RunOptions:
     samples: int = 5
     timeout_s: float = 5.0
     isolate: bool = True
+    jobs: int = 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,3 +70,7 @@ def execute(adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
     finally:
         if prepared is not None:
             adapter.release(prepared)
+
+
+Executor = Callable[[Adapter, AnyCase, RunOptions], Outcome]
+"""Runs one case on one adapter: :func:`execute` in-process, or a worker pool's."""

@@ -15,14 +15,12 @@ from typing import Any
 
 from adapters.base import Adapter
 from crosscheck import oracle
-from crosscheck.execute import Outcome, RunOptions, execute
+from crosscheck.execute import Executor, Outcome, RunOptions
 from crosscheck.model import Observation, Record, quantities_of
 from crosscheck.schema import AnyCase, ResponseCase
 from crosscheck.score import Verdict, encode, judge
 from crosscheck.store import ResultsStore
-from crosscheck.worker import WorkerPool
-
-Executor = Callable[[Adapter, AnyCase, RunOptions], Outcome]
+from crosscheck.worker import Lanes
 
 
 def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
@@ -69,31 +67,43 @@ def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observ
     )
 
 
-Progress = Callable[[str], None]
+Progress = Callable[[int], None]
+"""Called with the number of case x engine pairs just finished."""
+
+
+Pairs = set[tuple[str, str]] | frozenset[tuple[str, str]]
+
+
+def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
+             options: RunOptions, done: Pairs = frozenset()) -> list[Record]:
+    """Every record of one case: the truth once, then each adapter not already done."""
+    truth = oracle.truth(case)
+    records: list[Record] = []
+    for adapter in adapters:
+        if (case.id, adapter.name) not in done:
+            records += score_case(case, adapter, executor(adapter, case, options), truth)
+    return records
 
 
 def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
         options: RunOptions | None = None, progress: Progress | None = None) -> int:
     """Run every case on every adapter, appending records to ``store``; return the count.
 
-    Engines run in worker processes (one per adapter) unless ``options.isolate``
-    is False, so a crash or hang costs one case, not the run.
+    Engines run in worker processes unless ``options.isolate`` is False, so a
+    crash or hang costs one case, not the run.  With ``options.jobs`` > 1,
+    cases run concurrently in that many lanes, each with its own workers.
+    Pairs in ``store.done`` (a resumed run) are not run again.
     """
     options = options or RunOptions()
-    pool = WorkerPool(options) if options.isolate else None
-    executor: Executor = pool.execute if pool else execute
+    store.add_cases(cases)
+    todo = [c for c in cases if any((c.id, a.name) not in store.done for a in adapters)]
     count = 0
-    try:
-        for case in cases:
-            store.add_case(case)
-            truth = oracle.truth(case)
-            for adapter in adapters:
-                records = score_case(case, adapter, executor(adapter, case, options), truth)
-                store.append(records)
-                count += len(records)
-                if progress:
-                    progress(f"{case.id} x {adapter.name}")
-    finally:
-        if pool:
-            pool.close()
+    with Lanes(options) as lanes:
+        work = lanes.map(lambda case, executor: run_case(case, adapters, executor, options,
+                                                         store.done), todo)
+        for records in work:
+            store.append(records)
+            count += len(records)
+            if progress:
+                progress(len(adapters))
     return count

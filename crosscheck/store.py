@@ -3,8 +3,9 @@
 ``reports/<run-id>/`` holds:
 
 - ``results.jsonl``: one Record per line, appended and flushed as each
-  case x engine finishes, so a killed run keeps everything it finished;
-- ``cases.jsonl``: the validated inputs of every case run, for the report;
+  case finishes, so a killed run keeps everything it finished;
+- ``cases.jsonl``: the validated inputs of every case of the run, in suite
+  order (the report shows them; ``--resume`` runs exactly these);
 - ``run.json``: format version, machine, versions, engines and their
   conventions, options, and start and end times;
 - ``results.csv``: the tidy table, written from ``results.jsonl``.
@@ -15,13 +16,14 @@ Running writes these; reporting only reads them.
 from __future__ import annotations
 
 import json
+import os
 from collections.abc import Iterable
 from pathlib import Path
 from typing import IO, Any
 
 import pandas as pd
 
-from crosscheck.model import COLUMNS, Record
+from crosscheck.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.schema import AnyCase
 
 FORMAT_VERSION = 1
@@ -33,45 +35,61 @@ class StoreError(RuntimeError):
 
 
 class ResultsStore:
-    """Append-only writer for one run directory."""
+    """Append-only writer for one run directory.
 
-    def __init__(self, directory: Path) -> None:
+    A new run refuses a directory that already holds results; ``resume=True``
+    keeps the rows of every finished case x engine (all its quantities
+    present), drops the rest (a half-written line, a pair cut short) and
+    appends after them.  ``done`` is the set of finished (case id, engine).
+    """
+
+    def __init__(self, directory: Path, *, resume: bool = False) -> None:
         self.directory = directory
-        try:
-            directory.mkdir(parents=True, exist_ok=True)
-            probe = directory / ".write-test"
-            probe.write_text("")
-            probe.unlink()
-        except OSError as exc:
-            raise StoreError(f"cannot write results to {directory}: {exc}") from exc
-        self._results: IO[str] = (directory / "results.jsonl").open("a", encoding="utf-8")
-        self._cases: IO[str] = (directory / "cases.jsonl").open("a", encoding="utf-8")
+        _check_writable(directory)
+        results = directory / "results.jsonl"
+        if not resume and results.exists() and results.stat().st_size:
+            raise StoreError(f"{directory} already holds results: resume it with "
+                             f"'crosscheck run --resume {directory}' or choose another --out")
+        self.done: set[tuple[str, str]] = _keep_finished(results) if resume else set()
+        self._results: IO[str] = results.open("a", encoding="utf-8")
 
-    def add_case(self, case: AnyCase) -> None:
-        """Record the inputs of a case that is about to run."""
-        self._cases.write(json.dumps(case.model_dump(mode="json") | {"source": case.source}))
-        self._cases.write("\n")
-        self._cases.flush()
+    def add_cases(self, cases: Iterable[AnyCase]) -> None:
+        """Record the inputs of every case of the run, in suite order (replacing any)."""
+        lines = [json.dumps(case.model_dump() | {"source": case.source}) for case in cases]
+        _replace(self.directory / "cases.jsonl", lines)
 
     def append(self, records: Iterable[Record]) -> None:
-        """Append finished records and flush them to disk."""
-        for record in records:
-            self._results.write(json.dumps(record.row()) + "\n")
+        """Append finished records in one write and flush them to disk."""
+        self._results.write("".join(json.dumps(r.row()) + "\n" for r in records))
         self._results.flush()
 
     def write_run_info(self, info: dict[str, Any]) -> None:
         """Write ``run.json`` (replacing any previous one)."""
         info = {"format_version": FORMAT_VERSION, **info}
-        (self.directory / "run.json").write_text(json.dumps(info, indent=2) + "\n")
+        _replace(self.directory / "run.json", [json.dumps(info, indent=2)])
 
     def close(self) -> None:
         self._results.close()
-        self._cases.close()
 
 
-def read_results(directory: Path) -> pd.DataFrame:
-    """The results of a run as a DataFrame, one row per record, in COLUMNS order."""
-    path = directory / "results.jsonl"
+def _check_writable(directory: Path) -> None:
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        probe = directory / ".write-test"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as exc:
+        raise StoreError(f"cannot write results to {directory}: {exc}") from exc
+
+
+def _replace(path: Path, lines: list[str]) -> None:
+    """Write ``lines`` to ``path`` atomically (a reader never sees half a file)."""
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text("".join(line + "\n" for line in lines), encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def _parsed_lines(path: Path) -> list[dict[str, Any]]:
     rows = []
     if path.exists():
         for line in path.read_text(encoding="utf-8").splitlines():
@@ -79,17 +97,54 @@ def read_results(directory: Path) -> pd.DataFrame:
                 rows.append(json.loads(line))
             except json.JSONDecodeError:
                 continue  # a half-written last line of a killed run
+    return rows
+
+
+def _keep_finished(path: Path) -> set[tuple[str, str]]:
+    """Keep only the rows of finished case x engine pairs; return those pairs."""
+    rows = _parsed_lines(path)
+    seen: dict[tuple[str, str], set[str]] = {}
+    for row in rows:
+        seen.setdefault((row["case_id"], row["engine"]), set()).add(row["quantity"])
+    kinds = {(row["case_id"], row["engine"]): row["kind"] for row in rows}
+    done = {pair for pair, qs in seen.items() if qs == set(quantities_of(Kind(kinds[pair])))}
+    _replace(path, [json.dumps(row) for row in rows if (row["case_id"], row["engine"]) in done])
+    return done
+
+
+def read_results(directory: Path) -> pd.DataFrame:
+    """The results of a run as a DataFrame in COLUMNS order, sorted by case, engine, quantity.
+
+    The order is the suite's (``cases.jsonl``) and the run's engine list
+    (``run.json``), so it does not depend on ``--jobs`` or on resuming.
+    """
+    rows = _parsed_lines(directory / "results.jsonl")
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
-    return frame.astype({"dim": "int64", "loops": "int64"}) if rows else frame
+    if not rows:
+        return frame
+    frame = frame.astype({"dim": "int64", "loops": "int64"})
+    case_rank = {case_id: i for i, case_id in enumerate(read_cases(directory))}
+    engine_rank = {name: i for i, name in enumerate(_engine_names(directory))}
+    keys = pd.DataFrame({
+        "case": frame["case_id"].map(case_rank).fillna(len(case_rank)),
+        "engine": frame["engine"].map(engine_rank).fillna(len(engine_rank)),
+        "quantity": [quantities_of(Kind(k)).index(q)
+                     for k, q in zip(frame["kind"], frame["quantity"], strict=True)],
+    })
+    order = keys.sort_values(["case", "engine", "quantity"], kind="stable").index
+    return frame.loc[order].reset_index(drop=True)
+
+
+def _engine_names(directory: Path) -> list[str]:
+    path = directory / "run.json"
+    if not path.exists():
+        return []
+    return [e["name"] for e in json.loads(path.read_text()).get("engines", [])]
 
 
 def read_cases(directory: Path) -> dict[str, dict[str, Any]]:
-    """The stored case inputs of a run, by id."""
-    path = directory / "cases.jsonl"
-    if not path.exists():
-        return {}
-    cases = (json.loads(line) for line in path.read_text(encoding="utf-8").splitlines() if line)
-    return {case["id"]: case for case in cases}
+    """The stored case inputs of a run, by id, in suite order."""
+    return {case["id"]: case for case in _parsed_lines(directory / "cases.jsonl")}
 
 
 def read_run_info(directory: Path) -> dict[str, Any]:

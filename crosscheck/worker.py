@@ -20,11 +20,15 @@ from __future__ import annotations
 import multiprocessing as mp
 import os
 import signal
+import threading
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, as_completed, wait
 from multiprocessing.connection import Connection
 from multiprocessing.process import BaseProcess
+from typing import TypeVar
 
 from adapters.base import Adapter
-from crosscheck.execute import Outcome, RunOptions, execute
+from crosscheck.execute import Executor, Outcome, RunOptions, execute
 from crosscheck.model import Status
 from crosscheck.schema import AnyCase
 
@@ -125,3 +129,59 @@ class WorkerPool:
         for worker in self._workers.values():
             worker.close()
         self._workers.clear()
+
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+class Lanes:
+    """``jobs`` lanes of execution, each with its own executor (a WorkerPool, or in-process).
+
+    :meth:`map` applies ``fn(item, executor)`` to every item, at most ``jobs``
+    at a time, and yields results as they finish (a bounded window, so a
+    long run never holds every pending item at once).
+    """
+
+    def __init__(self, options: RunOptions) -> None:
+        self.options = options
+        self._local = threading.local()
+        self._pools: list[WorkerPool] = []
+        self._lock = threading.Lock()
+
+    def __enter__(self) -> Lanes:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for pool in self._pools:
+            pool.close()
+
+    def _executor(self) -> Executor:
+        if not self.options.isolate:
+            return execute
+        pool: WorkerPool | None = getattr(self._local, "pool", None)
+        if pool is None:
+            pool = self._local.pool = WorkerPool(self.options)
+            with self._lock:
+                self._pools.append(pool)
+        return pool.execute
+
+    def _call(self, fn: Callable[[T, Executor], R], item: T) -> R:
+        return fn(item, self._executor())
+
+    def map(self, fn: Callable[[T, Executor], R], items: Iterable[T]) -> Iterator[R]:
+        """Yield ``fn(item, executor)`` for every item, as they finish."""
+        jobs = max(1, self.options.jobs)
+        if jobs == 1:
+            for item in items:
+                yield fn(item, self._executor())
+            return
+        with ThreadPoolExecutor(max_workers=jobs) as threads:
+            pending: set[Future[R]] = set()
+            for item in items:
+                pending.add(threads.submit(self._call, fn, item))
+                if len(pending) >= 2 * jobs:
+                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    yield from (f.result() for f in finished)
+            for future in as_completed(pending):
+                yield future.result()

@@ -1,0 +1,113 @@
+"""Resuming stopped runs and running in parallel lose, duplicate and reorder nothing."""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import adapters
+from crosscheck.cases import load_paths
+from crosscheck.cli import main
+from crosscheck.execute import RunOptions
+from crosscheck.runner import run
+from crosscheck.store import ResultsStore, StoreError, read_results
+from tests import fakes
+from tests.conftest import ROOT
+
+TIMING = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]
+SUITE = load_paths([ROOT / "cases"]).cases
+CLI = [sys.executable, "-m", "crosscheck.cli"]
+
+
+def without_timing(frame: pd.DataFrame) -> pd.DataFrame:
+    return frame.drop(columns=TIMING).reset_index(drop=True)
+
+
+def run_into(directory: Path, jobs: int = 1, resume: bool = False) -> pd.DataFrame:
+    engines = [adapters.get("reference"), adapters.get("pymunk"), fakes.OffByOne()]
+    store = ResultsStore(directory, resume=resume)
+    run(SUITE[:40], engines, store, RunOptions(quick=True, jobs=jobs))
+    store.close()
+    return read_results(directory)
+
+
+def test_jobs_do_not_change_results(tmp_path: Path) -> None:
+    serial = run_into(tmp_path / "serial", jobs=1)
+    parallel = run_into(tmp_path / "parallel", jobs=2)
+    assert len(serial) > 200
+    pd.testing.assert_frame_equal(without_timing(serial), without_timing(parallel))
+
+
+def test_resume_drops_unfinished_pairs_and_half_lines(tmp_path: Path) -> None:
+    full = run_into(tmp_path / "full")
+    cut = tmp_path / "cut"
+    run_into(cut)
+    lines = (cut / "results.jsonl").read_text().splitlines(keepends=True)
+    keep = len(lines) // 2 + 1  # ends in the middle of a case x engine pair
+    (cut / "results.jsonl").write_text("".join(lines[:keep]) + lines[keep][:25])
+    store = ResultsStore(cut, resume=True)
+    assert 0 < len(store.done) < len(full) // 2
+    store.close()
+    resumed = run_into(cut, resume=True)
+    pd.testing.assert_frame_equal(without_timing(full), without_timing(resumed))
+
+
+def test_new_run_refuses_a_directory_with_results(tmp_path: Path) -> None:
+    run_into(tmp_path / "run")
+    with pytest.raises(StoreError, match="--resume"):
+        ResultsStore(tmp_path / "run")
+
+
+def cli_run(out: Path, *extra: str) -> list[str]:
+    files = [str(ROOT / "cases" / name) for name in ("aabb.toml", "sphere.toml", "response.toml")]
+    return [*CLI, "run", *files, "--engine", "reference", "--engine", "pymunk",
+            "--engine", "pybullet", "--min-sample", "0.005", "--jobs", "1", "--out", str(out),
+            *extra]
+
+
+def wait_for_rows(path: Path) -> None:
+    deadline = time.monotonic() + 60
+    while not (path.exists() and path.stat().st_size) and time.monotonic() < deadline:
+        time.sleep(0.05)
+
+
+def test_sigkill_and_resume_loses_and_duplicates_nothing(tmp_path: Path) -> None:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    reference = tmp_path / "uninterrupted"
+    subprocess.run(cli_run(reference), env=env, check=True, capture_output=True)
+    killed = tmp_path / "killed"
+    rng = random.Random(7)
+    process = subprocess.Popen(cli_run(killed), env=env, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL)
+    for _ in range(3):
+        wait_for_rows(killed / "results.jsonl")
+        time.sleep(rng.uniform(0.3, 1.2))
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        rows = (killed / "results.jsonl").read_text().count("\n")
+        assert rows < len(read_results(reference)), "the run finished before it was killed"
+        process = subprocess.Popen([*CLI, "run", "--resume", str(killed)], env=env,
+                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    assert process.wait(timeout=300) == 0
+    pd.testing.assert_frame_equal(without_timing(read_results(reference)),
+                                  without_timing(read_results(killed)))
+    info = json.loads((killed / "run.json").read_text())
+    assert info["resumed"] and info["finished"]
+
+
+def test_resume_from_the_cli_reports_progress(tmp_path: Path,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "run"
+    case_file = ROOT / "cases" / "sphere.toml"
+    assert main(["run", str(case_file), "--quick", "--engine", "reference", "--out", str(out)]) == 0
+    assert main(["run", "--resume", str(out)]) == 0
+    assert "already done" in capsys.readouterr().out
