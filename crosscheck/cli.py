@@ -26,7 +26,7 @@ from rich.table import Table
 
 import adapters
 from adapters.base import Adapter, describe
-from crosscheck import environment, report
+from crosscheck import compare, environment, report
 from crosscheck.cases import LoadResult, load_paths
 from crosscheck.execute import RunOptions
 from crosscheck.model import Kind
@@ -167,6 +167,18 @@ def cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_compare(args: argparse.Namespace) -> int:
+    target = args.out or Path("reports") / f"compare-{args.a.name}-vs-{args.b.name}"
+    try:
+        result = compare.compare(args.a, args.b, target)
+    except (OSError, StoreError) as exc:
+        err.print(f"[red]error:[/red] cannot compare: {exc}")
+        return 2
+    out.print(f"{result['verdict_changes']} verdict changes, {result['timing_changes']} timing "
+              f"changes beyond the noise; see {target / 'compare.html'}")
+    return 0
+
+
 def cmd_validate(args: argparse.Namespace) -> int:
     loaded = load_paths(args.paths or [Path("cases")])
     _report_errors(loaded)
@@ -248,6 +260,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("directory", type=Path)
     p.add_argument("--markdown", action="store_true", help="also print the summary as Markdown")
     p.set_defaults(func=cmd_report)
+    p = sub.add_parser("compare", help="verdict and timing changes between two stored runs")
+    p.add_argument("a", type=Path, help="the earlier run directory")
+    p.add_argument("b", type=Path, help="the later run directory")
+    p.add_argument("--out", type=Path, help="output folder (default: reports/compare-A-vs-B/)")
+    p.set_defaults(func=cmd_compare)
     p = sub.add_parser("validate", help="check case files")
     p.add_argument("paths", nargs="*", type=Path)
     p.set_defaults(func=cmd_validate)
