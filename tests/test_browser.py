@@ -1,0 +1,64 @@
+"""The report as a user sees it: rendered by headless Chromium, with no console errors.
+
+Uses Debian's chromium (``make test`` installs it when it can) driven by
+Playwright.  Outside CI the test is skipped when chromium is missing; in CI
+(``CI`` set) a missing browser fails it.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+from crosscheck.cli import main
+from tests.conftest import ROOT
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"]
+EVIL = "<script>window.__pwned = true</script>"
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    if CHROMIUM is None:
+        if os.environ.get("CI"):
+            pytest.fail("chromium is required in CI for the browser test (make test installs it)")
+        pytest.skip("chromium not installed")
+    work = tmp_path_factory.mktemp("browser")
+    cases = work / "cases.toml"
+    text = (ROOT / "cases" / "sphere.toml").read_text()
+    cases.write_text(text.replace('description = "', f'description = "{EVIL} ', 1))
+    out = work / "run"
+    assert main(["run", str(cases), "--engine", "reference", "--engine", "pymunk",
+                 "--min-sample", "0.001", "--out", str(out)]) == 0
+    return out
+
+
+def test_report_renders_without_console_errors(run_dir: Path) -> None:
+    from playwright.sync_api import sync_playwright
+
+    messages: list[str] = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
+        page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
+        page.goto((run_dir / "report.html").as_uri())
+        page.wait_for_load_state("load")
+        page.screenshot(path=str(run_dir / "report.png"), full_page=True)
+        tables = page.locator("table").count()
+        charts = page.locator(".js-plotly-plot").count()
+        rows = page.locator("#summary tbody tr").count()
+        pwned = page.evaluate("window.__pwned === true")
+        requests = page.evaluate("performance.getEntriesByType('resource').map(e => e.name)")
+        browser.close()
+    assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
+    assert (run_dir / "report.png").stat().st_size > 10_000
+    assert tables >= 4 and rows == 2  # reference and pymunk, one kind
+    assert charts >= 1
+    assert not pwned, "a case description ran as script"
+    assert [r for r in requests if r.startswith("http")] == []
