@@ -8,16 +8,19 @@ re-render any stored run.
 from __future__ import annotations
 
 import json
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 from typing import Any
 
 import pandas as pd
 from jinja2 import Environment, PackageLoader, select_autoescape
+from markupsafe import Markup
 
+from crosscheck import charts
 from crosscheck.model import Status
 from crosscheck.store import read_cases, read_results, read_run_info, write_csv
 
 STATUSES = [str(s) for s in Status]
+FAILURES = ["error", "crash", "timeout"]
 
 
 def summary(frame: pd.DataFrame) -> pd.DataFrame:
@@ -45,6 +48,51 @@ def disagreements(frame: pd.DataFrame) -> pd.DataFrame:
     bad["_c"] = bad["category"].fillna("").map(category)
     bad = bad.sort_values(["_s", "_c", "error"], ascending=[True, True, False])
     return bad.drop(columns=["_s", "_c"])
+
+
+def case_group(source: str) -> str:
+    """The case group of a case file: its stem (``cases/float_traps.toml`` -> ``float_traps``)."""
+    return PurePosixPath(source).stem if source else "(no file)"
+
+
+def group_counts(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x case group: counts of each status (case x quantity rows)."""
+    if frame.empty:
+        return pd.DataFrame(columns=["engine", "group", *STATUSES])
+    groups = frame["source"].fillna("").map(case_group).rename("group")
+    counts = pd.crosstab([frame["engine"], groups], frame["status"])
+    return counts.reindex(columns=STATUSES, fill_value=0).reset_index()
+
+
+def share_colour(share: float | None) -> str:
+    """Cell colour: red (0) through yellow to green (1); grey when nothing was judged."""
+    return "#e4e4e4" if share is None else f"hsl({120 * share:.0f}, 65%, 78%)"
+
+
+def _cell(counts: dict[Any, Any]) -> dict[str, Any]:
+    scored = counts["agree"] + counts["disagree"]
+    failed = {s: counts[s] for s in FAILURES if counts[s]}
+    judged = scored + sum(failed.values())
+    share = counts["agree"] / judged if judged else None
+    everything = sum(counts[s] for s in STATUSES)
+    return {
+        "agree": counts["agree"], "scored": scored, "failed": failed, "share": share,
+        "colour": share_colour(share), "skipped": everything > 0 and counts["skip"] == everything,
+        "undefined": counts["undefined"],
+        "title": ", ".join(f"{counts[s]} {s}" for s in STATUSES if counts[s]) or "no rows",
+    }
+
+
+def group_matrix(frame: pd.DataFrame) -> dict[str, Any]:
+    """The engines x case groups matrix for the report: column heads and coloured cells."""
+    group_of = frame["source"].fillna("").map(case_group)
+    groups = list(dict.fromkeys(group_of))
+    cases = group_of[~frame["case_id"].duplicated()].value_counts()
+    counts = {(r["engine"], r["group"]): r for r in group_counts(frame).to_dict("records")}
+    empty = dict.fromkeys(STATUSES, 0)
+    rows = [{"engine": engine, "cells": [_cell(counts.get((engine, g), empty)) for g in groups]}
+            for engine in dict.fromkeys(frame["engine"])]
+    return {"groups": [{"name": g, "cases": int(cases.get(g, 0))} for g in groups], "rows": rows}
 
 
 def markdown_summary(frame: pd.DataFrame) -> str:
@@ -76,11 +124,22 @@ def _environment() -> Environment:
                        autoescape=select_autoescape(default=True, default_for_string=True))
 
 
+def _speed_charts(frame: pd.DataFrame, info: dict[str, Any],
+                  cases: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:
+    order = [str(e) for e in dict.fromkeys(frame["engine"])]
+    return [{"data": chart,
+             "html": Markup(charts.figure_html(chart, order)) if chart.plotted else None}
+            for chart in charts.speed_charts(frame, info, cases)]
+
+
 def render_html(frame: pd.DataFrame, info: dict[str, Any], cases: dict[str, dict[str, Any]]) -> str:
-    """The self-contained HTML report (inline CSS and JS, no network fetches)."""
+    """The self-contained HTML report (inline CSS and JS, plotly.js once, no network fetches)."""
     template = _environment().get_template("report.html.j2")
+    speed = _speed_charts(frame, info, cases)
+    plotly_js = Markup(charts.plotly_js()) if any(c["html"] for c in speed) else None
     return template.render(
         info=info, summary=summary(frame).to_dict("records"), statuses=STATUSES,
+        matrix=group_matrix(frame), speed=speed, plotly_js=plotly_js,
         disagreements=disagreements(frame).to_dict("records"),
         cases=_case_details(frame, cases), total=len(frame),
     )

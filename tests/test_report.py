@@ -1,0 +1,268 @@
+"""The HTML report: speed-against-error charts, case-group matrix, self-containment, escaping."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict
+from html.parser import HTMLParser
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+import pytest
+
+from adapters.base import Conventions
+from crosscheck import charts, report
+from crosscheck.execute import RunOptions
+from crosscheck.model import Record, Status
+from crosscheck.runner import run
+from crosscheck.store import ResultsStore, read_results
+from tests import fakes
+from tests.conftest import sphere
+
+EVIL = "<script>alert('pwned')</script>"
+NEAR, TRAPS = "cases/near_touching.toml", "cases/float_traps.toml"
+
+
+def rec(case_id: str, engine: str, quantity: str, status: str = "agree", error: float = 0.0,
+        query_s: float = 1e-5, kind: str = "sphere", source: str = NEAR) -> Record:
+    return Record(case_id=case_id, source=source, kind=kind, dim=3, tags="", engine=engine,
+                  quantity=quantity, value="0.0", truth="0.0", error=error, tolerance=1e-9,
+                  status=Status(status), category="", reason="", setup_s=1e-6, query_s=query_s,
+                  query_iqr_s=0.0, loops=1, unstable=False)
+
+
+def detection(case_id: str, engine: str, distance: float, query_s: float,
+              source: str = NEAR, hit: str = "agree", normal: float = 0.0) -> list[Record]:
+    """hit, distance and normal rows of one sphere case; an error above 1e-9 is a disagree."""
+    def status(error: float) -> str:
+        return "agree" if error <= 1e-9 else "disagree"
+    hit_error = 0.0 if hit == "agree" else 1.0
+    return [rec(case_id, engine, "hit", hit, hit_error, query_s, source=source),
+            rec(case_id, engine, "distance", status(distance), distance, query_s, source=source),
+            rec(case_id, engine, "normal", status(normal), normal, query_s, source=source)]
+
+
+def every(case_id: str, engine: str, status: str, source: str = TRAPS) -> list[Record]:
+    return [rec(case_id, engine, q, status, math.nan, math.nan, source=source)
+            for q in ("hit", "distance", "normal")]
+
+
+FAST = [  # per case: distance error, query time, case file, hit status, normal error
+    ("s1", 0.0, 1e-6, NEAR, "agree", 0.5), ("s2", 1e-12, 2e-6, NEAR, "agree", 0.0),
+    ("s3", 2e-12, 3e-6, TRAPS, "agree", 0.0), ("s4", 5e-3, 4e-6, TRAPS, "agree", 0.0),
+    ("s5", 1.0, 1e-4, TRAPS, "disagree", 0.0),
+]
+
+
+def records() -> list[Record]:
+    rows = [r for case_id, distance, query_s, source, hit, normal in FAST
+            for r in detection(case_id, "fast", distance, query_s, source, hit, normal)]
+    rows += [r for c, *_ in FAST for r in detection(c, "exact", 0.0, 5e-6)]
+    rows += [r for c, *_ in FAST for r in detection(c, "untimed", 0.0, math.nan)]
+    rows += [r for c, *_ in FAST for r in every(c, "skipper", "skip")]
+    rows += [r for c in ("s3", "s4") for r in every(c, "crashy", "crash")]
+    for case_id, v1, v2 in (("r1", 1e-3, 3e-3), ("r2", 0.0, 1e-9)):
+        for quantity, err in (("v1", v1), ("v2", v2)):
+            status = "agree" if err <= 1e-9 else "disagree"
+            rows.append(rec(case_id, "fast", quantity, status, err, 2e-5, "sphere_response",
+                            "cases/response.toml"))
+    return rows
+
+
+def write_run(directory: Path, rows: list[Record], settings: str = "default") -> Path:
+    store = ResultsStore(directory)
+    store.append(rows)
+    store.write_run_info({
+        "run_id": "test", "started": "", "finished": "", "command": "test", "cases_run": 7,
+        "options": {"quick": False, "min_sample_s": 0.001, "samples": 3},
+        "machine": {"packages": {}}, "case_errors": [],
+        "engines": [{"name": name, "engine": "fake", "version": "0", "settings": settings,
+                     "conventions": asdict(Conventions()), "capabilities": []}
+                    for name in ("fast", "exact", "untimed", "skipper", "crashy")]})
+    store.close()
+    cases = [{"id": r.case_id, "description": EVIL if r.case_id == "s5" else f"case {r.case_id}",
+              "kind": r.kind, "dim": 3, "tags": [], "source": r.source}
+             for r in rows if r.engine == "fast" and r.quantity in ("hit", "v1")]
+    (directory / "cases.jsonl").write_text("".join(json.dumps(c) + "\n" for c in cases))
+    return directory
+
+
+@pytest.fixture
+def rendered(tmp_path: Path) -> str:
+    directory = write_run(tmp_path / "run", records(), settings=f"tuned {EVIL}")
+    return report.render(directory)["report"].read_text(encoding="utf-8")
+
+
+def chart_of(frame: pd.DataFrame, kind: str, cases: dict[str, Any] | None = None
+             ) -> charts.SpeedChart:
+    return charts.speed_chart(frame, kind, {}, cases or {})
+
+
+def by_engine(chart: charts.SpeedChart) -> dict[str, charts.Point]:
+    return {p.engine: p for p in chart.points}
+
+
+FRAME = pd.DataFrame([r.row() for r in records()])
+
+
+def test_one_point_per_engine_per_kind() -> None:
+    kinds = {c.kind: [p.engine for p in c.points] for c in charts.speed_charts(FRAME, {}, {})}
+    assert kinds == {"sphere": ["fast", "exact", "untimed", "skipper", "crashy"],
+                     "sphere_response": ["fast"]}
+
+
+def test_x_is_median_query_time_per_case_and_y_median_distance_error() -> None:
+    fast = by_engine(chart_of(FRAME, "sphere"))["fast"]
+    assert fast.query_s == pytest.approx(3e-6)  # median of five cases, not their mean
+    assert fast.timed == fast.cases == 5
+    assert fast.median == 2e-12  # distance errors only: not s1's normal error nor hit errors
+    assert (fast.p95, fast.max, fast.zeros) == (1.0, 1.0, 1)
+    assert (fast.wrong, fast.verdicts) == (1, 5)
+
+
+def test_x_deduplicates_case_engine_rows() -> None:
+    # The slowest case repeated must not weigh more: its rows outnumber all others' here.
+    slow = FRAME[(FRAME["case_id"] == "s5") & (FRAME["engine"] == "fast")]
+    heavy = pd.concat([FRAME, *[slow] * 4])
+    assert by_engine(chart_of(heavy, "sphere"))["fast"].query_s == pytest.approx(3e-6)
+
+
+def test_error_stats_median_nearest_rank_95th_percentile_and_max() -> None:
+    assert charts.error_stats(pd.Series([float(v) for v in range(20)])) == (9.5, 18.0, 19.0)
+    assert charts.error_stats(pd.Series([1.0, 2.0, math.inf])) == (2.0, math.inf, math.inf)
+    assert all(math.isnan(v) for v in charts.error_stats(pd.Series([], dtype=float)))
+
+
+def test_response_error_is_the_worse_velocity_of_each_case() -> None:
+    fast = by_engine(chart_of(FRAME, "sphere_response"))["fast"]
+    assert fast.median == pytest.approx((3e-3 + 1e-9) / 2)
+    assert (fast.scored, fast.wrong, fast.verdicts) == (2, 1, 2)
+
+
+def test_zero_errors_sit_at_the_labelled_floor() -> None:
+    chart = chart_of(FRAME, "sphere")
+    exact = by_engine(chart)["exact"]
+    assert exact.median == 0.0 and chart.floor == charts.ZERO_FLOOR
+    fig = charts.figure(chart, list(dict.fromkeys(FRAME["engine"])))
+    drawn = {t.name: t.y[0] for t in fig.data if t.type == "scatter" and t.showlegend is not False}
+    assert drawn["exact"] == charts.ZERO_FLOOR
+    assert drawn["fast"] == 2e-12
+    assert fig.layout.yaxis.ticktext[0] == "0"
+    assert "0 plotted at 1e-18" in fig.layout.yaxis.title.text
+
+
+def test_floor_moves_below_a_smaller_real_error() -> None:
+    tiny = pd.DataFrame([r.row() for r in detection("s1", "a", 3e-21, 1e-6)
+                         + detection("s2", "a", 0.0, 1e-6) + detection("s3", "a", 0.0, 1e-6)])
+    chart = chart_of(tiny, "sphere")
+    assert chart.floor == pytest.approx(1e-22) and chart.y(0.0) == chart.floor
+    assert chart.y(3e-21) == 3e-21
+
+
+def test_infinite_errors_sit_at_a_labelled_ceiling() -> None:
+    rows = [r for c, err in (("s1", 1.0), ("s2", 1.0), ("s3", math.inf))
+            for r in detection(c, "a", err, 1e-6)]
+    chart = chart_of(pd.DataFrame([r.row() for r in rows]), "sphere")
+    assert chart.ceiling == 100.0 and chart.y(math.inf) == 100.0
+    fig = charts.figure(chart, ["a"])
+    whisker_top = fig.data[0].y[0] + fig.data[0].error_y.array[0]
+    assert fig.data[0].y[0] == 1.0 and whisker_top == 100.0 and fig.data[1].y[0] == 100.0
+    assert fig.layout.yaxis.ticktext[-1] == "inf" and "inf at 1e+02" in fig.layout.yaxis.title.text
+
+
+def test_untimed_and_unscored_engines_are_listed_not_plotted(rendered: str) -> None:
+    chart = chart_of(FRAME, "sphere")
+    assert [p.engine for p in chart.plotted] == ["fast", "exact"]
+    assert [p.engine for p in chart.not_timed] == ["untimed"]
+    assert [p.engine for p in chart.not_scored] == ["skipper", "crashy"]
+    listed = rendered.split("<b>Not timed</b>")[1].split("</li>")[0]
+    assert "untimed" in listed and "fast" not in listed
+
+
+def test_quick_run_draws_no_chart_and_inlines_no_plotly(tmp_path: Path) -> None:
+    quick = [r for r in records() if r.engine != "fast"]
+    quick = [Record(**{**r.row(), "status": r.status, "query_s": math.nan}) for r in quick]
+    html = report.render(write_run(tmp_path / "q", quick))["report"].read_text()
+    assert "Plotly.newPlot" not in html and "plotly.js v" not in html
+    assert "<b>Not timed</b>" in html and "exact (median error 0" in html
+
+
+def test_case_group_matrix_counts() -> None:
+    counts = report.group_counts(FRAME).set_index(["engine", "group"])
+    assert counts.loc[("fast", "float_traps"), ["agree", "disagree"]].tolist() == [6, 3]
+    assert counts.loc[("fast", "near_touching"), ["agree", "disagree"]].tolist() == [5, 1]
+    assert counts.loc[("crashy", "float_traps"), "crash"] == 6
+    matrix = report.group_matrix(FRAME)
+    assert [g["name"] for g in matrix["groups"]] == ["near_touching", "float_traps", "response"]
+    assert [g["cases"] for g in matrix["groups"]] == [2, 3, 2]
+    cells = {row["engine"]: row["cells"] for row in matrix["rows"]}
+    fast_traps = cells["fast"][1]
+    assert (fast_traps["agree"], fast_traps["scored"]) == (6, 9)
+    assert cells["crashy"][1]["failed"] == {"crash": 6} and cells["crashy"][1]["share"] == 0.0
+    assert cells["skipper"][1]["skipped"] and cells["skipper"][1]["share"] is None
+    assert cells["skipper"][1]["colour"] == report.share_colour(None)
+    assert cells["fast"][0]["share"] == pytest.approx(5 / 6)
+    assert cells["exact"][0]["colour"] == report.share_colour(1.0) != report.share_colour(0.0)
+
+
+def test_matrix_cells_are_rendered(rendered: str) -> None:
+    matrix = rendered.split('id="matrix"')[1].split("</table>")[0]
+    assert "<b>6 / 9</b>" in matrix and "<small>6 crash</small>" in matrix
+    assert "skipped" in matrix and "float_traps" in matrix
+
+
+class _Tags(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__()
+        self.fetching: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        found = dict(attrs)
+        for name in ("src", "href"):
+            url = found.get(name) or ""
+            if tag in ("script", "link", "img", "iframe") and url and not url.startswith("#"):
+                self.fetching.append(f"{tag} {name}={url}")
+
+
+def test_report_is_self_contained_with_plotly_once(rendered: str) -> None:
+    bundle_head = charts.plotly_js()[:300]
+    assert rendered.count(bundle_head) == 1
+    assert rendered.count("plotly.js v") == 1
+    tags = _Tags()
+    tags.feed(rendered)
+    assert tags.fetching == []
+    for kind in ("sphere", "sphere_response"):
+        assert rendered.count(f'id="speed-{kind}"') == 1
+    assert rendered.index(bundle_head) < rendered.index("Plotly.newPlot")
+
+
+def test_script_in_text_is_escaped_everywhere_including_hover(rendered: str) -> None:
+    assert EVIL not in rendered
+    assert "\\u003cscript" not in rendered  # no raw tag inside the plotly figure JSON
+    assert "&lt;script&gt;alert" in rendered
+    chart = chart_of(FRAME, "sphere", {"s5": {"description": EVIL}})
+    fig = charts.figure(chart, ["fast", "exact"])
+    hovers = [h for t in fig.data if t.hovertext for h in t.hovertext]
+    assert any("worst case: s5: &lt;script&gt;" in h for h in hovers)
+    assert not any("<script" in h for h in hovers)
+    info = {"engines": [{"name": "fast", "settings": EVIL}]}
+    point = by_engine(charts.speed_chart(FRAME, "sphere", info, {}))["fast"]
+    assert "&lt;script&gt;" in charts.hover(point, chart.measure)
+    assert "<script" not in charts.hover(point, chart.measure)
+
+
+def test_chart_from_a_real_run_of_fakes(tmp_path: Path) -> None:
+    store = ResultsStore(tmp_path / "run")
+    cases = [sphere(0.0, 2.0 + i, id=f"apart-{i}") for i in range(3)]
+    run(cases, [fakes.AlwaysRight(), fakes.OffByOne()], store,
+        RunOptions(quick=False, min_sample_s=0.001, samples=3))
+    store.close()
+    frame = read_results(tmp_path / "run")
+    points = by_engine(chart_of(frame, "sphere"))
+    for engine, error in (("fake-right", 0.0), ("fake-off", 1.0)):
+        times = frame[frame["engine"] == engine].drop_duplicates("case_id")["query_s"]
+        assert points[engine].query_s == times.median() > 0
+        assert points[engine].median == error
+    assert chart_of(frame, "sphere").y(points["fake-right"].median) == charts.ZERO_FLOOR
