@@ -30,6 +30,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from crosscheck import oracle
+from crosscheck.expand import SweepError, expand, with_swaps
 from crosscheck.schema import (
     CASE_ADAPTER,
     AabbBody,
@@ -62,11 +63,16 @@ class CaseError:
 
 @dataclass
 class LoadResult:
-    """The cases that loaded and the errors of those that did not."""
+    """The cases that loaded and the errors of those that did not.
+
+    ``blocks`` counts the curated ``[[case]]`` blocks that loaded; ``cases``
+    is what runs: sweeps expanded and A/B-swapped twins added.
+    """
 
     cases: list[AnyCase] = field(default_factory=list)
     errors: list[CaseError] = field(default_factory=list)
     files: list[Path] = field(default_factory=list)
+    blocks: int = 0
 
 
 def case_files(paths: Iterable[Path | str]) -> list[Path]:
@@ -83,17 +89,35 @@ def load_paths(paths: Iterable[Path | str]) -> LoadResult:
     result = LoadResult(files=case_files(paths))
     seen: dict[str, str] = {}
     for path in result.files:
-        cases, errors = load_file(path)
+        blocks, errors = load_file(path)
         result.errors.extend(errors)
-        for case in cases:
+        result.blocks += len(blocks)
+        for case in with_swaps(_expanded(path, blocks, result.errors)):
             if case.id in seen:
                 first = seen[case.id]
-                result.errors.append(CaseError(
-                    str(path), repr(case.id), "id", f"duplicate id, first defined in {first}"))
+                if "swapped" not in case.tags:  # a duplicate's twin is a duplicate too
+                    result.errors.append(CaseError(str(path), repr(case.id), "id",
+                                                   f"duplicate id, first defined in {first}"))
                 continue
             seen[case.id] = str(path)
             result.cases.append(case)
     return result
+
+
+def _expanded(path: Path, blocks: list[AnyCase], errors: list[CaseError]) -> list[AnyCase]:
+    """Every sweep point of every block; problems of a point become errors."""
+    out: list[AnyCase] = []
+    for block in blocks:
+        try:
+            points = expand(block)
+        except SweepError as exc:
+            errors.append(CaseError(str(path), repr(block.id), exc.field, str(exc)))
+            continue
+        for point in points:
+            problems = semantic_problems(point) if point is not block else []
+            errors.extend(CaseError(str(path), repr(point.id), f, r) for f, r in problems)
+            out += [] if problems else [point]
+    return out
 
 
 def load_file(path: Path) -> tuple[list[AnyCase], list[CaseError]]:
@@ -141,6 +165,7 @@ def _pydantic_problem(err: Any) -> tuple[str, str]:
         return "kind", err["msg"].replace("Input tag", "kind")
     if loc and loc[0] in ("aabb", "sphere", "sphere_response"):
         loc = loc[1:]
+    loc = [part for i, part in enumerate(loc) if i == 0 or part != loc[i - 1]]  # union tags
     where = ".".join(str(part) for part in loc)
     got = err.get("input")
     shown = "" if err["type"] == "missing" or isinstance(got, dict) else f" (got {got!r})"

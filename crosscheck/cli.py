@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import (
     BarColumn,
     MofNCompleteColumn,
@@ -41,8 +42,13 @@ from crosscheck.store import (
     read_run_info,
 )
 
-out = Console()
-err = Console(stderr=True)
+out = Console(soft_wrap=True)
+err = Console(stderr=True, soft_wrap=True)
+
+
+def fail(message: str) -> None:
+    """Print an error line; the message is shown literally (no rich markup)."""
+    err.print(f"[red]error:[/red] {escape(message)}", highlight=False)
 
 
 def _now() -> str:
@@ -59,7 +65,7 @@ def _run_dir(base: Path) -> Path:
 
 def _report_errors(loaded: LoadResult) -> None:
     for problem in loaded.errors:
-        err.print(f"[red]invalid:[/red] {problem.message}", markup=True, highlight=False)
+        err.print(f"[red]invalid:[/red] {escape(problem.message)}", highlight=False)
 
 
 def _select_engines(names: Sequence[str] | None) -> list[Adapter]:
@@ -87,7 +93,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     try:
         store = ResultsStore(directory)
     except StoreError as exc:
-        err.print(f"[red]error:[/red] {exc}")
+        fail(str(exc))
         return 2
     options = RunOptions(quick=args.quick, min_sample_s=args.min_sample, timeout_s=args.timeout,
                          isolate=not args.no_isolation, jobs=args.jobs or os.cpu_count() or 1)
@@ -106,7 +112,7 @@ def _resume(directory: Path) -> int:
         info = read_run_info(directory)
         store = ResultsStore(directory, resume=True)
     except (OSError, StoreError) as exc:
-        err.print(f"[red]error:[/red] cannot resume {directory}: {exc}")
+        fail(f"cannot resume {directory}: {exc}")
         return 2
     cases = [CASE_ADAPTER.validate_python(case) for case in read_cases(directory).values()]
     engines = [adapters.get(engine["name"]) for engine in info["engines"]]
@@ -123,8 +129,8 @@ def _finish(store: ResultsStore, cases: list[AnyCase], engines: list[Adapter],
         _run_with_progress(cases, engines, store, options)
     except KeyboardInterrupt:
         store.close()
-        err.print(f"interrupted; finished rows are kept. Resume with: "
-                  f"crosscheck run --resume {store.directory}")
+        err.print(escape(f"interrupted; finished rows are kept. Resume with: "
+                         f"crosscheck run --resume {store.directory}"))
         return 130
     store.write_run_info({**info, "finished": _now()})
     store.close()
@@ -159,7 +165,7 @@ def cmd_report(args: argparse.Namespace) -> int:
     try:
         paths = report.render(args.directory)
     except (OSError, StoreError) as exc:
-        err.print(f"[red]error:[/red] cannot render {args.directory}: {exc}")
+        fail(f"cannot render {args.directory}: {exc}")
         return 2
     if args.markdown:
         print(report.markdown_summary(read_results(args.directory)))
@@ -172,7 +178,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     try:
         result = compare.compare(args.a, args.b, target)
     except (OSError, StoreError) as exc:
-        err.print(f"[red]error:[/red] cannot compare: {exc}")
+        fail(f"cannot compare: {exc}")
         return 2
     out.print(f"{result['verdict_changes']} verdict changes, {result['timing_changes']} timing "
               f"changes beyond the noise; see {target / 'compare.html'}")
@@ -186,18 +192,19 @@ def cmd_validate(args: argparse.Namespace) -> int:
         err.print("[red]invalid:[/red] no case files found")
         return 1
     status = "[red]FAILED[/red]" if loaded.errors else "[green]ok[/green]"
-    out.print(f"{status}: {len(loaded.cases)} valid cases in {len(loaded.files)} files, "
+    out.print(f"{status}: {loaded.blocks} curated cases in {len(loaded.files)} files, "
+              f"{len(loaded.cases)} after sweep expansion and A/B swaps, "
               f"{len(loaded.errors)} errors")
     return 1 if loaded.errors else 0
 
 
 def cmd_new_case(args: argparse.Namespace) -> int:
     if not re.fullmatch(ID_PATTERN, args.id):
-        err.print(f"[red]error:[/red] id {args.id!r} must match {ID_PATTERN}")
+        fail(f"id {args.id!r} must match {ID_PATTERN}")
         return 2
     existing = load_paths([p for p in (Path("cases"), args.file) if p.exists()])
     if any(case.id == args.id for case in existing.cases):
-        err.print(f"[red]error:[/red] id {args.id!r} is already used")
+        fail(f"id {args.id!r} is already used")
         return 2
     text = case_block(Kind(args.kind), args.dim, args.id)
     args.file.parent.mkdir(parents=True, exist_ok=True)

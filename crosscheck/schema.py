@@ -16,13 +16,14 @@ from __future__ import annotations
 import json
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, Strict, TypeAdapter
+from pydantic import BaseModel, ConfigDict, Discriminator, Field, Strict, Tag, TypeAdapter
 from pydantic.json_schema import SkipJsonSchema
 
 from crosscheck.model import Kind
 
 BAD_INPUT_TAG = "bad-input"
-ID_PATTERN = r"^[a-z0-9][a-z0-9.\-]*$"
+ID_PATTERN = r"^[a-z0-9][a-z0-9.,=+\-]*$"
+"""Ids: lowercase letters, digits, '-', '.'; sweeps add '=', ',' and '+' to expanded ids."""
 
 Num = Annotated[float, Strict()]
 """A TOML integer or float (nan and inf parse, and are rejected later unless bad-input)."""
@@ -69,12 +70,64 @@ class Expect(_Frozen):
     distance: Num | None = None
 
 
+class LogSpace(_Frozen):
+    """``{ logspace = [lo, hi, n] }``: n values 10**lo ... 10**hi, evenly spaced in exponent."""
+
+    logspace: tuple[Num, Num, Annotated[int, Strict(), Field(ge=1, le=10_000)]]
+
+
+class LinSpace(_Frozen):
+    """``{ linspace = [lo, hi, n] }``: n evenly spaced values from lo to hi."""
+
+    linspace: tuple[Num, Num, Annotated[int, Strict(), Field(ge=1, le=10_000)]]
+
+
+def _values_tag(value: Any) -> str | None:
+    if isinstance(value, dict):
+        return next((key for key in ("logspace", "linspace") if key in value), None)
+    if isinstance(value, LogSpace | LinSpace):
+        return "logspace" if isinstance(value, LogSpace) else "linspace"
+    return "list"
+
+
+Values = Annotated[
+    Annotated[list[Num], Field(min_length=1), Tag("list")]
+    | Annotated[LogSpace, Tag("logspace")]
+    | Annotated[LinSpace, Tag("linspace")],
+    Discriminator(_values_tag, custom_error_type="sweep_values",
+                  custom_error_message="expected a list of numbers, "
+                                       "{ logspace = [lo, hi, n] } or { linspace = [lo, hi, n] }"),
+]
+"""A sweep parameter's values: a list, or a log- or linearly spaced range."""
+
+
+class Sweep(_Frozen):
+    """Parameters a case is expanded over (cartesian product, in this field order).
+
+    The transformations apply in the order scale, gap/overlap, offset,
+    mass_ratio, speed, to the case's own bodies.
+    """
+
+    scale: Values | None = Field(None, description="Multiply every centre and size.")
+    gap: Values | None = Field(None, description=(
+        "Move B along `direction` so the gap is this fraction of the touching distance."))
+    overlap: Values | None = Field(None, description="As gap, but overlapping.")
+    offset: Values | None = Field(None, description="Add to every centre coordinate of both.")
+    mass_ratio: Values | None = Field(None, description="B's mass = A's mass x ratio.")
+    speed: Values | None = Field(None, description="Multiply both velocities.")
+    direction: Vector | None = Field(None, description=(
+        "Direction of gap/overlap (default: from A's centre to B's); an axis for boxes."))
+
+
 class _CaseBase(_Frozen):
     id: str = Field(pattern=ID_PATTERN, description="Unique across the suite.")
     description: str = Field(min_length=1, description="Short; says what the case probes.")
     dim: Literal[2, 3]
     tags: tuple[str, ...] = ()
     tolerance: Tolerance | None = None
+    swap: Annotated[bool, Strict()] = Field(True, description=(
+        "Also run the case with A and B swapped (its results must mirror these)."))
+    sweep: Sweep | None = None
     source: SkipJsonSchema[str] = Field("", exclude=True)
 
     @property

@@ -97,7 +97,7 @@ def test_run_goes_on_past_a_bad_case_and_exits_nonzero(small_suite: Path, tmp_pa
     out = tmp_path / "out"
     assert main(["run", str(small_suite), "--quick", "--out", str(out)]) == 1
     info = json.loads((out / "run.json").read_text())
-    assert info["cases_run"] == 2
+    assert info["cases_run"] == 4  # two valid blocks and their swapped twins
     assert any("bad-radius" in e and "a.radius" in e for e in info["case_errors"])
 
 
