@@ -16,6 +16,7 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
 from crosscheck import charts
+from crosscheck.mirror import asymmetries
 from crosscheck.model import Status
 from crosscheck.store import read_cases, read_results, read_run_info, write_csv
 
@@ -141,16 +142,19 @@ def render_html(frame: pd.DataFrame, info: dict[str, Any], cases: dict[str, dict
         info=info, summary=summary(frame).to_dict("records"), statuses=STATUSES,
         matrix=group_matrix(frame), speed=speed, plotly_js=plotly_js,
         disagreements=disagreements(frame).to_dict("records"),
+        asymmetries=asymmetries(frame).to_dict("records"),
         cases=_case_details(frame, cases), total=len(frame),
     )
 
 
 def render(directory: Path) -> dict[str, Path]:
-    """Write results.csv, summary.csv, disagreements.csv and report.html from stored results."""
+    """Write results, summary, disagreements and asymmetries CSV files and report.html."""
     frame = read_results(directory)
     info = read_run_info(directory)
     paths = {"results": write_csv(frame, directory)}
-    for name, table in (("summary", summary(frame)), ("disagreements", disagreements(frame))):
+    tables = (("summary", summary(frame)), ("disagreements", disagreements(frame)),
+              ("asymmetries", asymmetries(frame)))
+    for name, table in tables:
         paths[name] = directory / f"{name}.csv"
         table.to_csv(paths[name], index=False)
     paths["report"] = directory / "report.html"

@@ -5,11 +5,13 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from crosscheck import oracle
 from crosscheck.cases import load_paths
 from crosscheck.expand import SweepError, expand, swapped, values_of
+from crosscheck.mirror import asymmetries
 from crosscheck.model import Observation, Undefined
 from crosscheck.schema import LinSpace, LogSpace
 from tests.conftest import ROOT, aabb, response, sphere
@@ -133,3 +135,24 @@ def test_swap_exchanges_bodies_and_keeps_the_rest() -> None:
     twin = swapped(case)
     assert (twin.a, twin.b) == (case.b, case.a)
     assert twin.swap is False and twin.restitution == case.restitution
+
+
+def test_report_lists_engine_answers_that_do_not_mirror() -> None:
+    rows = [
+        {"case_id": "c", "engine": "e", "quantity": "normal", "value": "[0.6, 0.8]",
+         "tolerance": 1e-9},
+        {"case_id": "c.swapped", "engine": "e", "quantity": "normal", "value": "[-0.6, -0.8]",
+         "tolerance": 1e-9},
+        {"case_id": "d", "engine": "e", "quantity": "v1", "value": "[1.0, 0.0]", "tolerance": 0.0},
+        {"case_id": "d", "engine": "e", "quantity": "v2", "value": "[2.0, 0.0]", "tolerance": 0.0},
+        {"case_id": "d.swapped", "engine": "e", "quantity": "v1", "value": "[2.0, 0.0]",
+         "tolerance": 0.0},
+        {"case_id": "d.swapped", "engine": "e", "quantity": "v2", "value": "[1.5, 0.0]",
+         "tolerance": 0.0},
+        {"case_id": "h", "engine": "e", "quantity": "hit", "value": "true", "tolerance": 0.0},
+        {"case_id": "h.swapped", "engine": "e", "quantity": "hit", "value": "false",
+         "tolerance": 0.0},
+    ]
+    found = asymmetries(pd.DataFrame(rows))
+    assert sorted(zip(found["case_id"], found["quantity"], strict=True)) == [
+        ("d", "v1"), ("h", "hit")]
