@@ -7,6 +7,7 @@ import os
 import re
 import shlex
 import sys
+import tempfile
 from collections.abc import Sequence
 from dataclasses import asdict
 from datetime import UTC, datetime
@@ -198,6 +199,19 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return 1 if loaded.errors else 0
 
 
+def _floats(text: str) -> list[float]:
+    return [float(x) for x in text.split(",")]
+
+
+def _body_options(args: argparse.Namespace, side: str) -> dict[str, Any]:
+    body: dict[str, Any] = {}
+    for key in ("center", "half", "radius", "mass", "velocity"):
+        value = getattr(args, f"{side}_{key}")
+        if value is not None:
+            body[key] = value[0] if key in ("radius", "mass") else value
+    return body
+
+
 def cmd_new_case(args: argparse.Namespace) -> int:
     if not re.fullmatch(ID_PATTERN, args.id):
         fail(f"id {args.id!r} must match {ID_PATTERN}")
@@ -206,15 +220,27 @@ def cmd_new_case(args: argparse.Namespace) -> int:
     if any(case.id == args.id for case in existing.cases):
         fail(f"id {args.id!r} is already used")
         return 2
-    text = case_block(Kind(args.kind), args.dim, args.id)
+    text = case_block(Kind(args.kind), args.dim, args.id, description=args.description,
+                      tags=args.tag, a=_body_options(args, "a"), b=_body_options(args, "b"),
+                      restitution=args.restitution)
+    problems = _block_problems(text)
+    if problems:
+        for problem in problems:
+            fail(f"the new case would be invalid: {problem}")
+        return 2
     args.file.parent.mkdir(parents=True, exist_ok=True)
-    prefix = "" if not args.file.exists() else "\n"
-    if not args.file.exists():
-        prefix = "#:schema ./schema.json\n\n"
+    prefix = "\n" if args.file.exists() else "#:schema ./schema.json\n\n"
     with args.file.open("a", encoding="utf-8") as handle:
         handle.write(prefix + text)
-    out.print(f"appended case {args.id!r} to {args.file}; edit it, then run crosscheck validate")
+    out.print(escape(f"appended case {args.id!r} to {args.file}; check: crosscheck validate"))
     return 0
+
+
+def _block_problems(text: str) -> list[str]:
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "new.toml"
+        path.write_text(text)
+        return [e.message.replace(f"{path}: ", "") for e in load_paths([path]).errors]
 
 
 def cmd_engines(args: argparse.Namespace) -> int:
@@ -280,6 +306,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--dim", required=True, type=int, choices=[2, 3])
     p.add_argument("--id", required=True)
     p.add_argument("--file", type=Path, default=Path("cases/user.toml"))
+    p.add_argument("--description", help="what the case probes")
+    p.add_argument("--tag", action="append", help="a tag (repeatable)")
+    p.add_argument("--restitution", type=float, help="sphere_response only (default 1)")
+    for side in ("a", "b"):
+        for key, help_text in (("center", "x,y[,z]"), ("half", "half-widths hx,hy[,hz]"),
+                               ("velocity", "vx,vy[,vz]")):
+            p.add_argument(f"--{side}-{key}", type=_floats, metavar=help_text.split()[-1],
+                           help=f"body {side.upper()}: {help_text}")
+        for key in ("radius", "mass"):
+            p.add_argument(f"--{side}-{key}", type=_floats, metavar="X",
+                           help=f"body {side.upper()}: {key}")
     p.set_defaults(func=cmd_new_case)
     p = sub.add_parser("engines", help="list adapters, versions, capabilities, availability")
     p.add_argument("--settings", action="store_true", help="also show each variant's settings")

@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 import adapters
+from crosscheck.cases import load_paths
 from crosscheck.cli import main
 from tests.conftest import ROOT
 from tests.test_cases import sphere_text
@@ -127,3 +128,18 @@ def test_console_script_is_installed() -> None:
     script = Path(sys.executable).parent / "crosscheck"
     done = subprocess.run([str(script), "--help"], capture_output=True, text=True, check=True)
     assert "validate" in done.stdout
+
+
+def test_new_case_with_geometry_writes_the_finished_case(tmp_path: Path) -> None:
+    target = tmp_path / "mine.toml"
+    assert main(["new-case", "--kind", "sphere_response", "--dim", "2", "--id", "hit-heavy",
+                 "--file", str(target), "--description", "light ball hits a heavy one",
+                 "--tag", "mass-ratio", "--a-center", "0,0", "--a-mass", "1e-6",
+                 "--a-velocity", "0.1,0.3", "--b-center", "0.6,0.8", "--b-mass", "1e6",
+                 "--restitution", "0.5"]) == 0
+    (case,) = [c for c in load_paths([target]).cases if c.id == "hit-heavy"]
+    assert case.a.velocity == (0.1, 0.3) and case.b.center == (0.6, 0.8)
+    assert case.a.mass == 1e-6 and case.restitution == 0.5 and case.tags == ("mass-ratio",)
+    assert main(["new-case", "--kind", "aabb", "--dim", "3", "--id", "bad-box",
+                 "--file", str(target), "--a-half", "1,-1,1"]) == 2
+    assert "bad-box" not in target.read_text()
