@@ -16,7 +16,7 @@ timed; ``query`` does only the measured work.  An adapter declares:
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any, ClassVar
 
 from crosscheck.model import Kind, Observation
@@ -138,3 +138,12 @@ class Adapter(ABC):
             return self.query(prepared)
         finally:
             self.release(prepared)
+
+
+def engine_info(adapter: Adapter) -> dict[str, object]:
+    """Everything a run records about an adapter (run.json, the conventions table)."""
+    return {"name": adapter.name, "engine": adapter.engine, "version": adapter.version(),
+            "settings": adapter.settings, "available": adapter.available() or "yes",
+            "capabilities": describe(adapter.capabilities),
+            "conventions": asdict(adapter.conventions),
+            "touching_rule": adapter.conventions.touching_rule()}

@@ -27,8 +27,8 @@ from rich.progress import (
 from rich.table import Table
 
 import adapters
-from adapters.base import Adapter, describe
-from crosscheck import compare, environment, report
+from adapters.base import Adapter, engine_info
+from crosscheck import compare, environment, fuzz, report
 from crosscheck.cases import LoadResult, load_paths
 from crosscheck.execute import RunOptions
 from crosscheck.model import Kind
@@ -76,14 +76,6 @@ def _select_engines(names: Sequence[str] | None) -> list[Adapter]:
     return [a for a in chosen if a.available() is None]
 
 
-def _engine_info(adapter: Adapter) -> dict[str, object]:
-    return {"name": adapter.name, "engine": adapter.engine, "version": adapter.version(),
-            "settings": adapter.settings, "available": adapter.available() or "yes",
-            "capabilities": describe(adapter.capabilities),
-            "conventions": asdict(adapter.conventions),
-            "touching_rule": adapter.conventions.touching_rule()}
-
-
 def cmd_run(args: argparse.Namespace) -> int:
     if args.resume:
         return _resume(args.resume)
@@ -101,7 +93,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     info = {"run_id": directory.name, "started": _now(), "finished": None,
             "command": shlex.join(["crosscheck", *sys.argv[1:]]),
             "options": asdict(options),
-            "machine": environment.machine(), "engines": [_engine_info(a) for a in engines],
+            "machine": environment.machine(), "engines": [engine_info(a) for a in engines],
             "case_files": [str(p) for p in loaded.files], "cases_run": len(loaded.cases),
             "case_errors": [e.message for e in loaded.errors]}
     code = _finish(store, loaded.cases, engines, options, info)
@@ -249,7 +241,7 @@ def cmd_engines(args: argparse.Namespace) -> int:
     for column in [*columns, "settings"] if args.settings else columns:
         table.add_column(column, no_wrap=column in ("name", "version"))
     for name in adapters.names():
-        info = _engine_info(adapters.get(name))
+        info = engine_info(adapters.get(name))
         caps = info["capabilities"]
         assert isinstance(caps, list)
         row = [str(info["name"]), str(info["version"]), str(info["available"]), ", ".join(caps)]
@@ -298,6 +290,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("b", type=Path, help="the later run directory")
     p.add_argument("--out", type=Path, help="output folder (default: reports/compare-A-vs-B/)")
     p.set_defaults(func=cmd_compare)
+    fuzz.register(sub)
     p = sub.add_parser("validate", help="check case files")
     p.add_argument("paths", nargs="*", type=Path)
     p.set_defaults(func=cmd_validate)
