@@ -1,12 +1,12 @@
 # Two commands on a fresh machine with only python3 and make:
 #   make run    set up .venv from the pinned lock, run the suite, write reports/<run-id>/
-#   make test   set up .venv, then lint, type-check and run the tests
+#   make test   set up .venv, then lint, type-check and run the tests (make test-long: all)
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test lint venv clean browser
+.PHONY: run test test-long lint venv clean browser
 
 $(STAMP): requirements.lock pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -32,6 +32,10 @@ browser:
 	  else echo "chromium not found: the browser test will be skipped (install Debian's chromium)"; fi; }
 
 test: lint browser
+	$(BIN)/python -m pytest -m "not slow" $(PYTEST_ARGS)
+
+# Nightly-style: everything, including the tests marked slow (a 100,000-case run).
+test-long: lint browser
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
 
 clean:

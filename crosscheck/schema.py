@@ -16,7 +16,16 @@ from __future__ import annotations
 import json
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Strict, Tag, TypeAdapter
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Strict,
+    Tag,
+    TypeAdapter,
+)
 from pydantic.json_schema import SkipJsonSchema
 
 from crosscheck.model import Kind
@@ -119,10 +128,17 @@ class Sweep(_Frozen):
         "Direction of gap/overlap (default: from A's centre to B's); an axis for boxes."))
 
 
+def _whole_number(value: Any) -> Any:
+    """Reject 3.0, "3" and true for a dimension (lax Literal matching would take them)."""
+    if type(value) is not int:
+        raise ValueError(f"expected the integer 2 or 3, got {value!r}")
+    return value
+
+
 class _CaseBase(_Frozen):
     id: str = Field(pattern=ID_PATTERN, description="Unique across the suite.")
     description: str = Field(min_length=1, description="Short; says what the case probes.")
-    dim: Literal[2, 3]
+    dim: Annotated[Literal[2, 3], BeforeValidator(_whole_number)]
     tags: tuple[str, ...] = ()
     tolerance: Tolerance | None = None
     swap: Annotated[bool, Strict()] = Field(True, description=(

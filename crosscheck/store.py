@@ -15,6 +15,7 @@ Running writes these; reporting only reads them.
 
 from __future__ import annotations
 
+import fcntl
 import json
 import os
 from collections.abc import Iterable
@@ -46,8 +47,10 @@ class ResultsStore:
     def __init__(self, directory: Path, *, resume: bool = False) -> None:
         self.directory = directory
         _check_writable(directory)
+        self._lock = _lock(directory)
         results = directory / "results.jsonl"
         if not resume and results.exists() and results.stat().st_size:
+            self._lock.close()
             raise StoreError(f"{directory} already holds results: resume it with "
                              f"'crosscheck run --resume {directory}' or choose another --out")
         self.done: set[tuple[str, str]] = _keep_finished(results) if resume else set()
@@ -70,6 +73,24 @@ class ResultsStore:
 
     def close(self) -> None:
         self._results.close()
+        self._lock.close()  # closing the file releases the lock
+
+
+def _lock(directory: Path) -> IO[str]:
+    """Hold ``directory/.lock`` for this run; a second run into the directory is refused."""
+    handle = (directory / ".lock").open("a+", encoding="utf-8")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        handle.seek(0)
+        holder = handle.read().strip() or "another process"
+        handle.close()
+        raise StoreError(f"another crosscheck run ({holder}) is writing to {directory}; "
+                         "wait for it or choose another --out") from None
+    handle.truncate(0)
+    handle.write(f"pid {os.getpid()}")
+    handle.flush()
+    return handle
 
 
 def _check_writable(directory: Path) -> None:

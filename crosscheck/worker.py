@@ -46,7 +46,12 @@ def _silence_output() -> None:
 
 
 def _serve(conn: Connection) -> None:
-    """Worker main loop: run tasks until the parent closes the pipe."""
+    """Worker main loop: run tasks until the parent closes the pipe.
+
+    Ctrl-C is the parent's to handle: a worker ignores SIGINT, so an
+    interrupted run never records a worker's death as an engine crash.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     _silence_output()
     adapters: dict[type[Adapter], Adapter] = {}
     while True:
