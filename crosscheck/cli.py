@@ -89,7 +89,9 @@ def cmd_run(args: argparse.Namespace) -> int:
         fail(str(exc))
         return 2
     options = RunOptions(quick=args.quick, min_sample_s=args.min_sample, timeout_s=args.timeout,
-                         isolate=not args.no_isolation, jobs=args.jobs or os.cpu_count() or 1)
+                         time_per_group=args.time_per_group,
+                         isolate=not args.no_isolation, jobs=args.jobs or os.cpu_count() or 1,
+                         scheduler=args.scheduler)
     info = {"run_id": directory.name, "started": _now(), "finished": None,
             "command": shlex.join(["crosscheck", *sys.argv[1:]]),
             "options": asdict(options),
@@ -271,8 +273,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
     p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
     p.add_argument("--quick", action="store_true", help="skip timing")
-    p.add_argument("--min-sample", type=float, default=0.02, help="seconds per timing sample")
-    p.add_argument("--timeout", type=float, default=5.0,
+    p.add_argument("--min-sample", type=float, default=0.01, help="seconds per timing sample")
+    p.add_argument("--time-per-group", type=int, default=3, metavar="K",
+                   help="time the first K cases of each case file x kind x dim (0: all)")
+    p.add_argument("--timeout", type=float, default=3.0,
                    help="seconds allowed per case x engine before it is marked timeout")
     p.add_argument("--jobs", type=int, default=0,
                    help="cases run at once, each lane with its own workers (default: cores)")
@@ -280,6 +284,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="finish a stopped run in DIR without redoing what is done")
     p.add_argument("--no-isolation", action="store_true",
                    help="run engines in this process (faster start, no crash or hang safety)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run cases on this Dask scheduler (e.g. tcp://host:8786)")
     p.set_defaults(func=cmd_run)
     p = sub.add_parser("report", help="re-render CSV and HTML from a stored run")
     p.add_argument("directory", type=Path)

@@ -26,7 +26,11 @@ class RunOptions:
 
     ``timeout_s`` limits one case x engine (prepare, query and timing) in its
     worker; ``isolate`` False runs engines in this process (no crash safety);
-    ``jobs`` is the number of cases run at once.
+    ``time_per_group`` times only the first that many cases of each case
+    file x kind x dim (0: every case), never swapped twins or bad input;
+    ``timed_ids`` is that choice, made by the runner (None: time every case);
+    ``jobs`` is the number of cases run at once; ``scheduler`` a Dask
+    scheduler address to run cases on instead (see :mod:`crosscheck.distributed`).
     """
 
     quick: bool = False
@@ -35,6 +39,9 @@ class RunOptions:
     timeout_s: float = 5.0
     isolate: bool = True
     jobs: int = 1
+    time_per_group: int = 3
+    timed_ids: frozenset[str] | None = None
+    scheduler: str | None = None
 
 
 @dataclass(frozen=True, slots=True)

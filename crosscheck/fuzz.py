@@ -103,6 +103,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--per-group", type=int, default=5, help="cases written per group (5)")
     p.add_argument("--jobs", type=int, default=0, help="cases run at once (default: cores)")
     p.add_argument("--timeout", type=float, default=5.0, help="seconds per case x engine")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run cases on this Dask scheduler (e.g. tcp://host:8786)")
     p.set_defaults(func=cmd_fuzz)
 
 
@@ -124,7 +126,7 @@ def cmd_fuzz(args: argparse.Namespace) -> int:
     stem = f"fuzz-{args.kind.replace('_', '-')}-s{args.seed}-n{args.n}"
     directory = args.out or Path("reports") / stem
     options = RunOptions(quick=True, jobs=args.jobs or os.cpu_count() or 1,
-                         timeout_s=args.timeout)
+                         timeout_s=args.timeout, scheduler=args.scheduler)
     try:
         groups = fuzz(Kind(args.kind), args.n, args.seed, directory, engines, options,
                       args.per_group, _command(args))

@@ -10,11 +10,15 @@ raises yields ``error`` rows, one that dies ``crash`` rows, one that hangs
 from __future__ import annotations
 
 import math
+from collections import Counter
 from collections.abc import Callable, Sequence
+from dataclasses import replace
+from pathlib import Path
 from typing import Any
 
 from adapters.base import Adapter
 from crosscheck import oracle
+from crosscheck.distributed import CaseJob, DaskLanes
 from crosscheck.execute import Executor, Outcome, RunOptions
 from crosscheck.model import Observation, Record, quantities_of
 from crosscheck.schema import AnyCase, ResponseCase
@@ -78,11 +82,29 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
              options: RunOptions, done: Pairs = frozenset()) -> list[Record]:
     """Every record of one case: the truth once, then each adapter not already done."""
     truth = oracle.truth(case)
+    if options.timed_ids is not None and case.id not in options.timed_ids:
+        options = replace(options, quick=True)
     records: list[Record] = []
     for adapter in adapters:
         if (case.id, adapter.name) not in done:
             records += score_case(case, adapter, executor(adapter, case, options), truth)
     return records
+
+
+def timed_sample(cases: Sequence[AnyCase], per_group: int) -> frozenset[str]:
+    """The first ``per_group`` cases of each case file x kind x dim, in suite order.
+
+    Swapped twins (the same work as their original) and bad-input cases
+    (timing a failure says nothing) are never timed.
+    """
+    counts: Counter[tuple[str, str, int]] = Counter()
+    chosen = []
+    for case in cases:
+        key = (Path(case.source).stem, case.kind, case.dim)
+        if "swapped" not in case.tags and not case.bad_input and counts[key] < per_group:
+            counts[key] += 1
+            chosen.append(case.id)
+    return frozenset(chosen)
 
 
 def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
@@ -92,16 +114,23 @@ def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsSto
     Engines run in worker processes unless ``options.isolate`` is False, so a
     crash or hang costs one case, not the run.  With ``options.jobs`` > 1,
     cases run concurrently in that many lanes, each with its own workers.
-    Pairs in ``store.done`` (a resumed run) are not run again.
+    Pairs in ``store.done`` (a resumed run) are not run again.  With
+    ``options.scheduler``, cases run as tasks on that Dask cluster instead
+    (:mod:`crosscheck.distributed`).
     """
     options = options or RunOptions()
+    if options.time_per_group and options.timed_ids is None and not options.quick:
+        options = replace(options, timed_ids=timed_sample(cases, options.time_per_group))
     store.add_cases(cases)
     todo = [c for c in cases if any((c.id, a.name) not in store.done for a in adapters)]
+    done: dict[str, set[tuple[str, str]]] = {}
+    for pair in store.done:
+        done.setdefault(pair[0], set()).add(pair)
+    items = ((case, frozenset(done.get(case.id, ()))) for case in todo)
     count = 0
-    with Lanes(options) as lanes:
-        work = lanes.map(lambda case, executor: run_case(case, adapters, executor, options,
-                                                         store.done), todo)
-        for records in work:
+    lanes: Lanes | DaskLanes = DaskLanes(options) if options.scheduler else Lanes(options)
+    with lanes:
+        for records in lanes.map(CaseJob(tuple(adapters), options), items):
             store.append(records)
             count += len(records)
             if progress:

@@ -35,7 +35,11 @@ from crosscheck.schema import AnyCase
 _CONTEXT = mp.get_context("forkserver")
 _CONTEXT.set_forkserver_preload(["crosscheck.execute"])
 
-Task = tuple[type[Adapter], AnyCase, RunOptions]
+Task = tuple[type[Adapter], AnyCase | None, RunOptions]
+"""What a worker is sent: a case to run, or ``None`` to warm up (import and connect)."""
+
+STARTUP_TIMEOUT_S = 120.0
+"""Time a new worker may take to start and load its engine; not charged to any case."""
 
 
 def _silence_output() -> None:
@@ -60,6 +64,10 @@ def _serve(conn: Connection) -> None:
         except (EOFError, OSError):
             return
         adapter = adapters.setdefault(cls, cls())
+        if case is None:  # warm-up: import the engine and connect, outside any case's time
+            adapter.available()
+            conn.send(None)
+            continue
         conn.send(execute(adapter, case, options))
 
 
@@ -83,13 +91,13 @@ class _Worker:
         self.process.start()
         child.close()
 
-    def call(self, task: Task, timeout_s: float) -> Outcome:
+    def call(self, task: Task, timeout_s: float) -> Outcome | None:
         try:
             self.conn.send(task)
             if not self.conn.poll(timeout_s):
                 self.kill()
                 return Outcome(None, Status.TIMEOUT, f"no answer within {timeout_s:g} s")
-            outcome: Outcome = self.conn.recv()
+            outcome: Outcome | None = self.conn.recv()
             return outcome
         except (EOFError, OSError, BrokenPipeError):
             self.process.join(timeout=2)
@@ -123,7 +131,12 @@ class WorkerPool:
         worker = self._workers.get(adapter.name)
         if worker is None or not worker.alive():
             worker = self._workers[adapter.name] = _Worker()
+            started = worker.call((type(adapter), None, options), STARTUP_TIMEOUT_S)
+            if started is not None:  # the worker could not even start: that case's outcome
+                del self._workers[adapter.name]
+                return started
         outcome = worker.call((type(adapter), case, options), options.timeout_s)
+        assert outcome is not None
         if outcome.status in (Status.CRASH, Status.TIMEOUT):
             worker.kill()
             del self._workers[adapter.name]

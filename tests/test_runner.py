@@ -10,7 +10,7 @@ from adapters.base import Adapter
 from crosscheck import oracle
 from crosscheck.execute import RunOptions
 from crosscheck.model import Observation
-from crosscheck.runner import at_contact, run
+from crosscheck.runner import at_contact, run, timed_sample
 from crosscheck.schema import AnyCase
 from crosscheck.store import ResultsStore, read_cases, read_results
 from tests import fakes
@@ -107,3 +107,22 @@ def test_response_truth_is_taken_where_the_engine_resolved_it() -> None:
     assert moved.b.center == (0.0, 1.0)
     assert truth.v1 == (1.0, 0.0) and truth.v2 == (-1.0, 0.0)  # along y: nothing exchanged
     assert at_contact(case, Observation(v1=(0.0, 0.0)), oracle.truth(case))[0] is case
+
+
+def test_timing_sample_is_per_file_kind_and_dim_without_twins_or_bad_input() -> None:
+    cases = [sphere(0.0, 2.0 + i, id=f"s{i}") for i in range(5)]
+    cases = [c.model_copy(update={"source": "cases/a.toml"}) for c in cases]
+    twin = cases[0].model_copy(update={"id": "s0.swapped", "tags": ("swapped",)})
+    bad = cases[1].model_copy(update={"id": "bad", "tags": ("bad-input",)})
+    other = cases[2].model_copy(update={"id": "o", "source": "cases/b.toml"})
+    assert timed_sample([twin, bad, *cases, other], 2) == {"s0", "s1", "o"}
+
+
+def test_untimed_cases_have_no_timing(tmp_path: Path) -> None:
+    store = ResultsStore(tmp_path / "run")
+    cases = [sphere(0.0, 2.0 + i, id=f"s{i}") for i in range(4)]
+    run(cases, [fakes.AlwaysRight()], store,
+        RunOptions(min_sample_s=0.001, samples=3, time_per_group=1))
+    store.close()
+    frame = read_results(tmp_path / "run").drop_duplicates("case_id")
+    assert list(frame["loops"] > 0) == [True, False, False, False]
