@@ -4,7 +4,7 @@ Inputs are float64 arrays of shape ``(N, dim)`` (``dim`` 2 or 3) for centres and
 AABB half-widths, shape ``(N,)`` for radii.  Verdicts equal :mod:`reference_impl.exact`
 pair for pair.  As in Shewchuk's adaptive predicates, each pair is decided in
 float64 when a rigorous forward-error bound proves the sign; otherwise (and for
-non-finite inputs) it is decided in :class:`fractions.Fraction`.
+non-finite inputs) it is decided by an exact second stage.
 
 Notation: ``fl`` is round-to-nearest-even, ``u = 2**-53``.  ``fl`` is *monotone*
 (``x <= y`` implies ``fl(x) <= fl(y)``, overflow to ``inf`` included), odd
@@ -24,26 +24,28 @@ NaN.  A pair is a hit if ``D < S`` on every axis, apart if ``D > S`` on some axi
 else it falls back.  No range guard is needed (overflow is monotone).
 
 Spheres (strict: hit iff ``ra+rb > 0`` and ``q < r**2``, ``q = sum (pb-pa)_i**2``,
-``r = ra+rb``).  Float path: ``Q = fl(sum fl(fl(pb_i-pa_i)**2))`` left to right,
-``R = fl(ra+rb)``, ``RR = fl(R*R)``.  Each term of ``Q`` carries one rounding
-from the difference (squared: two factors), one from the square and at most
-``n-1 <= 2`` from the additions; all terms are >= 0, so
-``|Q - q| <= g5*q + 2**-1072`` with ``g_k = k*u/(1-k*u)``; likewise
-``|RR - r**2| <= g3*r**2 + 2**-1074``.  Hence
-``|(Q - RR) - (q - r**2)| <= g5*(q + r**2) + 2**-1071``.  Instead of forming
-``Q - RR`` (another rounding) the filter compares relatively, with
-``L = 1 - 2**-49 = 1 - 16u`` and ``H = 1 + 16u`` (exact doubles):
+``r = ra+rb``).  Float path: ``Q = fl(sum fl(fl(pb_i-pa_i)**2))`` (numpy's ``einsum``;
+any order, fused multiply-adds or not: each term meets at most five roundings),
+``R = fl(ra+rb)``, ``RR = fl(R*R)``.  All terms are >= 0, so
+``|Q - q| <= g5*q + 2**-1072`` with ``g_k = k*u/(1-k*u)``, and
+``|RR - r**2| <= g3*r**2 + 2**-1074``.  The filter counts the doubles between
+``Q`` and ``RR``: for non-negative doubles the int64 bit patterns are ordered like
+the values and consecutive doubles differ by one, so ``k = bits(Q) - bits(RR)``
+is that count.  Near ``RR`` consecutive doubles are at least ``RR*u`` apart above
+it and ``RR*u/2`` below it, so:
 
-* hit if ``R > 0`` and ``Q < fl(RR*L)``: then ``q <= (Q + 2**-1072)/(1-g5)`` and
-  ``r**2 >= (RR - 2**-1074)/(1+g3)`` give ``q/r**2 <= L(1+u)(1+g3)/(1-g5) + 2**-170
-  < 1 - 11u + 2**-170 < 1`` (``R > 0`` iff ``r > 0``: ``fl`` keeps signs and zero);
-* not a hit if ``Q >= fl(RR*H)``: symmetrically ``q/r**2 >= H(1-u)(1-g3)/(1+g5)
-  - 2**-170 > 1 + 7u > 1``;
+* hit if ``R > 0`` and ``k <= -32``: then ``Q <= RR(1 - 16u)`` and
+  ``q/r**2 <= (1 - 16u)(1+g3)/(1-g5) + 2**-170 < 1 - 7u < 1`` (``R > 0`` iff
+  ``r > 0``: ``fl`` keeps signs and zero);
+* not a hit if ``k >= 32``: then ``Q >= RR(1 + 32u)`` and
+  ``q/r**2 >= (1 + 32u)(1-g3)/(1+g5) - 2**-170 > 1``;
 
 both valid when ``2**-900 <= RR <= 2**1000`` (the absolute underflow terms are
-then below ``2**-170 * RR``; ``RR*H`` cannot overflow, and ``Q = inf`` means
-``q >= 2**1023 > r**2``).  Pairs outside that range, with ``R <= 0`` or NaN, or in
-the band ``fl(RR*L) <= Q < fl(RR*H)`` (about 16 ulps of ``r**2`` wide) fall back.
+then below ``2**-170 * RR``).  Pairs outside that range, with NaN, or in the band
+``|k| < 32`` go to a second stage that is still exact and vectorized
+(:func:`_sphere_expansion`: TwoSum, TwoProduct and an exact sign of the sum);
+only pairs whose factors leave its range (non-finite, or below ``2**-480``) fall
+back to Fractions.
 
 Non-finite inputs make the float quantities NaN/inf, so they always fall back;
 the exact path then reports ``hit=False`` and sets ``undefined`` (the oracle's
@@ -66,24 +68,31 @@ import numpy as np
 import numpy.typing as npt
 
 from . import exact
+from ._expansion import products_exact, sum_sign, two_product, two_sum
 from .types import Contact
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 
-_L = 1.0 - 2.0**-49
-_H = 1.0 + 2.0**-49
+_BAND = 32
+"""Sphere filter half-width in ulps of ``RR`` (see the module docstring)."""
 _TINY = 2.0**-900
 _HUGE = 2.0**1000
 
 
 @dataclass(frozen=True)
 class BatchResult:
-    """Verdicts, the pairs with non-finite inputs, and how many pairs fell back."""
+    """Verdicts, the pairs with non-finite inputs, and how each stage was used.
+
+    ``refined`` pairs were left undecided by the float filter and settled by the
+    exact vectorized second stage; ``fallbacks`` of them (non-finite or out of
+    range) went on to Fractions.
+    """
 
     hit: BoolArray
     undefined: BoolArray
     fallbacks: int
+    refined: int = 0
 
 
 def _f(x: npt.ArrayLike) -> FloatArray:
@@ -107,15 +116,15 @@ def _exact_sphere(pa: FloatArray, ra: float, pb: FloatArray, rb: float) -> bool 
     return r > 0 and q < r * r
 
 
-def _resolve(hit: BoolArray, undecided: BoolArray,
-             decide: Callable[[int], bool | None]) -> BatchResult:
+def _resolve(hit: BoolArray, undecided: BoolArray, decide: Callable[[int], bool | None],
+             refined: int) -> BatchResult:
     undefined = np.zeros(hit.shape, dtype=bool)
     idx = np.flatnonzero(undecided)
     for i in idx.tolist():
         verdict = decide(i)
         hit[i] = bool(verdict)
         undefined[i] = verdict is None
-    return BatchResult(hit, undefined, len(idx))
+    return BatchResult(hit, undefined, len(idx), refined)
 
 
 def aabb_batch(
@@ -145,14 +154,7 @@ def aabb_batch(
     hit[undecided], rest = _aabb_two_sum(a[undecided], h[undecided], b[undecided], k[undecided])
     todo = np.zeros(hit.shape, dtype=bool)
     todo[undecided[rest]] = True
-    return _resolve(hit, todo, lambda i: _exact_aabb(a[i], h[i], b[i], k[i]))
-
-
-def _two_sum(x: FloatArray, y: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Knuth's TwoSum: ``x + y == s + e`` exactly (no overflow)."""
-    s = x + y
-    bv = s - x
-    return s, (x - (s - bv)) + (y - bv)
+    return _resolve(hit, todo, lambda i: _exact_aabb(a[i], h[i], b[i], k[i]), len(undecided))
 
 
 def _aabb_two_sum(a: FloatArray, h: FloatArray, b: FloatArray,
@@ -165,8 +167,8 @@ def _aabb_two_sum(a: FloatArray, h: FloatArray, b: FloatArray,
     the pairs left for Fractions (non-finite or near-overflow values).
     """
     with np.errstate(all="ignore"):
-        dh, dl = _two_sum(b, -a)
-        sh, sl = _two_sum(h, k)
+        dh, dl = two_sum(b, -a)
+        sh, sl = two_sum(h, k)
         big = np.abs(dh)
         tail = np.sign(dh) * dl
         ok = (big < sh) | ((big == sh) & (tail <= sl))
@@ -184,22 +186,69 @@ def sphere_batch(
     """
     a, b, r1, r2 = _f(pa), _f(pb), _f(ra), _f(rb)
     with np.errstate(all="ignore"):
-        d = np.subtract(b, a)
-        np.multiply(d, d, out=d)
-        q = d[:, 0] + d[:, 1]
-        for j in range(2, d.shape[1]):
-            q += d[:, j]
-        r = r1 + r2
-        rr = r * r
-        hit = q < rr * _L
-        undecided = q < rr * _H
-        undecided &= ~hit
-        if not math.isfinite(float(q.sum())):  # non-finite inputs (or overflow) fall back
-            undecided |= ~np.isfinite(q)
-        if not (r.min(initial=1.0) > 0 and rr.min(initial=1.0) >= _TINY
+        d = b - a
+        q = np.einsum("ij,ij->i", d, d)
+        rr = r1 + r2
+        not_positive = None if rr.min(initial=1.0) > 0 else ~(rr > 0)
+        np.multiply(rr, rr, out=rr)  # in place: fewer fresh pages to fault in
+        out_of_range = None
+        if not (math.isfinite(float(q.sum())) and rr.min(initial=1.0) >= _TINY
                 and rr.max(initial=1.0) <= _HUGE):
-            undecided |= ~((r > 0) & (rr >= _TINY) & (rr <= _HUGE))
-    return _resolve(hit, undecided, lambda i: _exact_sphere(a[i], r1[i], b[i], r2[i]))
+            out_of_range = ~(np.isfinite(q) & (rr >= _TINY) & (rr <= _HUGE))
+        step = q.view(np.int64)
+        step -= rr.view(np.int64)  # doubles from RR to Q (both are >= 0)
+        hit = step <= -_BAND
+        step += _BAND - 1
+        undecided = step.view(np.uint64) < 2 * _BAND - 1
+        if not_positive is not None:
+            hit &= ~not_positive
+        if out_of_range is not None:
+            undecided |= out_of_range
+    idx = np.flatnonzero(undecided)
+    hit[idx], rest = _sphere_expansion(a[idx], r1[idx], b[idx], r2[idx])
+    todo = np.zeros(hit.shape, dtype=bool)
+    todo[idx[rest]] = True
+    return _resolve(hit, todo, lambda i: _exact_sphere(a[i], r1[i], b[i], r2[i]), len(idx))
+
+
+def _sphere_expansion(a: FloatArray, r1: FloatArray, b: FloatArray,
+                      r2: FloatArray) -> tuple[BoolArray, BoolArray]:
+    """Second, still exact, stage: the sign of ``q - r**2`` as a sum of exact terms.
+
+    TwoSum splits ``pb_i - pa_i = dh + dl`` and ``ra + rb = rh + rl`` exactly; then
+    ``(dh + dl)**2 = dh*dh + 2dh*dl + dl*dl`` and likewise for ``r``, each product
+    split exactly by TwoProduct, so ``q - r**2`` is a sum of floats whose sign
+    :func:`~reference_impl._expansion.sum_sign` finds exactly.  The terms of a zero
+    ``dl`` or ``rl`` vanish, so pairs are grouped by which tails are zero and each
+    group sums only the terms it has (most differences and many radius sums are
+    exact).  Returns the verdicts and the pairs left for Fractions (non-finite
+    inputs, factors outside :func:`~reference_impl._expansion.products_exact`'s range).
+    """
+    hit = np.zeros(len(a), dtype=bool)
+    with np.errstate(all="ignore"):
+        dh, dl = two_sum(b, -a)
+        rh, rl = two_sum(r1, r2)
+        ok = products_exact(dh, dl, rh, rl)
+        d_tail, r_tail = (dl != 0).any(axis=1), rl != 0
+        for has_d in (False, True):
+            for has_r in (False, True):
+                rows = np.flatnonzero(ok & (d_tail == has_d) & (r_tail == has_r))
+                if rows.size:
+                    terms = np.concatenate(
+                        [*_square(dh[rows].T, dl[rows].T, has_d),
+                         *(-t for t in _square(rh[None, rows], rl[None, rows], has_r))])
+                    hit[rows] = (rh[rows] > 0) & (sum_sign(terms) < 0)
+    return hit, ~ok
+
+
+def _square(h: FloatArray, lo: FloatArray, tail: bool) -> tuple[FloatArray, ...]:
+    """Arrays (k, N) whose sum down axis 0 is exactly ``sum_i (h_i + lo_i)**2``.
+
+    Without ``tail`` the caller guarantees ``lo == 0``, and only ``h*h`` is split.
+    """
+    if not tail:
+        return two_product(h, h)
+    return (*two_product(h, h), *two_product(2.0 * h, lo), *two_product(lo, lo))
 
 
 def aabb_verdicts(ca: npt.ArrayLike, ha: npt.ArrayLike, cb: npt.ArrayLike,
@@ -311,6 +360,7 @@ def bench_batch(n: int = 1_000_000, near_fraction: float = 0.01, seed: int = 0,
     naive_hit = naive(*x)
     return {"batch_pairs_per_s": n / t_batch, "naive_pairs_per_s": n / t_naive,
             "ratio": t_naive / t_batch, "fallbacks": result.fallbacks,
+            "refined": result.refined,
             "checked": len(sample), "agreement": agree / len(sample),
             "naive_wrong_near": float(sum(bool(naive_hit[i]) != oracle(kind, x, i)
                                           for i in range(m)))}

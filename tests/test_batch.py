@@ -104,3 +104,42 @@ def test_hypothesis_nudged(kind: str, dim: int, vals: list[float], ulps: int) ->
         b[0, 0] = np.nextafter(b[0, 0], np.inf if ulps > 0 else -np.inf)
     x = (a, h, b, k)
     assert FN[kind](*x).hit.tolist() == oracle(kind, x)
+
+
+def test_sphere_exact_ties_need_no_fractions() -> None:
+    """3-4-5 triangles touch exactly (q == r**2): not a hit, settled by the second stage."""
+    scale = 2.0 ** np.arange(-40, 41, 8.0)
+    pa = np.zeros((len(scale), 3))
+    pb = np.stack([3 * scale, 4 * scale, 0 * scale], axis=1)
+    ra, rb = 2 * scale, 3 * scale
+    res = batch.sphere_batch(pa, ra, pb, rb)
+    assert not res.hit.any()
+    assert res.refined == len(scale) and res.fallbacks == 0
+    nudged = batch.sphere_batch(pa, ra, pb, np.nextafter(rb, np.inf))
+    assert nudged.hit.all() and nudged.fallbacks == 0
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_sphere_near_pairs_settled_without_fractions(dim: int) -> None:
+    x = batch.near_pairs("sphere", 2000, dim, np.random.default_rng(7))
+    res = batch.sphere_batch(*x)
+    assert res.refined > 1000 and res.fallbacks == 0
+    assert res.hit.tolist() == oracle("sphere", x)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.floats(-1e200, 1e200, allow_nan=False, allow_infinity=False)
+                | st.sampled_from([0.0, 2.0**-400, -(2.0**-400), 1.0, -1.0]),
+                min_size=1, max_size=30))
+def test_sum_sign_is_exact(values: list[float]) -> None:
+    from fractions import Fraction
+
+    from reference_impl._expansion import sum_sign
+
+    column = np.array(values)[:, None]
+    cancel = np.concatenate([column, -column[::-1]])  # sums to exactly zero
+    total = sum(Fraction(v) for v in values)
+    expected = (total > 0) - (total < 0)
+    assert sum_sign(column).tolist() == [expected]
+    both = np.concatenate([np.concatenate([column, np.zeros_like(column)]), cancel], axis=1)
+    assert sum_sign(both).tolist() == [expected, 0]
