@@ -107,7 +107,8 @@ def markdown_summary(frame: pd.DataFrame) -> str:
 
 def _case_details(frame: pd.DataFrame, cases: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:
     by_case: dict[str, list[dict[str, Any]]] = {}
-    for row in frame.to_dict("records"):  # one conversion: per-group to_dict is ~100x slower
+    records: list[dict[str, Any]] = frame.to_dict("records")  # type: ignore[assignment]
+    for row in records:  # one conversion: per-group to_dict is ~100x slower
         by_case.setdefault(str(row["case_id"]), []).append(row)
     details = []
     for case_id, rows in by_case.items():

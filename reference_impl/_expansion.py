@@ -82,7 +82,8 @@ def products_exact(*factors: FloatArray) -> npt.NDArray[np.bool_]:
 def _sigma(p: FloatArray, m: int) -> FloatArray:
     """Per column, a power of two ``>= 2**m * max|p|`` (``2**m`` for an all-zero column)."""
     _, e = np.frexp(np.maximum(p.max(axis=0), -p.min(axis=0)))  # max|p| < 2**e
-    return np.ldexp(1.0, e + m)
+    sigma: FloatArray = np.ldexp(1.0, e + m)
+    return sigma
 
 
 def sum_sign(terms: FloatArray, max_rounds: int = 64) -> IntArray:
