@@ -97,6 +97,10 @@ def describe(capabilities: frozenset[Capability]) -> list[str]:
     return [f"{kind} {'/'.join(f'{d}-D' for d in ds)}" for kind, ds in dims.items()]
 
 
+HANG_PROBE_S = 0.25
+"""Time limit for a case an adapter declares as a known hang (see Adapter.known_hang)."""
+
+
 class Adapter(ABC):
     """Base class of every engine adapter (see the module docstring)."""
 
@@ -119,6 +123,15 @@ class Adapter(ABC):
         if (case.kind_enum, case.dim) in self.capabilities:
             return None
         return f"{self.name} does not support {case.kind} in {case.dim}-D"
+
+    def known_hang(self, case: AnyCase) -> str | None:
+        """Why the engine is known to hang on ``case`` (None: not known to).
+
+        The case still runs, under :data:`HANG_PROBE_S` instead of the run's
+        limit: a fixed engine answers in microseconds and its result is real,
+        while a hang costs a fraction of a second instead of the full limit.
+        """
+        return None
 
     @abstractmethod
     def prepare(self, case: AnyCase) -> Any:

@@ -176,6 +176,11 @@ class Fcl(Adapter):
             return "fcl has no dynamics: collision and distance queries only"
         return super().unsupported(case)
 
+    def known_hang(self, case: AnyCase) -> str | None:
+        if case.kind_enum is Kind.SPHERE and list(case.a.center) == list(case.b.center):
+            return "fcl's signed distance loops on coincident sphere centres (fcl issue 346)"
+        return None
+
     def prepare(self, case: AnyCase) -> Any:
         fcl = engine()
         shape_a, shape_b = shapes(case)

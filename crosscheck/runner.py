@@ -16,11 +16,11 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
-from adapters.base import Adapter
+from adapters.base import HANG_PROBE_S, Adapter
 from crosscheck import oracle
 from crosscheck.distributed import CaseJob, DaskLanes
 from crosscheck.execute import Executor, Outcome, RunOptions
-from crosscheck.model import Observation, Record, quantities_of
+from crosscheck.model import Observation, Record, Status, quantities_of
 from crosscheck.schema import AnyCase, ResponseCase
 from crosscheck.score import Verdict, encode, judge
 from crosscheck.store import ResultsStore
@@ -87,8 +87,22 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
     records: list[Record] = []
     for adapter in adapters:
         if (case.id, adapter.name) not in done:
-            records += score_case(case, adapter, executor(adapter, case, options), truth)
+            records += score_case(case, adapter, _execute(executor, adapter, case, options),
+                                  truth)
     return records
+
+
+def _execute(executor: Executor, adapter: Adapter, case: AnyCase,
+             options: RunOptions) -> Outcome:
+    """Execute, probing a declared known hang under HANG_PROBE_S and saying so."""
+    hang = adapter.known_hang(case)
+    if hang is None:
+        return executor(adapter, case, options)
+    limit = min(options.timeout_s, HANG_PROBE_S)
+    outcome = executor(adapter, case, replace(options, timeout_s=limit, quick=True))
+    if outcome.status is Status.TIMEOUT:
+        return replace(outcome, reason=f"{outcome.reason} (declared known hang: {hang})")
+    return outcome
 
 
 def timed_sample(cases: Sequence[AnyCase], per_group: int) -> frozenset[str]:

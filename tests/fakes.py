@@ -124,3 +124,17 @@ class ClaimsResponse(_Fake):
 
     def query(self, prepared: Any) -> Observation:
         return Observation()
+
+
+class DeclaresHangs(SleepsForever):
+    """Hangs on 'boom', which it declares a known hang; declares 'after' too but answers."""
+
+    name: ClassVar[str] = "fake-declared-hang"
+
+    def known_hang(self, case: AnyCase) -> str | None:
+        return "stuck in a loop" if case.id in ("boom", "after") else None
+
+    def query(self, prepared: Any) -> Observation:
+        if prepared.id == "boom":
+            super().query(prepared)
+        return oracle.truth(prepared)

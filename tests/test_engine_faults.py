@@ -39,6 +39,9 @@ def test_fcl_hang_on_coincident_spheres_is_a_timeout(tmp_path: Path) -> None:
     cases = [sphere(0.0, 0.0, id="coincident"), sphere(0.0, 2.0, id="after")]
     frame = run_engine(tmp_path, "fcl", cases, timeout_s=2.0)
     assert status_of(frame, "coincident") == {"timeout"}
+    reason = set(frame[frame["case_id"] == "coincident"]["reason"])
+    assert reason == {"no answer within 0.25 s (declared known hang: fcl's signed distance "
+                      "loops on coincident sphere centres (fcl issue 346))"}
     assert status_of(frame, "after") == {"agree"}
 
 

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from adapters.base import Adapter
+from adapters.base import HANG_PROBE_S, Adapter
 from crosscheck.execute import RunOptions
 from crosscheck.runner import run
 from crosscheck.store import ResultsStore, read_results
@@ -41,6 +41,17 @@ def test_hang_is_a_timeout_and_the_run_goes_on(tmp_path: Path) -> None:
     assert by_case(frame, "fake-right") == {c.id: {"agree"} for c in CASES}
     reasons = set(frame[frame["engine"] == "fake-hangs"]["reason"])
     assert reasons == {"no answer within 0.5 s"}
+
+
+def test_declared_hang_is_probed_briefly_and_still_measured(tmp_path: Path) -> None:
+    start = time.monotonic()
+    frame = run_isolated(tmp_path, [fakes.DeclaresHangs()], timeout_s=30.0)
+    assert time.monotonic() - start < 15  # the probe limit, not the run's 30 s
+    assert by_case(frame, "fake-declared-hang") == {"before": {"agree"}, "boom": {"timeout"},
+                                                    "after": {"agree"}}
+    boom = frame[frame["case_id"] == "boom"]
+    assert set(boom["reason"]) == {
+        f"no answer within {HANG_PROBE_S:g} s (declared known hang: stuck in a loop)"}
 
 
 def test_abort_is_a_crash_naming_the_signal(tmp_path: Path) -> None:
