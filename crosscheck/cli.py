@@ -28,7 +28,7 @@ from rich.table import Table
 
 import adapters
 from adapters.base import Adapter, engine_info
-from crosscheck import compare, environment, fuzz, report
+from crosscheck import bench, compare, environment, fuzz, report
 from crosscheck.cases import LoadResult, load_paths
 from crosscheck.execute import RunOptions
 from crosscheck.model import Kind
@@ -297,6 +297,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, help="output folder (default: reports/compare-A-vs-B/)")
     p.set_defaults(func=cmd_compare)
     fuzz.register(sub)
+    bench.register(sub)
     p = sub.add_parser("validate", help="check case files")
     p.add_argument("paths", nargs="*", type=Path)
     p.set_defaults(func=cmd_validate)

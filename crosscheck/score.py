@@ -43,20 +43,49 @@ class Verdict:
 
 
 def encode(value: Value | None) -> str:
-    """JSON text of a value (floats round-trip exactly); '' when absent."""
+    """JSON text of a value (floats round-trip exactly); '' when absent.
+
+    >>> encode((0.1, -0.0, float("nan"))), encode(True), encode(1e300)
+    ('[0.1, -0.0, NaN]', 'true', '1e+300')
+    """
     if value is None:
         return ""
     if isinstance(value, Undefined):
         return "undefined"
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return _number(value)
+    if isinstance(value, tuple) and all(isinstance(x, float) for x in value):
+        return "[" + ", ".join(_number(x) for x in value) + "]"
     return json.dumps(list(value) if isinstance(value, tuple) else value)
+
+
+def _number(x: float) -> str:
+    """``json.dumps(x)`` for a float, without its per-call overhead (runs per record)."""
+    return float.__repr__(x) if math.isfinite(x) else json.dumps(x)
 
 
 def _finite(xs: Iterator[float]) -> list[float]:
     return [abs(x) for x in xs if math.isfinite(x)]
 
 
+_LAST_SCALE: list[tuple[AnyCase, float]] = []
+
+
 def length_scale(case: AnyCase) -> float:
-    """The size of the case's numbers: largest |coordinate|, radius or half-width."""
+    """The size of the case's numbers: largest |coordinate|, radius or half-width.
+
+    Scoring asks this several times per case in a row, so the last answer is kept.
+    """
+    if _LAST_SCALE and _LAST_SCALE[0][0] is case:
+        return _LAST_SCALE[0][1]
+    scale = _length_scale(case)
+    _LAST_SCALE[:] = [(case, scale)]
+    return scale
+
+
+def _length_scale(case: AnyCase) -> float:
     nums = [*case.a.center, *case.b.center]
     if isinstance(case, AabbCase):
         nums += [*case.a.half, *case.b.half]

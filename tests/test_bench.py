@@ -1,0 +1,49 @@
+"""``crosscheck bench`` at small sizes: every figure is produced and written; no timing asserted."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from crosscheck import bench
+
+
+def test_batch_figures_agree_with_the_pure_oracle() -> None:
+    figures = bench.batch_figures(20_000)
+    assert [f.name.split()[2].rstrip(":") for f in figures] == ["aabb", "sphere"]
+    for f in figures:
+        assert f.detail["agreement"] == 1.0
+        assert f.detail["checked"] >= 200  # every near pair, plus a random sample
+        assert f.detail["refined"] > 0 and f.detail["fallbacks"] == 0
+
+
+def test_overhead_figures_measure_raw_engine_path_and_harness() -> None:
+    figures = bench.overhead_figures(60)
+    assert [f.name for f in figures] == [
+        "harness overhead fcl sphere", "harness overhead fcl aabb",
+        "harness overhead pymunk sphere", "harness overhead pymunk aabb"]
+    for f in figures:
+        d = f.detail
+        assert d["cases"] == 60
+        assert all(math.isfinite(d[k]) and d[k] > 0
+                   for k in ("raw_us", "engine_path_us", "harness_us"))
+        assert f.ok == (f.value <= 50.0)
+
+
+def test_pybullet_stream_reports_memory_and_bodies() -> None:
+    stream, memory = bench.pybullet_figures(400)
+    assert stream.detail["cases"] == 400 and stream.value > 0
+    assert len(memory.detail["rss_mb"]) == 10
+    assert 0 < memory.detail["bodies_left"] <= 64
+
+
+def test_bench_json_round_trips(tmp_path: Path) -> None:
+    figures = [bench.Figure("x", 1.5, "x", ">= 1", True, {"n": 3}, note="n")]
+    path = bench.write(figures, tmp_path, quick=True)
+    data = json.loads(path.read_text())
+    assert data["format_version"] == bench.FORMAT_VERSION
+    assert data["quick"] is True and data["command"] == "crosscheck bench --quick"
+    assert data["figures"] == [{"name": "x", "value": 1.5, "unit": "x", "target": ">= 1",
+                                "ok": True, "detail": {"n": 3}, "note": "n"}]
+    assert "packages" in data["machine"]
