@@ -1,13 +1,45 @@
 """PyBullet 3.2.7 (Bullet, double precision) as an engine: ``pybullet`` and ``pybullet-default``.
 
-Each variant has one DIRECT client per process (no GUI), connected lazily, gravity 0, no
-ground plane; world settings are global to a client, so the variants never share one.  A
-case becomes two base-only multibodies (``createMultiBody``; mass 1 for detection, as
-static pairs are never tested; the case's masses for responses) on collision shapes cached
-by (geometry, size): ``release`` removes the bodies, never the shapes
-(``removeCollisionShape`` leaks shapes still in use).  The banner and ``b3Warning`` lines
-go to the C-level stdout/stderr, so import, connect, ``prepare`` and ``release`` run with
-file descriptors 1 and 2 on /dev/null (``query`` prints nothing; a redirect costs ~8 us).
+Each variant has two DIRECT clients per process (no GUI), connected lazily, gravity 0, no
+ground plane: one for detection cases, one for responses (world settings are global to a
+client, so the variants never share one; detection worlds never step, so their idle bodies
+cost response steps nothing).  A case is two base-only multibodies (mass 1 for detection,
+as static pairs are never tested; the case's masses for responses) on collision shapes
+cached per client by (geometry, size).
+
+Bodies are pooled per client, by shape.  ``prepare`` takes an idle body of the shape
+(creating one, ``createMultiBody``, only when none is idle; a pair of equal shapes takes
+two), moves it (``resetBasePositionAndOrientation``, identity orientation) and turns its
+collision on (``setCollisionFilterGroupMask`` group 1, mask -1: what createMultiBody gives a
+dynamic base [URDF2Bullet.cpp]).  ``release`` turns it off (group 0, mask 0: it pairs with
+nothing) and returns it to the pool, where it stays, still, wherever its case left it: the
+world keeps no active body between cases.  What makes a reused body a new one, measured:
+the filter call removes and re-adds the collider, which drops its broadphase pairs and
+contact manifolds and gives it a new proxy id after all others (A before B, as on
+creation); a createMultiBody body never sleeps (sleeping is opt-in); ``changeDynamics(mass=)``
+recomputes the inertia exactly as createMultiBody does.  Detection bodies never get a
+velocity or dynamics; response bodies get their mass, restitution and the variant's
+per-body settings on every ``prepare`` and zero velocities on ``release``, so the steps of
+later cases leave idle bodies where they are.  A detection client keeps at most
+``IDLE_LIMIT`` idle bodies and a response client ``RESPONSE_IDLE_LIMIT`` (the least
+recently released are removed beyond): an idle body adds ~0.04 us to
+``performCollisionDetection`` and ~0.55 us to a response step (~2 us with the pair alone),
+and detection clients never step.  Not pooled (new bodies, removed on ``release``): a case
+with a size outside (0, ``SIZE_LIMIT``], a mass that is not positive and finite, a negative
+restitution (``changeDynamics`` ignores negative values, so a reused body would keep the
+last one) or a coordinate or speed not within ``COORD_LIMIT``; and a response body that
+ends non-finite or beyond it, since a body whose AABB overflowed is disabled for good (see
+below).  A shape once used by a body can never be removed (``removeCollisionShape`` refuses
+it even after the body is gone), so a client holding ``SHAPE_LIMIT`` shapes is disconnected
+and replaced by a new one between cases (~5 ms).  Costs measured here: ``createMultiBody``
+~0.6 ms and ``removeBody`` ~0.05 ms (~2 ms among 2,000 bodies; each create and remove also
+leaks ~1 KB); a reset or a filter call ~1 us.  A pooled sphere detection case costs ~32 us
+(prepare, query, release) against ~11 us for the bare engine calls (two resets, detection,
+contact and closest points) and ~1.3 ms with a body created and removed per case; memory
+stays flat.  The banner and ``b3Warning`` lines go to the C-level stdout/stderr, so import,
+connect, creating and removing shapes and bodies, and ``changeDynamics`` run with file
+descriptors 1 and 2 on /dev/null (a redirect costs ~8 us); resets, filter calls and
+``query`` print nothing and run without.
 
 Detection: ``hit`` is the engine's verdict, "contact points exist" after
 ``performCollisionDetection`` (stale until then); Bullet's sphere-sphere and box-box
@@ -45,8 +77,8 @@ Other facts measured: multibody damping defaults to 0.04 [btMultiBody.cpp];
 impact finishes a step late; starting overlapped, contact ERP adds energy; radii 0,
 negative or NaN raise ``pybullet.error`` (box half-widths 0 or negative are accepted);
 coincident sphere centres get (1, 0, 0) on B; a dynamic body whose AABB diagonal reaches
-1e6 is dropped from collision ("Overflow in AABB") [btCollisionWorld.cpp]; creating a body
-costs ~0.6 ms, a reset ~0.5 us.
+1e6 (or is not finite) is dropped from collision for good ("Overflow in AABB": its
+activation state becomes DISABLE_SIMULATION, which nothing resets) [btCollisionWorld.cpp].
 
 Variants: ``pybullet`` (tuned for accuracy): restitutionVelocityThreshold 0, contactSlop 0,
 contactERP 0 (erp and frictionERP do not act: no joints, no friction), fixed time step
@@ -64,8 +96,9 @@ import ctypes
 import math
 import os
 import sys
+from collections import OrderedDict
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
 from adapters.base import Adapter, Capability, Conventions, all_capabilities
@@ -88,14 +121,46 @@ SOURCES = (
     GH + "src/BulletDynamics/ConstraintSolver/btContactSolverInfo.h",
     GH + "src/BulletDynamics/Featherstone/btMultiBodyConstraintSolver.cpp",
     GH + "src/BulletDynamics/Featherstone/btMultiBody.cpp",
+    GH + "examples/Importers/ImportURDFDemo/URDF2Bullet.cpp",
 )
 BOX_MARGIN = 0.001
 MAX_STEPS = 64
 APPROACH_RTOL = 1e-12
 
+IDENTITY = (0.0, 0.0, 0.0, 1.0)
+GROUP, MASK = 1, -1
+"""createMultiBody's collision filter for a dynamic base (DefaultFilter, AllFilter)."""
+IDLE_LIMIT = 16
+RESPONSE_IDLE_LIMIT = 4
+SHAPE_LIMIT = 2048
+SIZE_LIMIT = 1e5
+"""Largest pooled size: an AABB diagonal 2 sqrt 3 x 1e5 stays well below Bullet's 1e6."""
+COORD_LIMIT = 1e12
+"""Largest pooled coordinate or speed (an ulp at 1e12 is 1.2e-4: no AABB overflow)."""
+
+ShapeKey = tuple[str, tuple[float, ...]]
+
+
+@dataclass(eq=False)
+class World:
+    """One DIRECT client: its cached shapes and its pool of idle bodies.
+
+    ``idle`` maps a shape id to its idle bodies (most recently released last), ``lru``
+    every idle body to its shape id (least recently released first); ``busy`` counts the
+    bodies handed out and not yet released (the client is replaced only when it is 0).
+    """
+
+    settings: dict[str, float]
+    limit: int
+    cid: int
+    shapes: dict[ShapeKey, int] = field(default_factory=dict)
+    idle: dict[int, list[int]] = field(default_factory=dict)
+    lru: OrderedDict[int, int] = field(default_factory=OrderedDict)
+    busy: int = 0
+
+
 _MODULE: list[Any] = []
-_CLIENTS: dict[str, int] = {}
-_SHAPES: dict[tuple[int, str, tuple[float, ...]], int] = {}
+_WORLDS: dict[str, World] = {}
 
 
 @contextlib.contextmanager
@@ -126,30 +191,96 @@ def engine() -> Any:
     return _MODULE[0]
 
 
-def client(name: str, world: dict[str, float]) -> int:
-    """The DIRECT client of variant ``name``, connected and configured once per process."""
-    if name not in _CLIENTS:
+def connect(settings: dict[str, float]) -> int:
+    """A new DIRECT client with gravity 0 and ``settings``."""
+    bt = engine()
+    with quiet():
+        cid: int = bt.connect(bt.DIRECT)
+        bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
+        if settings:
+            bt.setPhysicsEngineParameter(**settings, physicsClientId=cid)
+    return cid
+
+
+def world(name: str, settings: dict[str, float], response: bool = False) -> World:
+    """The world (client and pool) called ``name``, connected once per process."""
+    if name not in _WORLDS:
+        limit = RESPONSE_IDLE_LIMIT if response else IDLE_LIMIT
+        _WORLDS[name] = World(settings, limit, connect(settings))
+    return _WORLDS[name]
+
+
+def client(name: str, settings: dict[str, float]) -> int:
+    """The DIRECT client of world ``name`` (a variant's detection world is its own name)."""
+    return world(name, settings).cid
+
+
+def recycle(w: World) -> None:
+    """Replace the world's client by a new one: the only way to free shapes once used."""
+    with quiet():
+        engine().disconnect(physicsClientId=w.cid)
+    w.shapes.clear()
+    w.idle.clear()
+    w.lru.clear()
+    w.cid = connect(w.settings)
+
+
+def shape(w: World, geom: str, size: tuple[float, ...]) -> int:
+    """A cached collision shape: a sphere of radius size[0] or a box of half-widths size."""
+    key = (geom, size)
+    if key not in w.shapes:
         bt = engine()
         with quiet():
-            cid = bt.connect(bt.DIRECT)
-            bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
-            if world:
-                bt.setPhysicsEngineParameter(**world, physicsClientId=cid)
-        _CLIENTS[name] = cid
-    return _CLIENTS[name]
+            if geom == "sphere":
+                sid = bt.createCollisionShape(bt.GEOM_SPHERE, radius=size[0],
+                                              physicsClientId=w.cid)
+            else:
+                sid = bt.createCollisionShape(bt.GEOM_BOX, halfExtents=size,
+                                              physicsClientId=w.cid)
+        w.shapes[key] = sid
+    return w.shapes[key]
 
 
-def shape(cid: int, geom: str, size: tuple[float, ...]) -> int:
-    """A cached collision shape: a sphere of radius size[0] or a box of half-widths size."""
-    key = (cid, geom, size)
-    if key not in _SHAPES:
-        bt = engine()
-        if geom == "sphere":
-            sid = bt.createCollisionShape(bt.GEOM_SPHERE, radius=size[0], physicsClientId=cid)
-        else:
-            sid = bt.createCollisionShape(bt.GEOM_BOX, halfExtents=size, physicsClientId=cid)
-        _SHAPES[key] = sid
-    return _SHAPES[key]
+def take(w: World, sid: int, mass: float, centre: Vec3, pooled: bool) -> int:
+    """A body of shape ``sid`` at ``centre``, colliding: an idle one if pooled, else new."""
+    bt = engine()
+    bodies = w.idle.get(sid) if pooled else None
+    if bodies:
+        body = bodies.pop()
+        del w.lru[body]
+        bt.resetBasePositionAndOrientation(body, centre, IDENTITY, physicsClientId=w.cid)
+        bt.setCollisionFilterGroupMask(body, -1, GROUP, MASK, physicsClientId=w.cid)
+    else:
+        with quiet():
+            body = bt.createMultiBody(baseMass=mass, baseCollisionShapeIndex=sid,
+                                      basePosition=centre, physicsClientId=w.cid)
+    w.busy += 1
+    return int(body)
+
+
+def give_back(w: World, body: int, sid: int, keep: bool) -> None:
+    """Return ``body`` to the pool, collision off, if ``keep`` (else remove it); trim the pool."""
+    bt = engine()
+    w.busy -= 1
+    if keep:
+        bt.setCollisionFilterGroupMask(body, -1, 0, 0, physicsClientId=w.cid)
+        w.idle.setdefault(sid, []).append(body)
+        w.lru[body] = sid
+        if len(w.lru) <= w.limit:
+            return
+        body, sid = w.lru.popitem(last=False)
+        w.idle[sid].remove(body)
+    with quiet():
+        bt.removeBody(body, physicsClientId=w.cid)
+
+
+def settled(cid: int, body: int) -> bool:
+    """Whether a response body ended finite and within ``COORD_LIMIT`` (fit to reuse)."""
+    bt = engine()
+    position, orientation = bt.getBasePositionAndOrientation(body, physicsClientId=cid)
+    linear, angular = bt.getBaseVelocity(body, physicsClientId=cid)
+    return (all(abs(x) <= COORD_LIMIT for x in (*position, *linear))
+            and all(math.isfinite(x) for x in (*orientation, *angular)))
 
 
 def to3(v: Sequence[float]) -> Vec3:
@@ -176,6 +307,24 @@ def body_specs(case: AnyCase) -> list[Spec]:
     return [("sphere", (case.a.radius,), 1.0), ("sphere", (case.b.radius,), 1.0)]
 
 
+def ordinary(case: AnyCase, ca: Vec3, cb: Vec3, specs: Sequence[Spec]) -> bool:
+    """Whether the case's bodies may come from the pool (see the module docstring).
+
+    A negative restitution is not: ``changeDynamics`` ignores negative values (pybullet.c
+    sends only values >= 0), so a reused body would keep its last case's restitution
+    where a new one has 0.  (Comparisons with NaN are False: NaN is never ordinary.)
+    """
+    (_, size_a, mass_a), (_, size_b, mass_b) = specs
+    numbers: tuple[float, ...] = (*ca, *cb)
+    if isinstance(case, ResponseCase):
+        if not 0.0 <= case.restitution <= COORD_LIMIT:
+            return False
+        numbers += (*case.a.velocity, *case.b.velocity)
+    return (0.0 < mass_a < math.inf and 0.0 < mass_b < math.inf
+            and all(0.0 < x <= SIZE_LIMIT for x in (*size_a, *size_b))
+            and all(-COORD_LIMIT <= x <= COORD_LIMIT for x in numbers))
+
+
 def approach(pa: Sequence[float], pb: Sequence[float], va: Sequence[float],
              vb: Sequence[float]) -> float:
     """Speed at which A and B approach along the line of centres (negative: separating)."""
@@ -196,15 +345,22 @@ class Motion:
     tol: float
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Pair:
-    """A prepared case: the client, the two body ids and what the query needs."""
+    """A prepared case: the client, the two body ids and what the query needs.
+
+    ``world`` and ``shapes`` say where the bodies go back; ``pooled`` False: they are
+    removed on release.
+    """
 
     cid: int
     dim: int
     a: int
     b: int
     bound: float
+    world: World
+    shapes: tuple[int, int]
+    pooled: bool
     motion: Motion | None = None
 
 
@@ -256,33 +412,39 @@ class PyBulletTuned(Adapter):
         return None
 
     def prepare(self, case: AnyCase) -> Pair:
-        cid, specs = client(self.name, self.world), body_specs(case)
+        if isinstance(case, ResponseCase):
+            w = world(self.name + "/response", self.world, response=True)
+        else:
+            w = world(self.name, self.world)
+        specs = body_specs(case)
+        (geom_a, size_a, mass_a), (geom_b, size_b, mass_b) = specs
+        if (not w.busy and len(w.shapes) + 2 > SHAPE_LIMIT
+                and ((geom_a, size_a) not in w.shapes or (geom_b, size_b) not in w.shapes)):
+            recycle(w)
+        sa, sb = shape(w, geom_a, size_a), shape(w, geom_b, size_b)
         ca, cb = to3(case.a.center), to3(case.b.center)
-        made: list[int] = []
-        with quiet():
-            shapes = [shape(cid, geom, size) for geom, size, _ in specs]
-            try:
-                for (*_, mass), sid, centre in zip(specs, shapes, (ca, cb), strict=True):
-                    made.append(self._body(cid, sid, mass, centre))
-                pair = Pair(cid, case.dim, made[0], made[1], 1.0 + 2.0 * math.dist(ca, cb))
-                if isinstance(case, ResponseCase):
-                    pair = replace(pair, motion=self._motion(pair, case))
-            except Exception:
-                for body in made:
-                    engine().removeBody(body, physicsClientId=cid)
-                raise
+        pooled = ordinary(case, ca, cb, specs)
+        taken: list[int] = []
+        try:
+            taken.append(take(w, sa, mass_a, ca, pooled))
+            taken.append(take(w, sb, mass_b, cb, pooled))
+            pair = Pair(w.cid, case.dim, taken[0], taken[1], 1.0 + 2.0 * math.dist(ca, cb),
+                        w, (sa, sb), pooled)
+            if isinstance(case, ResponseCase):
+                pair.motion = self._motion(pair, case)
+        except Exception:
+            for body, sid in zip(taken, (sa, sb), strict=False):
+                give_back(w, body, sid, pooled)
+            raise
         return pair
 
-    @staticmethod
-    def _body(cid: int, sid: int, mass: float, centre: Vec3) -> int:
-        body: int = engine().createMultiBody(baseMass=mass, baseCollisionShapeIndex=sid,
-                                             basePosition=centre, physicsClientId=cid)
-        return body
-
     def _motion(self, pair: Pair, case: ResponseCase) -> Motion:
-        for body, e in ((pair.a, case.restitution), (pair.b, 1.0)):
-            engine().changeDynamics(body, -1, restitution=e, **self.body,
-                                    physicsClientId=pair.cid)
+        with quiet():
+            for body, mass, e in ((pair.a, case.a.mass, case.restitution),
+                                  (pair.b, case.b.mass, 1.0)):
+                reused = {"mass": mass} if pair.pooled else {}  # a new body has its mass
+                engine().changeDynamics(body, -1, restitution=e, **reused, **self.body,
+                                        physicsClientId=pair.cid)
         speeds = [abs(x) for x in (*case.a.velocity, *case.b.velocity)]
         return Motion(to3(case.a.center), to3(case.b.center), to3(case.a.velocity),
                       to3(case.b.velocity), APPROACH_RTOL * max(speeds, default=0.0))
@@ -325,9 +487,14 @@ class PyBulletTuned(Adapter):
 
     def release(self, prepared: Any) -> None:
         pair: Pair = prepared
-        with quiet():
-            engine().removeBody(pair.a, physicsClientId=pair.cid)
-            engine().removeBody(pair.b, physicsClientId=pair.cid)
+        for body, sid in ((pair.a, pair.shapes[0]), (pair.b, pair.shapes[1])):
+            keep = pair.pooled
+            if keep and pair.motion is not None:
+                keep = settled(pair.cid, body)
+                if keep:  # an idle body stands still through other cases' steps
+                    engine().resetBaseVelocity(body, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0),
+                                               physicsClientId=pair.cid)
+            give_back(pair.world, body, sid, keep)
 
 
 def observed(dim: int, va: Vec3, vb: Vec3, resolved: tuple[Vec3, Vec3] | None) -> Observation:

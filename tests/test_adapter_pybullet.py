@@ -275,17 +275,6 @@ def test_invalid_radius_raises_the_engine_error_silently_and_leaves_no_body(
     assert capfd.readouterr() == ("", "")  # the b3Warning went to /dev/null
 
 
-def test_release_removes_the_bodies_and_variants_use_separate_clients() -> None:
-    tuned, default = adapters.get("pybullet"), adapters.get("pybullet-default")
-    prepared = tuned.prepare(sphere(0.0, 1.0))
-    count = bodies("pybullet")
-    other = default.prepare(sphere(0.0, 1.0))
-    assert bodies("pybullet") == count and prepared.cid != other.cid
-    tuned.release(prepared)
-    default.release(other)
-    assert bodies("pybullet") == count - 2
-
-
 def test_version_is_the_pinned_release() -> None:
     assert adapters.get("pybullet").version() == "3.2.7"
     assert adapters.get("pybullet-default").version() == "3.2.7"
