@@ -57,7 +57,7 @@ class Outcome:
 
 def execute(adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
     """Prepare, query and (unless quick) time ``case`` on ``adapter``, in this process."""
-    skip = adapter.available() or adapter.unsupported(case)
+    skip = _availability(adapter) or adapter.unsupported(case)
     if skip:
         return Outcome(None, Status.SKIP, skip)
     prepared: Any = None
@@ -77,6 +77,17 @@ def execute(adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
     finally:
         if prepared is not None:
             adapter.release(prepared)
+
+
+_AVAILABLE: dict[int, tuple[Adapter, str | None]] = {}
+
+
+def _availability(adapter: Adapter) -> str | None:
+    """``adapter.available()``, asked once per adapter object (it cannot change in-process)."""
+    known = _AVAILABLE.get(id(adapter))
+    if known is None or known[0] is not adapter:
+        known = _AVAILABLE[id(adapter)] = (adapter, adapter.available())
+    return known[1]
 
 
 Executor = Callable[[Adapter, AnyCase, RunOptions], Outcome]
