@@ -26,7 +26,6 @@ import gc
 import json
 import math
 import os
-import resource
 import subprocess
 import sys
 import tempfile
@@ -247,22 +246,58 @@ def _cli() -> list[str]:
     return [str(script)] if script.exists() else [sys.executable, "-m", "crosscheck.cli"]
 
 
+def session_rss_mb(sid: int) -> float:
+    """Proportional resident memory (PSS) of the processes in session ``sid`` now (MB).
+
+    PSS splits each shared page among its sharers, so forked workers are not
+    counted twice for the pages they share with the forkserver.
+    """
+    total_kb = 0
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[3]) != sid:  # field 6 of stat: the session id
+                continue
+            for line in (stat.parent / "smaps_rollup").read_text().splitlines():
+                if line.startswith("Pss:"):
+                    total_kb += int(line.split()[1])
+        except (OSError, ValueError, IndexError):
+            continue  # the process ended while we looked
+    return total_kb / 1024
+
+
+def run_measured(cmd: Sequence[str]) -> tuple[int, float, float, str]:
+    """Run ``cmd`` in its own session: return code, wall seconds, peak session RSS, stderr tail."""
+    start = time.perf_counter()
+    with tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=err,
+                                start_new_session=True)
+        peak = 0.0
+        while proc.poll() is None:
+            peak = max(peak, session_rss_mb(proc.pid))
+            time.sleep(0.1)
+        wall = time.perf_counter() - start
+        err.seek(0)
+        tail = err.read()[-300:]
+    return proc.returncode, wall, peak, tail
+
+
 def suite_figures(quick: bool) -> list[Figure]:
-    """Figures 3 and 4: wall time of the suite runs and the peak RSS of their processes."""
+    """Figures 3 and 4: wall time of the suite runs and their peak resident memory."""
     figures = []
     runs = [("--quick", ["--quick"], 15.0)] + ([] if quick else [("full (make run)", [], 120.0)])
+    peaks = []
     for label, extra, limit in runs:
         with tempfile.TemporaryDirectory() as tmp:
-            start = time.perf_counter()
-            done = subprocess.run([*_cli(), "run", *extra, "--out", f"{tmp}/run"], cwd=ROOT,
-                                  capture_output=True, text=True)
-            wall = time.perf_counter() - start
+            code, wall, peak, tail = run_measured([*_cli(), "run", *extra, "--out", f"{tmp}/run"])
+        peaks.append((label, peak))
         figures.append(Figure(f"suite time, crosscheck run {label}", wall, "s",
-                              f"<= {limit:.0f} s", done.returncode == 0 and wall <= limit,
-                              {"returncode": done.returncode},
-                              note="" if done.returncode == 0 else done.stderr[-200:]))
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
-    figures.append(Figure("peak RSS of a suite-run process", peak, "MB", "reported", True))
+                              f"<= {limit:.0f} s", code == 0 and wall <= limit,
+                              {"returncode": code}, note="" if code == 0 else tail))
+    label, peak = max(peaks, key=lambda p: p[1])
+    figures.append(Figure("peak memory of a suite run (PSS, all processes)", peak, "MB", "reported",
+                          True, {"runs": dict(peaks)},
+                          note=f"largest: {label}; sampled every 0.1 s"))
     return figures
 
 

@@ -15,7 +15,7 @@ True
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass, fields
 from enum import StrEnum
 
 from reference_impl.types import Undefined, Vec
@@ -139,7 +139,8 @@ class Record:
 
     def row(self) -> dict[str, object]:
         """The record as a plain dict, ready for a DataFrame or CSV writer."""
-        out = asdict(self)
+        # every field is a scalar: no deep copy (asdict is ~20x slower, once per record)
+        out = {f.name: getattr(self, f.name) for f in fields(self)}
         out["status"] = str(self.status)
         return out
 

@@ -17,10 +17,13 @@ progress bar) and cheap to restart.  Their C-level stdout and stderr go to
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing as mp
 import os
 import signal
+import sys
 import threading
+import types
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, as_completed, wait
 from multiprocessing.connection import Connection
@@ -34,6 +37,7 @@ from crosscheck.schema import AnyCase
 
 _CONTEXT = mp.get_context("forkserver")
 _CONTEXT.set_forkserver_preload(["crosscheck.execute"])
+_START_LOCK = threading.Lock()
 
 Task = tuple[type[Adapter], AnyCase | None, RunOptions]
 """What a worker is sent: a case to run, or ``None`` to warm up (import and connect)."""
@@ -71,6 +75,23 @@ def _serve(conn: Connection) -> None:
         conn.send(execute(adapter, case, options))
 
 
+@contextlib.contextmanager
+def _without_main() -> Iterator[None]:
+    """Start a worker without telling it the parent's main module.
+
+    A new process normally re-imports ``__main__`` (for the CLI: the whole CLI,
+    pandas included, ~0.4 s per worker start or restart after a crash).  A
+    worker needs only :func:`_serve`, importable by name, so it is started while
+    ``__main__`` is a bare module.
+    """
+    saved = sys.modules["__main__"]
+    sys.modules["__main__"] = types.ModuleType("__main__")
+    try:
+        yield
+    finally:
+        sys.modules["__main__"] = saved
+
+
 def _death(code: int | None) -> str:
     if code is None:
         return "worker died"
@@ -88,7 +109,8 @@ class _Worker:
     def __init__(self) -> None:
         self.conn, child = _CONTEXT.Pipe()
         self.process: BaseProcess = _CONTEXT.Process(target=_serve, args=(child,), daemon=True)
-        self.process.start()
+        with _START_LOCK, _without_main():
+            self.process.start()
         child.close()
 
     def call(self, task: Task, timeout_s: float) -> Outcome | None:
