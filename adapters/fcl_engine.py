@@ -60,7 +60,7 @@ from typing import Any, ClassVar
 
 from adapters.base import Adapter, Capability, Conventions, all_capabilities
 from crosscheck.model import Kind, Observation, Vec
-from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
 
 FCL = "https://github.com/flexible-collision-library/fcl/"
 TREE = FCL + "blob/v0.7.0/include/fcl/narrowphase/"
@@ -108,7 +108,7 @@ def z_half(case: AabbCase) -> float:
     return 2.0 * max(abs(h) for h in (*case.a.half, *case.b.half)) or 1.0
 
 
-def shapes(case: AnyCase) -> tuple[Any, Any]:
+def shapes(case: PairCase) -> tuple[Any, Any]:
     """The FCL geometries of A and B (boxes take full side lengths)."""
     fcl = engine()
     if isinstance(case, AabbCase):
@@ -177,11 +177,12 @@ class Fcl(Adapter):
         return super().unsupported(case)
 
     def known_hang(self, case: AnyCase) -> str | None:
-        if case.kind_enum is Kind.SPHERE and list(case.a.center) == list(case.b.center):
+        if isinstance(case, SphereCase) and list(case.a.center) == list(case.b.center):
             return "fcl's signed distance loops on coincident sphere centres (fcl issue 346)"
         return None
 
     def prepare(self, case: AnyCase) -> Any:
+        assert not isinstance(case, SceneCase), "fcl declares no scene capability"
         fcl = engine()
         shape_a, shape_b = shapes(case)
         return Prepared(

@@ -101,9 +101,10 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
+from adapters import stepping
 from adapters.base import Adapter, Capability, Conventions, all_capabilities
 from crosscheck.model import Kind, Observation
-from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
 Vec3 = tuple[float, float, float]
 Spec = tuple[str, tuple[float, ...], float]
@@ -296,7 +297,7 @@ def box_sizes(case: AabbCase) -> tuple[Vec3, Vec3]:
     return (case.a.half[0], case.a.half[1], hz), (case.b.half[0], case.b.half[1], hz)
 
 
-def body_specs(case: AnyCase) -> list[Spec]:
+def body_specs(case: PairCase) -> list[Spec]:
     """The two bodies of a case."""
     if isinstance(case, AabbCase):
         size_a, size_b = box_sizes(case)
@@ -307,7 +308,7 @@ def body_specs(case: AnyCase) -> list[Spec]:
     return [("sphere", (case.a.radius,), 1.0), ("sphere", (case.b.radius,), 1.0)]
 
 
-def ordinary(case: AnyCase, ca: Vec3, cb: Vec3, specs: Sequence[Spec]) -> bool:
+def ordinary(case: PairCase, ca: Vec3, cb: Vec3, specs: Sequence[Spec]) -> bool:
     """Whether the case's bodies may come from the pool (see the module docstring).
 
     A negative restitution is not: ``changeDynamics`` ignores negative values (pybullet.c
@@ -375,6 +376,8 @@ class PyBulletTuned(Adapter):
         "linear/angular damping 0; restitution A = e, B = 1 (product); "
         "boxes keep the default 0.001 collision margin")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind)
+    scene_tuned: ClassVar[bool] = True
+    """Scenes: the tuned settings (see adapters/pybullet_scene.py), or defaults."""
     world: ClassVar[dict[str, float]] = {
         "fixedTimeStep": 1.0 / 240.0, "restitutionVelocityThreshold": 0.0,
         "contactSlop": 0.0, "contactERP": 0.0}
@@ -411,7 +414,11 @@ class PyBulletTuned(Adapter):
             return f"pybullet not importable: {exc}"
         return None
 
-    def prepare(self, case: AnyCase) -> Pair:
+    def prepare(self, case: AnyCase) -> Any:
+        if isinstance(case, SceneCase):
+            from adapters import pybullet_scene
+
+            return stepping.prepare(pybullet_scene, case, self.scene_tuned)
         if isinstance(case, ResponseCase):
             w = world(self.name + "/response", self.world, response=True)
         else:
@@ -450,6 +457,8 @@ class PyBulletTuned(Adapter):
                       to3(case.b.velocity), APPROACH_RTOL * max(speeds, default=0.0))
 
     def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, stepping.PreparedScene):
+            return stepping.query(prepared)
         pair: Pair = prepared
         if pair.motion is None:
             return self._detect(pair)
@@ -486,6 +495,9 @@ class PyBulletTuned(Adapter):
         return observed(pair.dim, va, vb, resolved)
 
     def release(self, prepared: Any) -> None:
+        if isinstance(prepared, stepping.PreparedScene):
+            stepping.release(prepared)
+            return
         pair: Pair = prepared
         for body, sid in ((pair.a, pair.shapes[0]), (pair.b, pair.shapes[1])):
             keep = pair.pooled
@@ -517,6 +529,7 @@ class PyBulletDefault(PyBulletTuned):
         "contactSlop 1e-5, default contact ERP, dt 1/240 s)")
     world: ClassVar[dict[str, float]] = {}
     body: ClassVar[dict[str, float]] = {}
+    scene_tuned: ClassVar[bool] = False
     conventions: ClassVar[Conventions] = replace(
         PyBulletTuned.conventions,
         restitution_threshold=0.2,

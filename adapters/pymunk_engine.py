@@ -82,9 +82,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
+from adapters import stepping
 from adapters.base import Adapter, Capability, Conventions, all_capabilities
 from crosscheck.model import Kind, Observation, Vec
-from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
 MUNK2D = "https://github.com/viblo/Munk2D/blob/master/src/"
 PYMUNK = "https://github.com/viblo/pymunk/blob/master/pymunk/"
@@ -150,7 +151,7 @@ def _xy(v: Vec) -> tuple[float, float]:
     return (v[0], v[1])
 
 
-def _static_shape(case: AnyCase, which: str) -> Any:
+def _static_shape(case: PairCase, which: str) -> Any:
     import pymunk
 
     body = pymunk.Body(body_type=pymunk.Body.STATIC)
@@ -231,6 +232,8 @@ class PymunkTuned(Adapter):
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind, dims=(2,))
     conventions: ClassVar[Conventions] = _conventions(settings)
     dt: ClassVar[float] = 1e-3
+    scene_tuned: ClassVar[bool] = True
+    """Scenes: the tuned settings (see adapters/pymunk_scene.py), or defaults."""
     slop: ClassVar[float | None] = 0.0
     bias: ClassVar[float | None] = 1.0
     iterations: ClassVar[int | None] = 10
@@ -256,6 +259,10 @@ class PymunkTuned(Adapter):
         return super().unsupported(case)
 
     def prepare(self, case: AnyCase) -> Any:
+        if isinstance(case, SceneCase):
+            from adapters import pymunk_scene
+
+            return stepping.prepare(pymunk_scene, case, self.scene_tuned)
         if isinstance(case, ResponseCase):
             bodies, shapes = _discs(case, self.friction)
             prepared = _Response(case, self._space(), self.dt, bodies, shapes)
@@ -279,11 +286,15 @@ class PymunkTuned(Adapter):
         return space
 
     def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, stepping.PreparedScene):
+            return stepping.query(prepared)
         if isinstance(prepared, _Response):
             return _respond(prepared)
         return _detect(prepared)
 
     def release(self, prepared: Any) -> None:
+        if isinstance(prepared, stepping.PreparedScene):
+            stepping.release(prepared)
         if isinstance(prepared, _Response):
             prepared.space.remove(*prepared.bodies, *prepared.shapes)
 
@@ -307,6 +318,7 @@ class PymunkDefault(PymunkTuned):
                                "iterations (10), friction (0) at defaults; elasticity A = e, B = 1")
     conventions: ClassVar[Conventions] = _conventions(settings)
     dt: ClassVar[float] = 1.0 / 60.0
+    scene_tuned: ClassVar[bool] = False
     slop: ClassVar[float | None] = None
     bias: ClassVar[float | None] = None
     iterations: ClassVar[int | None] = None

@@ -30,7 +30,8 @@ class ReferenceF64(Adapter):
     engine: ClassVar[str] = "reference_impl"
     settings: ClassVar[str] = "textbook formula, float64"
     precision: ClassVar[oracle.Precision] = "f64"
-    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind)
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
     conventions: ClassVar[Conventions] = Conventions(
         rtol=2.0**-50,
         restitution="case value (textbook generalised with e)",

@@ -29,7 +29,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from crosscheck import oracle
+from crosscheck import oracle, scenes
 from crosscheck.expand import SweepError, expand, with_swaps
 from crosscheck.schema import (
     CASE_ADAPTER,
@@ -37,6 +37,7 @@ from crosscheck.schema import (
     AnyCase,
     MovingSphere,
     ResponseCase,
+    SceneCase,
     SphereBody,
     SphereCase,
 )
@@ -195,7 +196,9 @@ def _expect_problems(case: AnyCase) -> Iterator[tuple[str, str]]:
 
 
 def _vectors(case: AnyCase) -> Iterator[tuple[str, Sequence[float]]]:
-    bodies: tuple[tuple[str, AabbBody | SphereBody], ...] = (("a", case.a), ("b", case.b))
+    bodies: tuple[tuple[str, AabbBody | SphereBody], ...] = (
+        tuple((f"bodies[{i}]", b) for i, b in enumerate(case.bodies))
+        if isinstance(case, SceneCase) else (("a", case.a), ("b", case.b)))
     for side, body in bodies:
         yield f"{side}.center", body.center
         if isinstance(body, AabbBody):
@@ -221,6 +224,14 @@ def _scalars(case: AnyCase) -> Iterator[tuple[str, float]]:
         yield "a.mass", case.a.mass
         yield "b.mass", case.b.mass
         yield "restitution", case.restitution
+    if isinstance(case, SceneCase):
+        for i, body in enumerate(case.bodies):
+            yield f"bodies[{i}].radius", body.radius
+            yield f"bodies[{i}].mass", body.mass
+        yield "restitution", case.restitution
+        yield "duration", case.duration
+        if case.dt is not None:
+            yield "dt", case.dt
 
 
 _HINT = " (tag the case 'bad-input' to test engines on it)"
@@ -237,3 +248,7 @@ def _value_problems(case: AnyCase) -> Iterator[tuple[str, str]]:
             yield where, f"must be > 0, got {x!r}{_HINT}"
         elif where == "restitution" and not 0 <= x <= 1:
             yield where, f"must be in [0, 1], got {x!r}"
+        elif where in ("duration", "dt") and x <= 0:
+            yield where, f"must be > 0, got {x!r}"
+    if isinstance(case, SceneCase):
+        yield from scenes.problems(case)

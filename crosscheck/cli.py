@@ -28,10 +28,10 @@ from rich.table import Table
 
 import adapters
 from adapters.base import Adapter, engine_info
-from crosscheck import bench, compare, environment, fuzz, report
+from crosscheck import bench, compare, environment, fuzz, report, stability
 from crosscheck.cases import LoadResult, load_paths
 from crosscheck.execute import RunOptions
-from crosscheck.model import Kind
+from crosscheck.model import PAIR_KINDS, Kind
 from crosscheck.newcase import case_block
 from crosscheck.runner import run
 from crosscheck.schema import CASE_ADAPTER, ID_PATTERN, AnyCase, json_schema_text
@@ -298,11 +298,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_compare)
     fuzz.register(sub)
     bench.register(sub)
+    stability.register(sub)
     p = sub.add_parser("validate", help="check case files")
     p.add_argument("paths", nargs="*", type=Path)
     p.set_defaults(func=cmd_validate)
     p = sub.add_parser("new-case", help="append a valid template case to a file")
-    p.add_argument("--kind", required=True, choices=[str(k) for k in Kind])
+    p.add_argument("--kind", required=True, choices=PAIR_KINDS)
     p.add_argument("--dim", required=True, type=int, choices=[2, 3])
     p.add_argument("--id", required=True)
     p.add_argument("--file", type=Path, default=Path("cases/user.toml"))

@@ -66,9 +66,12 @@ def execute(adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
         prepared = adapter.prepare(case)
         setup = time.perf_counter() - start
         observation = adapter.query(prepared)
-        timing = None if options.quick else measure(
-            lambda: adapter.query(prepared), min_sample_s=options.min_sample_s,
-            samples=options.samples)
+        if observation.wall_s is not None:  # a scene: its one long run is the measurement
+            timing: Timing | None = Timing(observation.wall_s, 0.0, 1, 1, 0.0, False)
+        else:
+            timing = None if options.quick else measure(
+                lambda: adapter.query(prepared), min_sample_s=options.min_sample_s,
+                samples=options.samples)
         return Outcome(observation, setup_s=setup, timing=timing)
     except Exception as exc:  # an engine fault is data, not a harness failure
         where = traceback.extract_tb(exc.__traceback__)[-1]

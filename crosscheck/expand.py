@@ -24,7 +24,17 @@ from typing import Any
 
 import numpy as np
 
-from crosscheck.schema import AabbCase, AnyCase, LinSpace, LogSpace, ResponseCase, Values
+from crosscheck.scenes import expand_steps
+from crosscheck.schema import (
+    AabbCase,
+    AnyCase,
+    LinSpace,
+    LogSpace,
+    PairCase,
+    ResponseCase,
+    SceneCase,
+    Values,
+)
 
 PARAMETERS = ("scale", "gap", "overlap", "offset", "mass_ratio", "speed")
 RESPONSE_ONLY = ("mass_ratio", "speed")
@@ -55,6 +65,10 @@ def _label(name: str, value: float) -> str:
 
 def expand(case: AnyCase) -> list[AnyCase]:
     """The cases a block stands for: itself, or one per sweep combination."""
+    if isinstance(case, SceneCase):
+        if case.sweep is not None:
+            raise SweepError("sweep", "scenes are swept over `steps` (dt, iterations), not sweep")
+        return list(expand_steps(case))
     if case.sweep is None:
         return [case]
     grid = [(name, values_of(spec)) for name in PARAMETERS
@@ -68,7 +82,7 @@ def expand(case: AnyCase) -> list[AnyCase]:
             for combo in itertools.product(*(values for _, values in grid))]
 
 
-def _point(case: AnyCase, params: dict[str, float]) -> AnyCase:
+def _point(case: PairCase, params: dict[str, float]) -> PairCase:
     out = case
     for name in PARAMETERS:
         if name in params:
@@ -80,13 +94,13 @@ def _point(case: AnyCase, params: dict[str, float]) -> AnyCase:
         "tags": (*case.tags, "sweep"), "sweep": None})
 
 
-def _bodies(case: AnyCase, **changes: dict[str, Any]) -> AnyCase:
+def _bodies(case: PairCase, **changes: dict[str, Any]) -> PairCase:
     a = case.a.model_copy(update=changes.get("a", {}))
     b = case.b.model_copy(update=changes.get("b", {}))
     return case.model_copy(update={"a": a, "b": b})
 
 
-def _scale(case: AnyCase, s: float) -> AnyCase:
+def _scale(case: PairCase, s: float) -> PairCase:
     def sized(body: Any) -> dict[str, Any]:
         size = ({"half": tuple(h * s for h in body.half)} if isinstance(case, AabbCase)
                 else {"radius": body.radius * s})
@@ -94,7 +108,7 @@ def _scale(case: AnyCase, s: float) -> AnyCase:
     return _bodies(case, a=sized(case.a), b=sized(case.b))
 
 
-def _unit(case: AnyCase) -> tuple[float, ...]:
+def _unit(case: PairCase) -> tuple[float, ...]:
     d = case.sweep.direction if case.sweep and case.sweep.direction else tuple(
         y - x for x, y in zip(case.a.center, case.b.center, strict=True))
     if len(d) != case.dim:
@@ -105,7 +119,7 @@ def _unit(case: AnyCase) -> tuple[float, ...]:
     return tuple(x / length for x in d)
 
 
-def _touch_distance(case: AnyCase, u: tuple[float, ...]) -> float:
+def _touch_distance(case: PairCase, u: tuple[float, ...]) -> float:
     if not isinstance(case, AabbCase):
         return case.a.radius + case.b.radius
     axes = [i for i, x in enumerate(u) if x != 0]
@@ -114,24 +128,24 @@ def _touch_distance(case: AnyCase, u: tuple[float, ...]) -> float:
     return case.a.half[axes[0]] + case.b.half[axes[0]]
 
 
-def _gap(case: AnyCase, g: float) -> AnyCase:
+def _gap(case: PairCase, g: float) -> PairCase:
     u = _unit(case)
     step = _touch_distance(case, u) * (1.0 + g)
     centre = tuple(c + x * step for c, x in zip(case.a.center, u, strict=True))
     return _bodies(case, b={"center": centre})
 
 
-def _offset(case: AnyCase, t: float) -> AnyCase:
+def _offset(case: PairCase, t: float) -> PairCase:
     return _bodies(case, a={"center": tuple(c + t for c in case.a.center)},
                    b={"center": tuple(c + t for c in case.b.center)})
 
 
-def _mass_ratio(case: AnyCase, r: float) -> AnyCase:
+def _mass_ratio(case: PairCase, r: float) -> PairCase:
     assert isinstance(case, ResponseCase)
     return _bodies(case, b={"mass": case.a.mass * r})
 
 
-def _speed(case: AnyCase, k: float) -> AnyCase:
+def _speed(case: PairCase, k: float) -> PairCase:
     assert isinstance(case, ResponseCase)
     return _bodies(case, a={"velocity": tuple(v * k for v in case.a.velocity)},
                    b={"velocity": tuple(v * k for v in case.b.velocity)})
@@ -141,7 +155,7 @@ _APPLY = {"scale": _scale, "gap": _gap, "overlap": lambda c, o: _gap(c, -o),
           "offset": _offset, "mass_ratio": _mass_ratio, "speed": _speed}
 
 
-def swapped(case: AnyCase) -> AnyCase:
+def swapped(case: PairCase) -> PairCase:
     """The same case with A and B exchanged (its answers mirror the original's)."""
     return case.model_copy(update={
         "id": f"{case.id}.swapped", "description": f"{case.description} (A and B swapped)",
@@ -152,5 +166,5 @@ def with_swaps(cases: list[AnyCase]) -> Iterator[AnyCase]:
     """Each case, followed by its swapped twin unless it opts out."""
     for case in cases:
         yield case
-        if case.swap:
+        if case.swap and not isinstance(case, SceneCase):
             yield swapped(case)

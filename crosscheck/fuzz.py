@@ -29,7 +29,7 @@ from crosscheck import environment
 from crosscheck.casewriter import Group, write_findings
 from crosscheck.execute import RunOptions
 from crosscheck.fuzzgen import Generated, generate
-from crosscheck.model import Kind
+from crosscheck.model import PAIR_KINDS, Kind
 from crosscheck.runner import run
 from crosscheck.schema import json_schema_text
 from crosscheck.store import ResultsStore, StoreError, read_results
@@ -95,7 +95,7 @@ def fuzz(kind: Kind, n: int, seed: int, directory: Path, engines: Sequence[Adapt
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add the ``fuzz`` sub-command to the ``crosscheck`` parser."""
     p = sub.add_parser("fuzz", help="random cases near failure boundaries; grouped findings")
-    p.add_argument("--kind", required=True, choices=[str(k) for k in Kind])
+    p.add_argument("--kind", required=True, choices=PAIR_KINDS)
     p.add_argument("--n", type=int, required=True, help="number of cases to generate")
     p.add_argument("--seed", type=int, required=True, help="seed >= 0; same seed, same cases")
     p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")

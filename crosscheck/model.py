@@ -34,11 +34,12 @@ __all__ = [
 
 
 class Kind(StrEnum):
-    """What a case asks: box overlap, sphere detection or sphere response."""
+    """What a case asks: box overlap, sphere detection, sphere response or a stepped scene."""
 
     AABB = "aabb"
     SPHERE = "sphere"
     SPHERE_RESPONSE = "sphere_response"
+    SPHERE_SCENE = "sphere_scene"
 
 
 class Status(StrEnum):
@@ -61,10 +62,14 @@ class Category(StrEnum):
     ERROR = "error"
 
 
+PAIR_KINDS = ("aabb", "sphere", "sphere_response")
+"""The two-body kinds (every kind but scenes): what fuzz and new-case make."""
+
 _QUANTITIES: dict[Kind, tuple[str, ...]] = {
     Kind.AABB: ("hit", "distance", "normal"),
     Kind.SPHERE: ("hit", "distance", "normal"),
     Kind.SPHERE_RESPONSE: ("v1", "v2"),
+    Kind.SPHERE_SCENE: ("positions", "velocities", "momentum", "energy"),
 }
 
 
@@ -73,8 +78,8 @@ def quantities_of(kind: Kind) -> tuple[str, ...]:
     return _QUANTITIES[kind]
 
 
-Value = bool | float | Vec | Undefined
-"""One reported quantity: a verdict, a distance, a vector, or an explicit Undefined."""
+Value = bool | float | Vec | tuple[Vec, ...] | Undefined
+"""One reported quantity: a verdict, a distance, a vector (or one per body), or Undefined."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -96,6 +101,13 @@ class Observation:
 
     When given, the truth is computed at these positions (with the case's
     velocities), so an engine is not blamed for resolving a step later."""
+    positions: tuple[Vec, ...] | Undefined | None = None
+    """Scenes: every body's final centre."""
+    velocities: tuple[Vec, ...] | Undefined | None = None
+    momentum: Vec | Undefined | None = None
+    energy: float | Undefined | None = None
+    wall_s: float | None = None
+    """Scenes: wall-clock seconds of the stepping loop alone (the scene's timing)."""
 
     def get(self, quantity: str) -> Value | None:
         """The value of ``quantity`` (one of :func:`quantities_of`), or None if absent."""

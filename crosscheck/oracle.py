@@ -1,6 +1,7 @@
 """Bridge from a Case to the reference package: the exact truth and the textbook formula.
 
-:func:`truth` asks the exact oracle (:mod:`reference_impl.exact`);
+:func:`truth` asks the exact oracle (:mod:`reference_impl.exact`; scenes:
+:mod:`crosscheck.scenes`, the event-driven simulator);
 :func:`textbook` runs the faithful float formula (:mod:`reference_impl.formulas`)
 in float64 or float32.  Both answer with the harness's :class:`Observation`,
 so the oracle's answer and an engine's answer are compared like for like.
@@ -10,8 +11,9 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+from crosscheck import scenes
 from crosscheck.model import Kind, Observation, Undefined, quantities_of
-from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 from reference_impl import exact, formulas
 from reference_impl.types import Contact, Response
 
@@ -20,6 +22,8 @@ Precision = formulas.Precision
 
 def truth(case: AnyCase) -> Observation:
     """The exact answer for ``case``; quantities are Undefined where they have no value."""
+    if isinstance(case, SceneCase):
+        return scenes.truth(case)
     if isinstance(case, AabbCase):
         return _contact(exact.aabb_contact(case.a.center, case.a.half,
                                            case.b.center, case.b.half), case.kind_enum)
@@ -31,7 +35,7 @@ def truth(case: AnyCase) -> Observation:
                                          case.b.center, case.b.radius), case.kind_enum)
 
 
-def textbook(case: AnyCase, precision: Precision = "f64") -> Observation:
+def textbook(case: PairCase, precision: Precision = "f64") -> Observation:
     """The textbook formula evaluated in ``precision`` floating point."""
     if isinstance(case, AabbCase):
         return _contact(formulas.aabb_contact(case.a.center, case.a.half, case.b.center,

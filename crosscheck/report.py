@@ -15,7 +15,7 @@ import pandas as pd
 from jinja2 import Environment, PackageLoader, select_autoescape
 from markupsafe import Markup
 
-from crosscheck import charts
+from crosscheck import charts, dynamics
 from crosscheck.mirror import asymmetries
 from crosscheck.model import Status
 from crosscheck.store import read_cases, read_results, read_run_info, write_csv
@@ -141,14 +141,30 @@ def render_html(frame: pd.DataFrame, info: dict[str, Any], cases: dict[str, dict
     """The self-contained HTML report (inline CSS and JS, plotly.js once, no network fetches)."""
     template = _environment().get_template("report.html.j2")
     speed = _speed_charts(frame, info, cases)
-    plotly_js = Markup(charts.plotly_js()) if any(c["html"] for c in speed) else None
+    order = [str(e) for e in dict.fromkeys(frame["engine"])]
+    dyn = dynamics.section(frame, cases, order)
+    dyn["charts"] = [{**c, "html": Markup(c["html"])} for c in dyn["charts"]]
+    stab = _stability(frame, cases)
+    plotly_js = (Markup(charts.plotly_js())
+                 if any(c["html"] for c in speed) or dyn["charts"] or stab.get("charts") else None)
     return template.render(
         info=info, summary=summary(frame).to_dict("records"), statuses=STATUSES,
         matrix=group_matrix(frame), speed=speed, plotly_js=plotly_js,
         disagreements=disagreements(frame).to_dict("records"),
         asymmetries=asymmetries(frame).to_dict("records"),
-        cases=_case_details(frame, cases), total=len(frame),
+        cases=_case_details(frame, cases), total=len(frame), dynamics=dyn, stability=stab,
     )
+
+
+def _stability(frame: pd.DataFrame, cases: dict[str, dict[str, Any]]) -> dict[str, Any]:
+    """The stability study of the run's sweep cases (empty when it has none)."""
+    from crosscheck import stability
+
+    points = stability.sweep_points(frame, cases)
+    if points.empty:
+        return {}
+    return {"table": stability.thresholds(points).to_dict("records"),
+            "charts": [{**c, "html": Markup(c["html"])} for c in stability.charts(points)]}
 
 
 def render(directory: Path) -> dict[str, Path]:

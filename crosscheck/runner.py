@@ -21,7 +21,7 @@ from crosscheck import oracle
 from crosscheck.distributed import CaseJob, DaskLanes
 from crosscheck.execute import Executor, Outcome, RunOptions
 from crosscheck.model import Observation, Record, Status, quantities_of
-from crosscheck.schema import AnyCase, ResponseCase
+from crosscheck.schema import AnyCase, ResponseCase, SceneCase
 from crosscheck.score import Verdict, encode, judge
 from crosscheck.store import ResultsStore
 from crosscheck.worker import Lanes
@@ -96,6 +96,8 @@ def _execute(executor: Executor, adapter: Adapter, case: AnyCase,
              options: RunOptions) -> Outcome:
     """Execute, probing a declared known hang under HANG_PROBE_S and saying so."""
     hang = adapter.known_hang(case)
+    if isinstance(case, SceneCase):  # stepping takes seconds, not microseconds
+        options = replace(options, timeout_s=max(options.timeout_s, SCENE_TIMEOUT_S))
     if hang is None:
         return executor(adapter, case, options)
     limit = min(options.timeout_s, HANG_PROBE_S)
@@ -103,6 +105,10 @@ def _execute(executor: Executor, adapter: Adapter, case: AnyCase,
     if outcome.status is Status.TIMEOUT:
         return replace(outcome, reason=f"{outcome.reason} (declared known hang: {hang})")
     return outcome
+
+
+SCENE_TIMEOUT_S = 300.0
+"""Time limit for one scene x engine (the run's --timeout if larger)."""
 
 
 def timed_sample(cases: Sequence[AnyCase], per_group: int) -> frozenset[str]:
@@ -115,7 +121,8 @@ def timed_sample(cases: Sequence[AnyCase], per_group: int) -> frozenset[str]:
     chosen = []
     for case in cases:
         key = (Path(case.source).stem, case.kind, case.dim)
-        if "swapped" not in case.tags and not case.bad_input and counts[key] < per_group:
+        if ("swapped" not in case.tags and not case.bad_input and counts[key] < per_group
+                and not isinstance(case, SceneCase)):  # a scene times its own one run
             counts[key] += 1
             chosen.append(case.id)
     return frozenset(chosen)

@@ -25,14 +25,15 @@ from pydantic import (
     Strict,
     Tag,
     TypeAdapter,
+    model_validator,
 )
 from pydantic.json_schema import SkipJsonSchema
 
 from crosscheck.model import Kind
 
 BAD_INPUT_TAG = "bad-input"
-ID_PATTERN = r"^[a-z0-9][a-z0-9.,=+\-]*$"
-"""Ids: lowercase letters, digits, '-', '.'; sweeps add '=', ',' and '+' to expanded ids."""
+ID_PATTERN = r"^[a-z0-9][a-z0-9._,=+\-]*$"
+"""Ids: lowercase letters, digits, '-', '.', '_'; sweeps add '=', ',' and '+' to expanded ids."""
 
 Num = Annotated[float, Strict()]
 """A TOML integer or float (nan and inf parse, and are rejected later unless bad-input)."""
@@ -182,10 +183,65 @@ class ResponseCase(_CaseBase):
     restitution: Num = 1.0
 
 
-Case = Annotated[AabbCase | SphereCase | ResponseCase, Field(discriminator="kind")]
+class Steps(_Frozen):
+    """How engines step a scene: one run per time step x solver iteration count."""
+
+    dt: Values = Field(description="Time steps in seconds (a list, logspace or linspace).")
+    iterations: Annotated[list[Annotated[int, Strict(), Field(ge=1)]],
+                          Field(min_length=1)] | None = Field(None, description=(
+        "Solver iterations (pybullet numSolverIterations, pymunk Space.iterations); "
+        "absent: each engine's default."))
+
+
+class SceneGenerator(_Frozen):
+    """Bodies made by a seeded generator of :mod:`reference_impl.events` instead of listed."""
+
+    name: Literal["cluster", "cradle", "billiards"]
+    n: Annotated[int, Strict(), Field(ge=2, le=1000)] | None = None
+    seed: Annotated[int, Strict(), Field(ge=0)] | None = None
+    radius: Num | None = Field(None, description="Ball radius (cradle); mean radius (cluster).")
+    speed: Num | None = None
+    extent: Num | None = Field(None, description="Half-width of the cluster's box.")
+
+
+class SceneCase(_CaseBase):
+    """N spheres in open space stepped for ``duration``, against an exact event-driven run."""
+
+    kind: Literal["sphere_scene"]
+    bodies: tuple[MovingSphere, ...] = ()
+    generator: SceneGenerator | None = None
+    restitution: Num = 1.0
+    duration: Num = Field(description="Simulated seconds; engines step round(duration / dt).")
+    steps: Steps | None = None
+    dt: Num | None = Field(None, description="Set by expanding `steps`: one time step.")
+    iterations: Annotated[int, Strict(), Field(ge=1)] | None = None
+    swap: Annotated[bool, Strict()] = Field(False, description="Scenes are never swapped.")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _generate(cls, data: Any) -> Any:
+        if isinstance(data, dict) and data.get("generator") and not data.get("bodies"):
+            from crosscheck.scenes import generated_bodies
+
+            data = {**data, "bodies": generated_bodies(data["generator"], data.get("dim"))}
+        return data
+
+    @property
+    def step_count(self) -> int:
+        """Steps an engine takes: ``round(duration / dt)`` (at least 1)."""
+        return max(1, round(self.duration / (self.dt or DEFAULT_DT)))
+
+
+DEFAULT_DT = 1.0 / 240.0
+"""Time step of a scene case with no ``steps`` (PyBullet's default)."""
+
+PairCase = AabbCase | SphereCase | ResponseCase
+"""A two-body case (every kind but scenes)."""
+
+Case = Annotated[AabbCase | SphereCase | ResponseCase | SceneCase, Field(discriminator="kind")]
 """One validated case of any kind."""
 
-AnyCase = AabbCase | SphereCase | ResponseCase
+AnyCase = AabbCase | SphereCase | ResponseCase | SceneCase
 CASE_ADAPTER: TypeAdapter[AnyCase] = TypeAdapter(Case)
 
 

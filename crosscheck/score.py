@@ -20,10 +20,12 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import cast
 
 from adapters.base import TEXTBOOK_TOUCHING, Conventions
-from crosscheck.model import Category, Observation, Status, Undefined, Value
-from crosscheck.schema import AabbCase, AnyCase, ResponseCase
+from crosscheck import scenes
+from crosscheck.model import Category, Observation, Status, Undefined, Value, Vec
+from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
 DEFAULT_RTOL = 1e-9
 """Relative tolerance for distances and velocities, scaled by the case's size."""
@@ -57,7 +59,7 @@ def encode(value: Value | None) -> str:
     if isinstance(value, float):
         return _number(value)
     if isinstance(value, tuple) and all(isinstance(x, float) for x in value):
-        return "[" + ", ".join(_number(x) for x in value) + "]"
+        return "[" + ", ".join(_number(x) for x in value) + "]"  # type: ignore[arg-type]
     return json.dumps(list(value) if isinstance(value, tuple) else value)
 
 
@@ -73,7 +75,7 @@ def _finite(xs: Iterator[float]) -> list[float]:
 _LAST_SCALE: list[tuple[AnyCase, float]] = []
 
 
-def length_scale(case: AnyCase) -> float:
+def length_scale(case: PairCase) -> float:
     """The size of the case's numbers: largest |coordinate|, radius or half-width.
 
     Scoring asks this several times per case in a row, so the last answer is kept.
@@ -85,7 +87,7 @@ def length_scale(case: AnyCase) -> float:
     return scale
 
 
-def _length_scale(case: AnyCase) -> float:
+def _length_scale(case: PairCase) -> float:
     nums = [*case.a.center, *case.b.center]
     if isinstance(case, AabbCase):
         nums += [*case.a.half, *case.b.half]
@@ -94,14 +96,14 @@ def _length_scale(case: AnyCase) -> float:
     return max(_finite(iter(nums)), default=0.0)
 
 
-def velocity_scale(case: AnyCase) -> float:
+def velocity_scale(case: PairCase) -> float:
     """Largest |velocity component| of a response case (0 for detection cases)."""
     if not isinstance(case, ResponseCase):
         return 0.0
     return max(_finite(iter([*case.a.velocity, *case.b.velocity])), default=0.0)
 
 
-def tolerance_for(case: AnyCase, quantity: str) -> float:
+def tolerance_for(case: PairCase, quantity: str) -> float:
     """The absolute tolerance for ``quantity`` in ``case``."""
     own = case.tolerance
     if quantity == "hit":
@@ -130,7 +132,8 @@ def error_of(quantity: str, value: Value, truth: Value) -> float:
     if isinstance(value, tuple) and isinstance(truth, tuple):
         if len(value) != len(truth):
             return math.inf
-        diff = _norm([x - y for x, y in zip(value, truth, strict=True)])
+        a, b = cast(Sequence[float], value), cast(Sequence[float], truth)
+        diff = _norm([x - y for x, y in zip(a, b, strict=True)])
         return 2.0 * math.asin(min(1.0, diff / 2.0)) if quantity == "normal" else diff
     assert isinstance(value, float | int) and isinstance(truth, float | int)
     return abs(float(value) - float(truth))
@@ -145,13 +148,17 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str,
     if isinstance(want, Undefined) or want is None:
         why = want.reason if isinstance(want, Undefined) else "no truth"
         return Verdict(Status.UNDEFINED, reason=f"no defined value: {why}")
+    if isinstance(case, SceneCase):
+        status, err, tol, category, reason = scenes.judge(case, quantity, value, want,
+                                                          DEFAULT_RTOL)
+        return Verdict(status, err, tol, category, reason)
     tol = tolerance_for(case, quantity)
     if isinstance(value, Undefined):
         return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
                        f"engine gave undefined ({value.reason}) where truth is defined")
-    if quantity == "normal" and isinstance(value, tuple) and not _is_unit(value):
+    if quantity == "normal" and isinstance(value, tuple) and not _is_unit(vec := cast(Vec, value)):
         return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
-                       f"engine normal is not a unit vector (length {_norm(value):.3g})")
+                       f"engine normal is not a unit vector (length {_norm(vec):.3g})")
     err = error_of(quantity, value, want)
     if err <= tol:
         return Verdict(Status.AGREE, err, tol)
@@ -169,7 +176,7 @@ def approach_speed(case: ResponseCase) -> float:
     return math.fsum(r * c for r, c in zip(rel, d, strict=True)) / length
 
 
-def _touch_convention(case: AnyCase, conv: Conventions) -> str:
+def _touch_convention(case: PairCase, conv: Conventions) -> str:
     feature = touch_feature(case)
     counts = conv.touching_is_contact(feature)
     if counts == TEXTBOOK_TOUCHING[feature]:
@@ -187,7 +194,7 @@ def _response_convention(case: ResponseCase, conv: Conventions) -> str:
     return ""
 
 
-def touch_feature(case: AnyCase) -> str:
+def touch_feature(case: PairCase) -> str:
     """Where two exactly touching bodies meet: ``sphere``, or a box ``face``/``edge``/``corner``.
 
     >>> from tests.conftest import aabb
@@ -205,7 +212,7 @@ def touch_feature(case: AnyCase) -> str:
     return "edge" if touching == 2 and case.dim == 3 else "corner"
 
 
-def categorize(case: AnyCase, conv: Conventions, quantity: str, err: float,
+def categorize(case: PairCase, conv: Conventions, quantity: str, err: float,
                truth: Observation) -> tuple[Category, str]:
     """Category and reason of a disagreement, from the adapter's declared conventions."""
     velocity = quantity in ("v1", "v2")

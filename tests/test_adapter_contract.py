@@ -9,7 +9,7 @@ import pytest
 import adapters
 from adapters.base import Adapter
 from crosscheck.model import Kind, quantities_of
-from crosscheck.schema import AnyCase
+from crosscheck.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import aabb, response, sphere
 
 ENGINES = ["fcl", "pybullet", "pybullet-default", "pymunk", "pymunk-default"]
@@ -21,6 +21,8 @@ def sample(kind: Kind, dim: int) -> AnyCase:
         return aabb([0.0, *pad], [0.5] * dim, [0.75, *pad], [0.5] * dim)
     if kind is Kind.SPHERE:
         return sphere(0.0, 0.75, dim=dim)
+    if kind is Kind.SPHERE_SCENE:
+        return scene(dim)
     return response([0.0, *pad], [1.0, *pad], [1.0, *pad], [-1.0, *pad])
 
 
@@ -48,6 +50,8 @@ def test_engine_conventions_cite_public_sources_in_the_module_docstring(name: st
 def test_query_is_repeatable_and_in_harness_conventions(name: str) -> None:
     adapter: Adapter = adapters.get(name)
     for kind, dim in sorted(adapter.capabilities):
+        if kind is Kind.SPHERE_SCENE:
+            continue  # a query steps the scene on: see test_scene_runs_are_deterministic
         case = sample(kind, dim)
         assert adapter.unsupported(case) is None
         prepared = adapter.prepare(case)
@@ -64,6 +68,36 @@ def test_query_is_repeatable_and_in_harness_conventions(name: str) -> None:
             assert first.hit is True
             assert isinstance(first.distance, float) and first.distance < 0
             assert first.normal is None or first.normal[0] > 0.99  # A -> B is +x
+
+
+def scene(dim: int) -> AnyCase:
+    pad = [0.0] * (dim - 1)
+    return CASE_ADAPTER.validate_python({
+        "id": "scene", "description": "d", "kind": "sphere_scene", "dim": dim, "duration": 2.0,
+        "dt": 0.01, "bodies": [
+            {"center": [-1.0, *pad], "radius": 0.5, "mass": 1.0, "velocity": [1.0, *pad]},
+            {"center": [1.0, *pad], "radius": 0.5, "mass": 1.0, "velocity": [-1.0, *pad]}]})
+
+
+@pytest.mark.parametrize("name", adapters.names())
+def test_scene_runs_are_deterministic_and_in_harness_conventions(name: str) -> None:
+    adapter: Adapter = adapters.get(name)
+    dims = sorted(d for k, d in adapter.capabilities if k is Kind.SPHERE_SCENE)
+    for dim in dims:
+        runs = []
+        for _ in range(2):
+            prepared = adapter.prepare(scene(dim))
+            try:
+                runs.append(adapter.query(prepared))
+            finally:
+                adapter.release(prepared)
+        first, second = runs
+        assert first.positions == second.positions and first.velocities == second.velocities
+        assert isinstance(first.positions, tuple) and len(first.positions) == 2
+        assert all(len(p) == dim for p in first.positions)
+        assert first.wall_s is not None and first.wall_s > 0
+        # equal masses head-on at e = 1: they have exchanged velocities by t = 2
+        assert isinstance(first.velocities, tuple) and first.velocities[0][0] < 0
 
 
 @pytest.mark.parametrize("name", adapters.names())

@@ -63,7 +63,8 @@ def test_shipped_suite_is_valid() -> None:
 def test_shipped_suite_covers_every_kind_and_dim() -> None:
     covered = {(c.kind, c.dim) for c in load_paths([ROOT / "cases"]).cases}
     kinds = ("aabb", "sphere", "sphere_response")
-    assert covered == {(k, d) for k in kinds for d in (2, 3)}
+    scenes = {("sphere_scene", 2), ("sphere_scene", 3)}
+    assert covered == {(k, d) for k in kinds for d in (2, 3)} | scenes
 
 
 def test_good_case_loads(write_toml: Write) -> None:

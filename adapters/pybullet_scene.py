@@ -1,0 +1,183 @@
+"""PyBullet 3.2.7 stepping a scene of N spheres, for comparison with an exact event-driven run.
+
+What it is for: the scene runners step a whole scene (N spheres, one restitution, no
+gravity, no ground) with a fixed ``dt`` and return the final state, to be scored against the
+exact reference; :mod:`adapters.pybullet_engine` answers single pair cases instead.  Types
+and input checks are shared with :mod:`adapters.pymunk_scene` in :mod:`adapters.scene`.
+
+Building (``prepare_scene``, untimed): a new DIRECT client per scene (never the pooled
+clients of ``pybullet_engine``; its ``engine()`` and ``quiet()`` import pybullet and keep
+its C-level output off stdout/stderr), gravity 0, ``setPhysicsEngineParameter`` with
+``fixedTimeStep`` dt, ``numSubSteps`` 0 (one step advances exactly dt: a free sphere at
+speed 1 is at 1.0000000000000007 after 1000 steps of 1e-3) and ``numSolverIterations`` if
+given (else pybullet's 50, read back with ``getPhysicsEngineParameters``).  One base-only
+multibody per sphere (``createCollisionShape(GEOM_SPHERE)``, shared per radius, and
+``createMultiBody``), its velocity set with ``resetBaseVelocity`` (no spin); only the
+declared bodies, no ground plane.  ``run_scene`` times only ``stepSimulation`` in a loop
+(~3 us for 0 steps) and reads ``getBasePositionAndOrientation`` / ``getBaseVelocity``
+after it; ``release_scene`` disconnects the client (bodies and shapes go with it).
+
+Variants (``tuned``): tuned uses ``PyBulletTuned``'s world settings (restitutionVelocity-
+Threshold 0, contactSlop 0, contactERP 0; its fixed step replaced by dt) and per-body
+settings (lateral, rolling and spinning friction 0, linear and angular damping 0).
+Default sets only what the scene declares: dt, iterations if given, masses, restitution.
+
+Conventions, measured with this module (sources as cited in ``pybullet_engine.SOURCES``):
+
+- restitution: Bullet combines the two bodies' restitutions by their product
+  [btManifoldResult.cpp]; measured: bodies set to 0.5 and 0.8 bounce with 0.4 (not the
+  min 0.5, mean 0.65 or max 0.8).  Every body gets sqrt(e), so every pair gets e (to an
+  ulp; e = 0.25, 0.5, 0.81 measured exactly in the tuned variant).
+- 2-D: spheres at z = 0 with vz = 0.  Contact normals between centres in the plane lie in
+  it, so z and vz stay exactly 0 (measured over 3 s of 16 colliding spheres, oblique
+  contacts, default friction 0.5 included); ``run_scene`` returns 2-tuples and raises if
+  a 2-D scene ever leaves the plane.
+- touching at the start (distance exactly 0) is a contact: collision detection runs on
+  the positions at the start of a step, and touching spheres make a point at distance 0.
+  Two touching balls, one moving at 1 into the other: velocities exchanged in step 1; a
+  touching pair moving together gets no impulse (0.3 each for 100 steps, exact in tuned).
+- simultaneous contacts are solved together: a chain of touching balls answers as one
+  rigid block.  5-ball cradle (equal masses, e = 1, striker at 1 into 4 touching balls):
+  striker -0.5998, the four +0.39996 each, as one elastic hit on a mass-4 block (-0.6,
+  0.4); 3 balls: -1/3, 2/3, 2/3.  Momentum is conserved to rounding, kinetic energy loses
+  3.3e-4 of its value; with 1 solver iteration the striker stops and each of the four gets
+  0.25 (energy 1/4 of it).  Not the textbook cradle (only the last ball moving).
+- energy at e = 1, tuned: isolated contacts keep kinetic energy and momentum to rounding
+  (16 random spheres, 2-D and 3-D, 3 s at dt 1e-3: relative change <= 2e-16, momentum
+  3e-15).  Default: multibody damping 0.04 acts as a drag dv/dt = -0.04 (1 + |v|) v
+  (measured at |v| = 0.5, 2, 10) and drains ~40% of the energy in 3 s; momentum is not kept.
+- default only: overlapping bodies are pushed apart at a relative speed of 0.08 x (depth -
+  contactSlop 1e-5) / dt (measured at rest, depths 1e-4..1e-2, dt 1e-3 and 1e-2), so a
+  bounce separates up to 8% of the closing speed faster than e says (0.5% to 4.7%
+  measured, depending on the depth at which the contact is first seen); approaches slower
+  than restitutionVelocityThreshold 0.2 are inelastic [btContactSolverInfo.h].
+- impacts are seen a step late: the first step that starts overlapped resolves them, so
+  centres lag the exact run by up to the closing speed x dt (0.002 measured, dt 1e-3).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from adapters.pybullet_engine import PyBulletTuned, connect, engine, quiet
+from adapters.scene import Body, SceneRun, check_scene, check_steps
+
+__all__ = ["Body", "SceneRun", "prepare_scene", "release_scene", "run_scene"]
+
+Vec3 = tuple[float, float, float]
+ZERO: Vec3 = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True, eq=False)
+class Prepared:
+    """A built scene: its own DIRECT client, the body ids (scene order) and the dimension."""
+
+    cid: int
+    dim: int
+    bodies: tuple[int, ...]
+
+
+def world_settings(dt: float, iterations: int | None, tuned: bool) -> dict[str, float]:
+    """The ``setPhysicsEngineParameter`` arguments of a scene.
+
+    >>> world_settings(1e-3, None, False)
+    {'fixedTimeStep': 0.001, 'numSubSteps': 0}
+    >>> sorted(world_settings(1e-3, 20, True))  # doctest: +NORMALIZE_WHITESPACE
+    ['contactERP', 'contactSlop', 'fixedTimeStep', 'numSolverIterations', 'numSubSteps',
+     'restitutionVelocityThreshold']
+    """
+    settings: dict[str, float] = dict(PyBulletTuned.world) if tuned else {}
+    settings.update(fixedTimeStep=dt, numSubSteps=0)
+    if iterations is not None:
+        settings["numSolverIterations"] = iterations
+    return settings
+
+
+def to3(v: Sequence[float]) -> Vec3:
+    """A 2- or 3-vector as a 3-vector (z = 0 for 2-D).
+
+    >>> to3((1.0, 2.0))
+    (1.0, 2.0, 0.0)
+    """
+    return (float(v[0]), float(v[1]), float(v[2]) if len(v) > 2 else 0.0)
+
+
+def add_sphere(cid: int, shapes: dict[float, int], body: Body, restitution: float,
+               tuned: bool) -> int:
+    """One sphere of the scene with its velocity, restitution sqrt(e) and variant settings."""
+    bt = engine()
+    center, radius, mass, velocity = body
+    extra = PyBulletTuned.body if tuned else {}
+    with quiet():
+        if radius not in shapes:
+            shapes[radius] = bt.createCollisionShape(bt.GEOM_SPHERE, radius=radius,
+                                                     physicsClientId=cid)
+        uid: int = bt.createMultiBody(baseMass=mass, baseCollisionShapeIndex=shapes[radius],
+                                      basePosition=to3(center), physicsClientId=cid)
+        bt.changeDynamics(uid, -1, restitution=math.sqrt(restitution), **extra,
+                          physicsClientId=cid)
+    bt.resetBaseVelocity(uid, to3(velocity), ZERO, physicsClientId=cid)
+    return uid
+
+
+def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
+                  iterations: int | None, tuned: bool) -> Any:
+    """Build the scene in a new DIRECT client (untimed); ``release_scene`` disconnects it."""
+    check_scene(bodies, dim, restitution, dt)
+    cid = connect(world_settings(dt, iterations, tuned))
+    shapes: dict[float, int] = {}
+    try:
+        ids = tuple(add_sphere(cid, shapes, body, restitution, tuned) for body in bodies)
+    except Exception:
+        release_scene(Prepared(cid, dim, ()))
+        raise
+    return Prepared(cid, dim, ids)
+
+
+def state(prepared: Any) -> tuple[list[Vec3], list[Vec3]]:
+    """The 3-D centres and linear velocities of the scene's bodies, in scene order."""
+    scene: Prepared = prepared
+    bt, cid = engine(), scene.cid
+    positions = [bt.getBasePositionAndOrientation(b, physicsClientId=cid)[0]
+                 for b in scene.bodies]
+    velocities = [bt.getBaseVelocity(b, physicsClientId=cid)[0] for b in scene.bodies]
+    return positions, velocities
+
+
+def in_dim(dim: int, vectors: Sequence[Vec3], what: str) -> tuple[tuple[float, ...], ...]:
+    """``vectors`` in ``dim`` dimensions; a 2-D scene must have stayed in z = 0 exactly.
+
+    >>> in_dim(2, [(1.0, 2.0, 0.0)], "position")
+    ((1.0, 2.0),)
+    """
+    if dim == 3:
+        return tuple((float(v[0]), float(v[1]), float(v[2])) for v in vectors)
+    off = [v[2] for v in vectors if v[2] != 0.0]  # NaN is off the plane too
+    if off:
+        raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
+    return tuple((float(v[0]), float(v[1])) for v in vectors)
+
+
+def run_scene(prepared: Any, steps: int) -> SceneRun:
+    """Step the scene ``steps`` times (only this loop is timed) and read its final state."""
+    scene: Prepared = prepared
+    check_steps(steps)
+    step, cid = engine().stepSimulation, scene.cid
+    start = time.perf_counter()
+    for _ in range(steps):
+        step(physicsClientId=cid)
+    wall = time.perf_counter() - start
+    positions, velocities = state(scene)
+    return SceneRun(in_dim(scene.dim, positions, "position"),
+                    in_dim(scene.dim, velocities, "velocity"), wall, steps)
+
+
+def release_scene(prepared: Any) -> None:
+    """Disconnect the scene's client (its bodies and shapes go with it)."""
+    scene: Prepared = prepared
+    with quiet():
+        engine().disconnect(physicsClientId=scene.cid)

@@ -1,0 +1,48 @@
+"""Running a ``sphere_scene`` case on an engine module (``pybullet_scene``, ``pymunk_scene``).
+
+An adapter that steps scenes hands its scene module here: ``prepare`` builds the
+world (untimed), ``query`` steps ``round(duration / dt)`` times (the module times the
+stepping loop alone) and reports the final state, momentum and kinetic energy
+with the wall time of the loop, ``release`` frees the world.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Any
+
+from crosscheck import scenes
+from crosscheck.model import Observation
+from crosscheck.schema import DEFAULT_DT, SceneCase
+
+
+@dataclass(frozen=True)
+class PreparedScene:
+    """A built scene: the engine module, its world, the step count and the masses."""
+
+    module: ModuleType
+    world: Any
+    steps: int
+    masses: tuple[float, ...]
+
+
+def prepare(module: ModuleType, case: SceneCase, tuned: bool) -> PreparedScene:
+    """Build the scene's world in ``module`` (only its bodies: no ground, no gravity)."""
+    bodies = [(b.center, b.radius, b.mass, b.velocity) for b in case.bodies]
+    world = module.prepare_scene(bodies, case.dim, case.restitution, case.dt or DEFAULT_DT,
+                                 case.iterations, tuned)
+    return PreparedScene(module, world, case.step_count, tuple(b.mass for b in case.bodies))
+
+
+def query(p: PreparedScene) -> Observation:
+    """Step the scene to its end and observe it (wall time of the loop in ``wall_s``)."""
+    run = p.module.run_scene(p.world, p.steps)
+    seen = scenes.observation(run.positions, run.velocities, p.masses)
+    return Observation(positions=seen.positions, velocities=seen.velocities,
+                       momentum=seen.momentum, energy=seen.energy, wall_s=run.wall_s)
+
+
+def release(p: PreparedScene) -> None:
+    """Free the scene's world."""
+    p.module.release_scene(p.world)

@@ -1,0 +1,140 @@
+"""The dynamics section of the report: accuracy against speed for stepped scenes.
+
+Reads only stored rows (kind ``sphere_scene``) and the cases' inputs; it never
+runs an engine.  For each scene block (the case id before ``.dt=``) there is one
+chart, in the manner of published cross-engine simulator benchmarks: the
+real-time factor (simulated seconds per wall second of stepping) on x, the
+error at the end on y, both log scale, one curve per engine variant (and
+solver iteration count, when swept) through its time steps.  The table gives
+each scene x engine at the time step nearest to 1/240 s: position error (mean
+radii), signed kinetic energy change (fraction of the initial energy: negative
+is lost) and the real-time factor.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+from typing import Any
+
+import pandas as pd
+import plotly.graph_objects as go
+
+from crosscheck.charts import COLOURS, SYMBOLS
+
+FLOOR = 1e-17
+"""Errors of exactly 0 are drawn at this floor on the log axis."""
+HEADLINE_DT = 1.0 / 240.0
+
+
+def scene_points(frame: pd.DataFrame, cases: dict[str, dict[str, Any]]) -> pd.DataFrame:
+    """One row per scene case x engine: dt, iterations, rtf, errors and the energy change."""
+    rows = frame[frame["kind"] == "sphere_scene"]
+    out = []
+    for (case_id, engine), group in rows.groupby(["case_id", "engine"], sort=False):
+        case = cases.get(str(case_id), {})
+        by_q = {str(r.quantity): r for r in group.itertuples(index=False)}
+        pos = by_q.get("positions")
+        if pos is None or not case:
+            continue
+        out.append(_point(str(case_id), str(engine), case, by_q))
+    return pd.DataFrame(out)
+
+
+def _point(case_id: str, engine: str, case: dict[str, Any], by_q: dict[str, Any]) -> dict[str, Any]:
+    pos, energy = by_q["positions"], by_q.get("energy")
+    dt = float(case.get("dt") or HEADLINE_DT)
+    steps = max(1, round(float(case["duration"]) / dt))
+    wall = float(pos.query_s)
+    iterations = case.get("iterations")
+    return {
+        "scene": case_id.split(".dt=")[0], "case_id": case_id, "engine": engine,
+        "variant": engine + (f" (iterations {iterations})" if iterations else ""),
+        "dt": dt, "iterations": iterations, "steps": steps, "status": str(pos.status),
+        "simulated_s": steps * dt, "wall_s": wall,
+        "rtf": steps * dt / wall if wall > 0 else math.nan,
+        "position_error": float(pos.error),
+        "velocity_error": _error(by_q.get("velocities")),
+        "momentum_error": _error(by_q.get("momentum")),
+        "energy_change": _energy_change(energy, case),
+    }
+
+
+def _error(row: Any) -> float:
+    return float(row.error) if row is not None else math.nan
+
+
+def _energy_change(row: Any, case: dict[str, Any]) -> float:
+    """(engine's final energy - reference's final energy) / initial energy, signed."""
+    if row is None or not row.value or not row.truth:
+        return math.nan
+    try:
+        value, truth = float(json.loads(row.value)), float(json.loads(row.truth))
+    except (TypeError, ValueError):
+        return math.nan
+    e0 = math.fsum(0.5 * b["mass"] * math.fsum(v * v for v in b["velocity"])
+                   for b in case.get("bodies", []))
+    return (value - truth) / e0 if e0 > 0 else math.nan
+
+
+def headline(points: pd.DataFrame) -> list[dict[str, Any]]:
+    """Per scene x variant, the run at the time step nearest 1/240 s."""
+    if points.empty:
+        return []
+    rows = []
+    for (scene, variant), group in points.groupby(["scene", "variant"], sort=False):
+        best = group.iloc[(group["dt"] - HEADLINE_DT).abs().argsort().iloc[0]]
+        rows.append({"scene": scene, "variant": variant, "dt": best["dt"],
+                     "position_error": best["position_error"],
+                     "energy_change": best["energy_change"], "rtf": best["rtf"],
+                     "status": best["status"]})
+    return rows
+
+
+def charts(points: pd.DataFrame, order: list[str]) -> list[dict[str, str]]:
+    """One chart per scene: error against real-time factor, a curve per engine variant."""
+    if points.empty:
+        return []
+    names = dict.fromkeys([*order, *points["engine"]])
+    styles = {n: i for i, n in enumerate(names)}
+    out = []
+    for scene, group in points.groupby("scene", sort=False):
+        fig = go.Figure()
+        for variant, curve in group.groupby("variant", sort=False):
+            curve = curve.sort_values("dt")
+            style = styles[str(curve["engine"].iloc[0])]
+            dash = "dot" if curve["iterations"].notna().any() else "solid"
+            fig.add_trace(go.Scatter(
+                x=curve["rtf"], y=curve["position_error"].clip(lower=FLOOR),
+                mode="lines+markers", name=html.escape(str(variant)),
+                line={"color": COLOURS[style % len(COLOURS)], "dash": dash},
+                marker={"symbol": SYMBOLS[style % len(SYMBOLS)], "size": 9},
+                hovertext=[_hover(r) for r in curve.itertuples(index=False)], hoverinfo="text"))
+        fig.update_xaxes(type="log", title_text="real-time factor (simulated s per wall s)")
+        fig.update_yaxes(type="log", title_text="position error at the end (mean radii)")
+        fig.update_layout(template="plotly_white", height=420, title=html.escape(str(scene)),
+                          margin={"t": 50, "b": 40, "l": 40, "r": 20},
+                          hoverlabel={"align": "left"})
+        out.append({"scene": str(scene), "html": str(fig.to_html(
+            full_html=False, include_plotlyjs=False, div_id=f"dyn-{scene}",
+            config={"displaylogo": False, "responsive": True}))})
+    return out
+
+
+def _hover(r: Any) -> str:
+    return "<br>".join([
+        f"<b>{html.escape(str(r.variant))}</b> dt = {r.dt:.3g} s ({r.steps} steps)",
+        f"real-time factor {r.rtf:.3g} (stepping {r.wall_s:.3g} s)",
+        f"position error {r.position_error:.3g} mean radii",
+        f"velocity error {r.velocity_error:.3g} of the top initial speed",
+        f"energy change {r.energy_change:+.3g} of the initial energy",
+        f"momentum error {r.momentum_error:.3g}"])
+
+
+def section(frame: pd.DataFrame, cases: dict[str, dict[str, Any]],
+            order: list[str]) -> dict[str, Any]:
+    """What the report template needs: the headline table and the charts."""
+    points = scene_points(frame, cases)
+    return {"table": headline(points), "charts": charts(points, order),
+            "runs": len(points)}
