@@ -36,7 +36,7 @@ def scene_points(frame: pd.DataFrame, cases: dict[str, dict[str, Any]]) -> pd.Da
         case = cases.get(str(case_id), {})
         by_q = {str(r.quantity): r for r in group.itertuples(index=False)}
         pos = by_q.get("positions")
-        if pos is None or not case:
+        if pos is None or not case or str(pos.status) == "skip":
             continue
         out.append(_point(str(case_id), str(engine), case, by_q))
     return pd.DataFrame(out)

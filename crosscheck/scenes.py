@@ -50,7 +50,7 @@ def generated_bodies(generator: dict[str, Any], dim: Any) -> list[dict[str, Any]
         balls = events.cradle(int(generator.get("n") or 5), float(generator.get("radius") or 0.5),
                               float(generator.get("speed") or 1.0), d)
     elif name == "billiards":
-        balls = events.billiards(d)
+        balls = events.billiards(d, float(generator.get("offset") or 0.0))
     else:
         return []  # the schema reports the bad name
     return [{"center": list(b.center), "radius": b.radius, "mass": b.mass,

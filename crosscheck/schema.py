@@ -202,6 +202,7 @@ class SceneGenerator(_Frozen):
     radius: Num | None = Field(None, description="Ball radius (cradle); mean radius (cluster).")
     speed: Num | None = None
     extent: Num | None = Field(None, description="Half-width of the cluster's box.")
+    offset: Num | None = Field(None, description="Billiards: the cue ball's sideways offset.")
 
 
 class SceneCase(_CaseBase):
