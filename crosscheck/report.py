@@ -107,8 +107,10 @@ def markdown_summary(frame: pd.DataFrame) -> str:
 
 def _case_details(frame: pd.DataFrame, cases: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:
     by_case: dict[str, list[dict[str, Any]]] = {}
-    records: list[dict[str, Any]] = frame.to_dict("records")  # type: ignore[assignment]
-    for row in records:  # one conversion: per-group to_dict is ~100x slower
+    columns = [str(c) for c in frame.columns]  # plain lists: ~3x faster than to_dict("records")
+    records = [dict(zip(columns, row, strict=True))
+               for row in zip(*(frame[c].tolist() for c in columns), strict=True)]
+    for row in records:
         by_case.setdefault(str(row["case_id"]), []).append(row)
     details = []
     for case_id, rows in by_case.items():
@@ -137,7 +139,8 @@ def _speed_charts(frame: pd.DataFrame, info: dict[str, Any],
             for chart in charts.speed_charts(frame, info, cases)]
 
 
-def render_html(frame: pd.DataFrame, info: dict[str, Any], cases: dict[str, dict[str, Any]]) -> str:
+def render_html(frame: pd.DataFrame, info: dict[str, Any], cases: dict[str, dict[str, Any]],
+                asymmetric: pd.DataFrame | None = None) -> str:
     """The self-contained HTML report (inline CSS and JS, plotly.js once, no network fetches)."""
     template = _environment().get_template("report.html.j2")
     speed = _speed_charts(frame, info, cases)
@@ -151,7 +154,7 @@ def render_html(frame: pd.DataFrame, info: dict[str, Any], cases: dict[str, dict
         info=info, summary=summary(frame).to_dict("records"), statuses=STATUSES,
         matrix=group_matrix(frame), speed=speed, plotly_js=plotly_js,
         disagreements=disagreements(frame).to_dict("records"),
-        asymmetries=asymmetries(frame).to_dict("records"),
+        asymmetries=(asymmetries(frame) if asymmetric is None else asymmetric).to_dict("records"),
         cases=_case_details(frame, cases), total=len(frame), dynamics=dyn, stability=stab,
     )
 
@@ -178,5 +181,6 @@ def render(directory: Path) -> dict[str, Path]:
         paths[name] = directory / f"{name}.csv"
         table.to_csv(paths[name], index=False)
     paths["report"] = directory / "report.html"
-    paths["report"].write_text(render_html(frame, info, read_cases(directory)), encoding="utf-8")
+    html_text = render_html(frame, info, read_cases(directory), tables[2][1])
+    paths["report"].write_text(html_text, encoding="utf-8")
     return paths

@@ -93,7 +93,7 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
     return records
 
 
-QUICK_SCENE_STEPS = 5000
+QUICK_SCENE_STEPS = 1000
 """``--quick`` runs a scene only up to this many steps (the rest are ``skip`` rows)."""
 
 

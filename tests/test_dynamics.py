@@ -104,5 +104,5 @@ def test_report_has_the_dynamics_section(tmp_path: Path) -> None:
     assert main(["run", str(scene_file(tmp_path)), "--engine", "pymunk", "--quick",
                  "--out", str(out)]) == 0
     page = (out / "report.html").read_text()
-    assert "Dynamics: accuracy against speed (3 scene runs)" in page
+    assert "Dynamics: accuracy against speed (2 scene runs)" in page  # --quick: 3000 steps skip
     assert 'id="dyn-head-on"' in page
