@@ -81,13 +81,14 @@ Pairs = set[tuple[str, str]] | frozenset[tuple[str, str]]
 def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
              options: RunOptions, done: Pairs = frozenset()) -> list[Record]:
     """Every record of one case: the truth once, then each adapter not already done."""
-    truth = oracle.truth(case) if not (options.quick and _quick_skip(case)) else Observation()
+    skipped = _quick_skip(case) if options.quick else None  # the run's --quick, not sampling
+    truth = oracle.truth(case) if skipped is None else Observation()
     if options.timed_ids is not None and case.id not in options.timed_ids:
         options = replace(options, quick=True)
     records: list[Record] = []
     for adapter in adapters:
         if (case.id, adapter.name) not in done:
-            outcome = _quick_skip(case) if options.quick else None
+            outcome = skipped
             records += score_case(case, adapter,
                                   outcome or _execute(executor, adapter, case, options), truth)
     return records
