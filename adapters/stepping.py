@@ -8,7 +8,7 @@ with the wall time of the loop, ``release`` frees the world.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import Any
 
@@ -38,9 +38,8 @@ def prepare(module: ModuleType, case: SceneCase, tuned: bool) -> PreparedScene:
 def query(p: PreparedScene) -> Observation:
     """Step the scene to its end and observe it (wall time of the loop in ``wall_s``)."""
     run = p.module.run_scene(p.world, p.steps)
-    seen = scenes.observation(run.positions, run.velocities, p.masses)
-    return Observation(positions=seen.positions, velocities=seen.velocities,
-                       momentum=seen.momentum, energy=seen.energy, wall_s=run.wall_s)
+    return replace(scenes.observation(run.positions, run.velocities, p.masses),
+                   wall_s=run.wall_s)
 
 
 def release(p: PreparedScene) -> None:

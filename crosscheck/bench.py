@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from crosscheck import environment
+from reference_impl.batch import best_of
 
 FORMAT_VERSION = 1
 ROOT = Path(__file__).resolve().parent.parent
@@ -65,16 +66,6 @@ def settle() -> None:
     """
     gc.collect()
     gc.freeze()
-
-
-def best_of(fn: Callable[[], object], repeat: int = 3) -> float:
-    """The shortest of ``repeat`` wall-clock runs of ``fn`` (seconds)."""
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def batch_figures(n: int) -> list[Figure]:

@@ -74,12 +74,10 @@ def pybullet_loop(pairs: Sequence[Pair]) -> tuple[Loop, Callable[[], None]]:
     """
     import math
 
-    from adapters.pybullet_engine import engine, quiet
+    from adapters.pybullet_engine import connect, engine
 
     bt = engine()
-    with quiet():
-        cid = bt.connect(bt.DIRECT)
-    bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
+    cid = connect({})
     bodies: dict[float, tuple[int, int]] = {}
     for radius in sorted({r for _, ra, _, rb in pairs for r in (ra, rb)}):
         sid = bt.createCollisionShape(bt.GEOM_SPHERE, radius=radius, physicsClientId=cid)

@@ -116,15 +116,20 @@ def _exact_sphere(pa: FloatArray, ra: float, pb: FloatArray, rb: float) -> bool 
     return r > 0 and q < r * r
 
 
-def _resolve(hit: BoolArray, undecided: BoolArray, decide: Callable[[int], bool | None],
-             refined: int) -> BatchResult:
-    undefined = np.zeros(hit.shape, dtype=bool)
+def _settle(hit: BoolArray, undecided: BoolArray,
+            refine: Callable[[npt.NDArray[np.intp]], tuple[BoolArray, BoolArray]],
+            decide: Callable[[int], bool | None]) -> BatchResult:
+    """Give the filter's undecided pairs to ``refine`` (the exact vectorized stage),
+    and the pairs it leaves to ``decide`` (Fractions, one by one)."""
     idx = np.flatnonzero(undecided)
-    for i in idx.tolist():
+    hit[idx], rest = refine(idx)
+    undefined = np.zeros(hit.shape, dtype=bool)
+    left = idx[rest]
+    for i in left.tolist():
         verdict = decide(i)
         hit[i] = bool(verdict)
         undefined[i] = verdict is None
-    return BatchResult(hit, undefined, len(idx), refined)
+    return BatchResult(hit, undefined, len(left), len(idx))
 
 
 def aabb_batch(
@@ -150,11 +155,9 @@ def aabb_batch(
         undecided_mask = ~(hit | apart)
         if not math.isfinite(float(d.sum()) + float(s.sum())):  # inputs may be non-finite
             undecided_mask |= ~(np.isfinite(d).all(axis=1) & np.isfinite(s).all(axis=1))
-    undecided = np.flatnonzero(undecided_mask)
-    hit[undecided], rest = _aabb_two_sum(a[undecided], h[undecided], b[undecided], k[undecided])
-    todo = np.zeros(hit.shape, dtype=bool)
-    todo[undecided[rest]] = True
-    return _resolve(hit, todo, lambda i: _exact_aabb(a[i], h[i], b[i], k[i]), len(undecided))
+    return _settle(hit, undecided_mask,
+                   lambda idx: _aabb_two_sum(a[idx], h[idx], b[idx], k[idx]),
+                   lambda i: _exact_aabb(a[i], h[i], b[i], k[i]))
 
 
 def _aabb_two_sum(a: FloatArray, h: FloatArray, b: FloatArray,
@@ -204,11 +207,9 @@ def sphere_batch(
             hit &= ~not_positive
         if out_of_range is not None:
             undecided |= out_of_range
-    idx = np.flatnonzero(undecided)
-    hit[idx], rest = _sphere_expansion(a[idx], r1[idx], b[idx], r2[idx])
-    todo = np.zeros(hit.shape, dtype=bool)
-    todo[idx[rest]] = True
-    return _resolve(hit, todo, lambda i: _exact_sphere(a[i], r1[i], b[i], r2[i]), len(idx))
+    return _settle(hit, undecided,
+                   lambda idx: _sphere_expansion(a[idx], r1[idx], b[idx], r2[idx]),
+                   lambda i: _exact_sphere(a[i], r1[i], b[i], r2[i]))
 
 
 def _sphere_expansion(a: FloatArray, r1: FloatArray, b: FloatArray,
@@ -331,9 +332,10 @@ def oracle(kind: str, x: tuple[FloatArray, ...], i: int) -> bool:
     return isinstance(c, Contact) and c.hit
 
 
-def _best(f: Callable[[], object]) -> float:
+def best_of(f: Callable[[], object], repeat: int = 3) -> float:
+    """The shortest of ``repeat`` wall-clock runs of ``f`` (seconds)."""
     times = []
-    for _ in range(3):
+    for _ in range(repeat):
         t0 = time.perf_counter()
         f()
         times.append(time.perf_counter() - t0)
@@ -351,8 +353,8 @@ def bench_batch(n: int = 1_000_000, near_fraction: float = 0.01, seed: int = 0,
     x = tuple(np.ascontiguousarray(np.concatenate([p, q])) for p, q in zip(near, far, strict=True))
     batch = aabb_batch if kind == "aabb" else sphere_batch
     naive = naive_aabb_verdicts if kind == "aabb" else naive_sphere_verdicts
-    t_batch = _best(lambda: batch(*x))
-    t_naive = _best(lambda: naive(*x))
+    t_batch = best_of(lambda: batch(*x))
+    t_naive = best_of(lambda: naive(*x))
     result = batch(*x)
     sample = np.concatenate([np.arange(m), rng.choice(np.arange(m, n), min(10_000, n - m),
                                                       replace=False)])

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 import adapters
+from crosscheck.bench import rss_mb
 from crosscheck.cases import load_paths
 from crosscheck.execute import RunOptions
 from crosscheck.fuzzgen import generate
@@ -96,11 +97,6 @@ def test_ctrl_c_stops_cleanly_keeps_rows_and_prints_the_resume_hint(tmp_path: Pa
     final = read_results(out)
     cases = len(load_paths([ROOT / "cases" / "sphere.toml", ROOT / "cases" / "aabb.toml"]).cases)
     assert len(final.drop_duplicates(["case_id", "engine"])) == cases * 2
-
-
-def rss_mb() -> float:
-    pages = int(Path("/proc/self/statm").read_text().split()[1])
-    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
 
 
 @pytest.mark.slow
