@@ -22,6 +22,7 @@ run: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check crosscheck adapters reference_impl tests
 	$(BIN)/mypy
+	$(BIN)/lint-imports
 
 # The report's browser test drives Debian's chromium; install it when it is missing and we can.
 browser:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import importlib
 
-from adapters.base import Adapter
+from crosscheck.core.contract import Adapter
 
 REGISTRY: dict[str, tuple[str, str]] = {
     "reference": ("adapters.reference", "ReferenceF64"),

@@ -58,9 +58,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from adapters.base import Adapter, Capability, Conventions, all_capabilities
-from crosscheck.model import Kind, Observation, Vec
-from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
+from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.model import Kind, Observation, Vec
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
 
 FCL = "https://github.com/flexible-collision-library/fcl/"
 TREE = FCL + "blob/v0.7.0/include/fcl/narrowphase/"

@@ -102,9 +102,9 @@ from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
 from adapters import stepping
-from adapters.base import Adapter, Capability, Conventions, all_capabilities
-from crosscheck.model import Kind, Observation
-from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.model import Kind, Observation
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
 Vec3 = tuple[float, float, float]
 Spec = tuple[str, tuple[float, ...], float]

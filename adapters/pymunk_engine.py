@@ -83,9 +83,9 @@ from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 from adapters import stepping
-from adapters.base import Adapter, Capability, Conventions, all_capabilities
-from crosscheck.model import Kind, Observation, Vec
-from crosscheck.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.model import Kind, Observation, Vec
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
 MUNK2D = "https://github.com/viblo/Munk2D/blob/master/src/"
 PYMUNK = "https://github.com/viblo/pymunk/blob/master/pymunk/"

@@ -15,10 +15,10 @@ from __future__ import annotations
 
 from typing import Any, ClassVar
 
-from adapters.base import Adapter, Capability, Conventions, all_capabilities
-from crosscheck import oracle
-from crosscheck.model import Kind, Observation
-from crosscheck.schema import AnyCase
+from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.model import Kind, Observation
+from crosscheck.core.schema import AnyCase
+from crosscheck.truth import oracle
 
 TEXTBOOK = "shared/reference/blog-posts-aabb-and-sphere-collision.xml"
 

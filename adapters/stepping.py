@@ -12,9 +12,9 @@ from dataclasses import dataclass, replace
 from types import ModuleType
 from typing import Any
 
-from crosscheck import scenes
-from crosscheck.model import Observation
-from crosscheck.schema import DEFAULT_DT, SceneCase
+from crosscheck.core.model import Observation
+from crosscheck.core.schema import DEFAULT_DT, SceneCase
+from crosscheck.truth import scenes
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from crosscheck.schema import CASE_ADAPTER, AnyCase
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 
 ROOT = Path(__file__).resolve().parent.parent
 

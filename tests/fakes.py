@@ -7,10 +7,10 @@ import signal
 import time
 from typing import Any, ClassVar
 
-from adapters.base import Adapter, Capability, Conventions, all_capabilities
-from crosscheck import oracle
-from crosscheck.model import Kind, Observation
-from crosscheck.schema import AnyCase
+from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.model import Kind, Observation
+from crosscheck.core.schema import AnyCase
+from crosscheck.truth import oracle
 
 
 class _Fake(Adapter):

@@ -7,9 +7,9 @@ import importlib
 import pytest
 
 import adapters
-from adapters.base import Adapter
-from crosscheck.model import Kind, quantities_of
-from crosscheck.schema import CASE_ADAPTER, AnyCase
+from crosscheck.core.contract import Adapter
+from crosscheck.core.model import Kind, quantities_of
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import aabb, response, sphere
 
 ENGINES = ["fcl", "pybullet", "pybullet-default", "pymunk", "pymunk-default"]

@@ -17,10 +17,10 @@ fcl = pytest.importorskip("fcl")
 
 import adapters  # noqa: E402
 from adapters.fcl_engine import Fcl, z_half  # noqa: E402
-from crosscheck import oracle  # noqa: E402
-from crosscheck.model import Category, Observation, Status  # noqa: E402
-from crosscheck.schema import CASE_ADAPTER, AabbCase, AnyCase  # noqa: E402
-from crosscheck.score import judge  # noqa: E402
+from crosscheck.core.model import Category, Observation, Status  # noqa: E402
+from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase  # noqa: E402
+from crosscheck.truth import oracle  # noqa: E402
+from crosscheck.truth.score import judge  # noqa: E402
 from tests.conftest import aabb, response, sphere  # noqa: E402
 
 FCL = Fcl()

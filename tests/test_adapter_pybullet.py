@@ -13,12 +13,12 @@ from typing import Any
 import pytest
 
 import adapters
-from adapters.base import Adapter, all_capabilities
 from adapters.pybullet_engine import BOX_MARGIN, PyBulletTuned, box_sizes, client, engine
-from crosscheck import oracle
-from crosscheck.model import Category, Kind, Observation, Status
-from crosscheck.schema import CASE_ADAPTER, AabbCase, AnyCase
-from crosscheck.score import judge
+from crosscheck.core.contract import Adapter, all_capabilities
+from crosscheck.core.model import Category, Kind, Observation, Status
+from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase
+from crosscheck.truth import oracle
+from crosscheck.truth.score import judge
 from tests.conftest import aabb, response, sphere
 
 VARIANTS = ("pybullet", "pybullet-default")

@@ -17,10 +17,10 @@ import pytest
 pymunk = pytest.importorskip("pymunk")
 
 import adapters  # noqa: E402
-from adapters.base import Adapter  # noqa: E402
 from adapters.pymunk_engine import PymunkDefault, PymunkTuned  # noqa: E402
-from crosscheck.model import Observation  # noqa: E402
-from crosscheck.schema import CASE_ADAPTER, AnyCase  # noqa: E402
+from crosscheck.core.contract import Adapter  # noqa: E402
+from crosscheck.core.model import Observation  # noqa: E402
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase  # noqa: E402
 from tests.conftest import ROOT, aabb, response, sphere  # noqa: E402
 
 TUNED, DEFAULT = PymunkTuned(), PymunkDefault()

@@ -6,7 +6,7 @@ import json
 import math
 from pathlib import Path
 
-from crosscheck import bench
+from crosscheck.studies import bench
 
 
 def test_batch_figures_agree_with_the_pure_oracle() -> None:

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from crosscheck.cases import load_paths
-from crosscheck.schema import json_schema_text
+from crosscheck.cases.load import load_paths
+from crosscheck.core.schema import json_schema_text
 from tests.conftest import ROOT
 
 GOOD_SPHERE = """

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from crosscheck.schema import json_schema
+from crosscheck.core.schema import json_schema
 from tests.conftest import ROOT
 
 

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import adapters
-from crosscheck.cases import load_paths
+from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from tests.conftest import ROOT
 from tests.test_cases import sphere_text

@@ -8,8 +8,8 @@ from pathlib import Path
 import pandas as pd
 
 from crosscheck.cli import main
-from crosscheck.compare import engine_ratios, timing_changes, verdict_changes
-from crosscheck.model import COLUMNS
+from crosscheck.core.model import COLUMNS
+from crosscheck.report.compare import engine_ratios, timing_changes, verdict_changes
 
 
 def frame(rows: list[dict[str, object]]) -> pd.DataFrame:

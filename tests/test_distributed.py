@@ -17,13 +17,13 @@ import dask
 from distributed import LocalCluster, SchedulerPlugin
 
 import adapters
-from adapters.base import Adapter
-from crosscheck.cases import load_paths
+from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
-from crosscheck.execute import RunOptions
-from crosscheck.runner import run
-from crosscheck.schema import AnyCase
-from crosscheck.store import ResultsStore, read_results
+from crosscheck.core.contract import Adapter
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase
+from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import ROOT, sphere
 

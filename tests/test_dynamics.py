@@ -8,13 +8,13 @@ from typing import Any
 import pandas as pd
 
 import adapters
-from crosscheck import dynamics
-from crosscheck.cases import load_paths
+from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
-from crosscheck.execute import RunOptions
-from crosscheck.runner import QUICK_SCENE_STEPS, run
-from crosscheck.schema import CASE_ADAPTER, AnyCase
-from crosscheck.store import ResultsStore, read_cases, read_results
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase
+from crosscheck.report import dynamics
+from crosscheck.results.store import ResultsStore, read_cases, read_results
+from crosscheck.run.runner import QUICK_SCENE_STEPS, run
 
 HEAD_ON = """
 [[case]]

@@ -14,10 +14,10 @@ from pathlib import Path
 import pandas as pd
 
 import adapters
-from crosscheck.execute import RunOptions
-from crosscheck.runner import run
-from crosscheck.schema import AnyCase
-from crosscheck.store import ResultsStore, read_results
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase
+from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.run.runner import run
 from tests.conftest import response, sphere
 
 BAD = ["bad-input"]

@@ -8,12 +8,12 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from crosscheck import oracle
-from crosscheck.cases import load_paths
-from crosscheck.expand import SweepError, expand, swapped, values_of
-from crosscheck.mirror import asymmetries
-from crosscheck.model import Observation, Undefined
-from crosscheck.schema import LinSpace, LogSpace
+from crosscheck.cases.expand import SweepError, expand, swapped, values_of
+from crosscheck.cases.load import load_paths
+from crosscheck.core.model import Observation, Undefined
+from crosscheck.core.schema import LinSpace, LogSpace
+from crosscheck.report.mirror import asymmetries
+from crosscheck.truth import oracle
 from tests.conftest import ROOT, aabb, response, sphere
 
 Write = Callable[..., Path]

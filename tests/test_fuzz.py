@@ -12,13 +12,17 @@ from typing import Any
 import pandas as pd
 import pytest
 
-from crosscheck import casewriter, fuzz, fuzzgen, oracle
-from crosscheck.cases import load_paths, semantic_problems
-from crosscheck.casewriter import case_block, choose, group_findings, write_findings
+from crosscheck.cases import writer as casewriter
+from crosscheck.cases.load import load_paths, semantic_problems
+from crosscheck.cases.writer import case_block
+from crosscheck.cli import fuzz as fuzz_command
 from crosscheck.cli import main
-from crosscheck.model import PAIR_KINDS, Kind
-from crosscheck.schema import CASE_ADAPTER, AabbCase, AnyCase, ResponseCase
-from crosscheck.score import approach_speed
+from crosscheck.core.model import PAIR_KINDS, Kind
+from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, ResponseCase
+from crosscheck.studies import fuzzgen
+from crosscheck.studies.findings import choose, group_findings, write_findings
+from crosscheck.truth import oracle
+from crosscheck.truth.score import approach_speed
 from reference_impl import exact
 
 KINDS = [Kind(k) for k in PAIR_KINDS]  # scenes are not fuzzed
@@ -116,7 +120,7 @@ def test_case_blocks_round_trip_exactly(kind: Kind) -> None:
 
 def fuzz_cli(*argv: str) -> int:
     parser = argparse.ArgumentParser(prog="crosscheck")
-    fuzz.register(parser.add_subparsers(dest="command", required=True))
+    fuzz_command.register(parser.add_subparsers(dest="command", required=True))
     args = parser.parse_args(["fuzz", *argv])
     code: int = args.func(args)
     return code

@@ -11,10 +11,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from adapters.base import HANG_PROBE_S, Adapter
-from crosscheck.execute import RunOptions
-from crosscheck.runner import run
-from crosscheck.store import ResultsStore, read_results
+from crosscheck.core.contract import HANG_PROBE_S, Adapter
+from crosscheck.core.options import RunOptions
+from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import response, sphere
 

@@ -16,8 +16,8 @@ from typing import Any
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from crosscheck.cases import load_paths
-from crosscheck.newcase import inline
+from crosscheck.cases.load import load_paths
+from crosscheck.cases.writer import literal as inline
 
 BASES: dict[str, dict[str, Any]] = {
     "aabb": {"a": {"center": [0.0, 0.0, 0.0], "half": [0.5, 0.5, 0.5]},

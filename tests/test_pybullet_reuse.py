@@ -20,8 +20,8 @@ import pytest
 import adapters
 from adapters import pybullet_engine as pbe
 from adapters.pybullet_engine import Pair, PyBulletDefault, PyBulletTuned, engine
-from crosscheck.model import Observation
-from crosscheck.schema import CASE_ADAPTER, AnyCase
+from crosscheck.core.model import Observation
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import ROOT, aabb, response, sphere
 
 pytestmark = pytest.mark.skipif(adapters.get("pybullet").available() is not None,
@@ -33,7 +33,7 @@ VARIANTS: dict[str, type[PyBulletTuned]] = {"pybullet": PyBulletTuned,
 FRESH = """
 import json, sys
 from adapters import pybullet_engine as pbe
-from crosscheck.schema import CASE_ADAPTER
+from crosscheck.core.schema import CASE_ADAPTER
 pbe.IDLE_LIMIT = pbe.RESPONSE_IDLE_LIMIT = 0  # no pool: every release removes its bodies
 variants = {"pybullet": pbe.PyBulletTuned(), "pybullet-default": pbe.PyBulletDefault()}
 out = [repr(variants[name].observe(CASE_ADAPTER.validate_json(case)))

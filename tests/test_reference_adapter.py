@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import adapters
-from crosscheck import oracle
-from crosscheck.model import Category, Status
-from crosscheck.schema import AnyCase
-from crosscheck.score import judge
+from crosscheck.core.model import Category, Status
+from crosscheck.core.schema import AnyCase
+from crosscheck.truth import oracle
+from crosscheck.truth.score import judge
 from tests.conftest import aabb, sphere
 
 

@@ -12,13 +12,13 @@ from pathlib import Path
 import pytest
 
 import adapters
-from crosscheck.bench import rss_mb
-from crosscheck.cases import load_paths
-from crosscheck.execute import RunOptions
-from crosscheck.fuzzgen import generate
-from crosscheck.model import Kind, Status
-from crosscheck.runner import run
-from crosscheck.store import ResultsStore, StoreError, read_results
+from crosscheck.cases.load import load_paths
+from crosscheck.core.model import Kind, Status
+from crosscheck.core.options import RunOptions
+from crosscheck.results.store import ResultsStore, StoreError, read_results
+from crosscheck.run.runner import run
+from crosscheck.studies.bench import rss_mb
+from crosscheck.studies.fuzzgen import generate
 from tests.conftest import ROOT
 
 CLI = [sys.executable, "-m", "crosscheck.cli"]

@@ -12,12 +12,15 @@ from typing import Any
 import pandas as pd
 import pytest
 
-from adapters.base import Conventions
-from crosscheck import charts, report
-from crosscheck.execute import RunOptions
-from crosscheck.model import Record, Status
-from crosscheck.runner import run
-from crosscheck.store import ResultsStore, read_results
+from crosscheck.core.contract import Conventions
+from crosscheck.core.model import Record, Status
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase
+from crosscheck.report import charts, style, tables
+from crosscheck.report import render as report
+from crosscheck.results.runinfo import RunInfo
+from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import sphere
 
@@ -74,17 +77,10 @@ def records() -> list[Record]:
 def write_run(directory: Path, rows: list[Record], settings: str = "default") -> Path:
     store = ResultsStore(directory)
     store.append(rows)
-    store.write_run_info({
-        "run_id": "test", "started": "", "finished": "", "command": "test", "cases_run": 7,
-        "options": {"quick": False, "min_sample_s": 0.001, "samples": 3},
-        "machine": {"packages": {}}, "case_errors": [],
-        "engines": [{"name": name, "engine": "fake", "version": "0", "settings": settings,
-                     "conventions": asdict(Conventions()), "capabilities": []}
-                    for name in ("fast", "exact", "untimed", "skipper", "crashy")]})
+    store.write_run_info(info_of(settings))
     store.close()
-    cases = [{"id": r.case_id, "description": EVIL if r.case_id == "s5" else f"case {r.case_id}",
-              "kind": r.kind, "dim": 3, "tags": [], "source": r.source}
-             for r in rows if r.engine == "fast" and r.quantity in ("hit", "v1")]
+    cases = [stored_case(r.case_id, r.kind, r.source) for r in rows
+             if r.engine == "fast" and r.quantity in ("hit", "v1")]
     (directory / "cases.jsonl").write_text("".join(json.dumps(c) + "\n" for c in cases))
     return directory
 
@@ -95,9 +91,36 @@ def rendered(tmp_path: Path) -> str:
     return report.render(directory)["report"].read_text(encoding="utf-8")
 
 
-def chart_of(frame: pd.DataFrame, kind: str, cases: dict[str, Any] | None = None
+def info_of(settings: str = "default") -> RunInfo:
+    """The run.json of the fake runs here: five fake engines, timed."""
+    return RunInfo(
+        run_id="test", command="test", started="", finished="", cases_run=7,
+        options=RunOptions(quick=False, min_sample_s=0.001, samples=3),
+        machine={"packages": {}},
+        engines=tuple({"name": name, "engine": "fake", "version": "0", "settings": settings,
+                       "conventions": asdict(Conventions()), "capabilities": []}
+                      for name in ("fast", "exact", "untimed", "skipper", "crashy")))
+
+
+def stored_case(case_id: str, kind: str, source: str) -> dict[str, Any]:
+    """A valid stored case (cases.jsonl line) of ``kind``; s5's description is hostile text."""
+    body: dict[str, Any] = {"center": [0.0, 0.0, 0.0], "radius": 0.5}
+    if kind == "sphere_response":
+        body |= {"mass": 1.0, "velocity": [1.0, 0.0, 0.0]}
+    return {"id": case_id, "description": EVIL if case_id == "s5" else f"case {case_id}",
+            "kind": kind, "dim": 3, "tags": [], "source": source, "a": body,
+            "b": body | {"center": [2.0, 0.0, 0.0]}}
+
+
+def described(**descriptions: str) -> dict[str, AnyCase]:
+    """Typed cases with these descriptions, by id."""
+    return {case_id: sphere(0.0, 2.0, id=case_id).model_copy(update={"description": text})
+            for case_id, text in descriptions.items()}
+
+
+def chart_of(frame: pd.DataFrame, kind: str, cases: dict[str, AnyCase] | None = None
              ) -> charts.SpeedChart:
-    return charts.speed_chart(frame, kind, {}, cases or {})
+    return charts.speed_chart(frame, kind, info_of(), cases or {})
 
 
 def by_engine(chart: charts.SpeedChart) -> dict[str, charts.Point]:
@@ -108,7 +131,8 @@ FRAME = pd.DataFrame([r.row() for r in records()])
 
 
 def test_one_point_per_engine_per_kind() -> None:
-    kinds = {c.kind: [p.engine for p in c.points] for c in charts.speed_charts(FRAME, {}, {})}
+    made = charts.speed_charts(FRAME, info_of(), {})
+    kinds = {c.kind: [p.engine for p in c.points] for c in made}
     assert kinds == {"sphere": ["fast", "exact", "untimed", "skipper", "crashy"],
                      "sphere_response": ["fast"]}
 
@@ -144,10 +168,10 @@ def test_response_error_is_the_worse_velocity_of_each_case() -> None:
 def test_zero_errors_sit_at_the_labelled_floor() -> None:
     chart = chart_of(FRAME, "sphere")
     exact = by_engine(chart)["exact"]
-    assert exact.median == 0.0 and chart.floor == charts.ZERO_FLOOR
+    assert exact.median == 0.0 and chart.floor == style.ZERO_FLOOR
     fig = charts.figure(chart, list(dict.fromkeys(FRAME["engine"])))
     drawn = {t.name: t.y[0] for t in fig.data if t.type == "scatter" and t.showlegend is not False}
-    assert drawn["exact"] == charts.ZERO_FLOOR
+    assert drawn["exact"] == style.ZERO_FLOOR
     assert drawn["fast"] == 2e-12
     assert fig.layout.yaxis.ticktext[0] == "0"
     assert "0 plotted at 1e-18" in fig.layout.yaxis.title.text
@@ -190,11 +214,11 @@ def test_quick_run_draws_no_chart_and_inlines_no_plotly(tmp_path: Path) -> None:
 
 
 def test_case_group_matrix_counts() -> None:
-    counts = report.group_counts(FRAME).set_index(["engine", "group"])
+    counts = tables.group_counts(FRAME).set_index(["engine", "group"])
     assert counts.loc[("fast", "float_traps"), ["agree", "disagree"]].tolist() == [6, 3]
     assert counts.loc[("fast", "near_touching"), ["agree", "disagree"]].tolist() == [5, 1]
     assert counts.loc[("crashy", "float_traps"), "crash"] == 6
-    matrix = report.group_matrix(FRAME)
+    matrix = tables.group_matrix(FRAME)
     assert [g["name"] for g in matrix["groups"]] == ["near_touching", "float_traps", "response"]
     assert [g["cases"] for g in matrix["groups"]] == [2, 3, 2]
     cells = {row["engine"]: row["cells"] for row in matrix["rows"]}
@@ -202,9 +226,9 @@ def test_case_group_matrix_counts() -> None:
     assert (fast_traps["agree"], fast_traps["scored"]) == (6, 9)
     assert cells["crashy"][1]["failed"] == {"crash": 6} and cells["crashy"][1]["share"] == 0.0
     assert cells["skipper"][1]["skipped"] and cells["skipper"][1]["share"] is None
-    assert cells["skipper"][1]["colour"] == report.share_colour(None)
+    assert cells["skipper"][1]["colour"] == tables.share_colour(None)
     assert cells["fast"][0]["share"] == pytest.approx(5 / 6)
-    assert cells["exact"][0]["colour"] == report.share_colour(1.0) != report.share_colour(0.0)
+    assert cells["exact"][0]["colour"] == tables.share_colour(1.0) != tables.share_colour(0.0)
 
 
 def test_matrix_cells_are_rendered(rendered: str) -> None:
@@ -227,7 +251,7 @@ class _Tags(HTMLParser):
 
 
 def test_report_is_self_contained_with_plotly_once(rendered: str) -> None:
-    bundle_head = charts.plotly_js()[:300]
+    bundle_head = style.plotly_js()[:300]
     assert rendered.count(bundle_head) == 1
     assert rendered.count("plotly.js v") == 1
     tags = _Tags()
@@ -242,13 +266,12 @@ def test_script_in_text_is_escaped_everywhere_including_hover(rendered: str) -> 
     assert EVIL not in rendered
     assert "\\u003cscript" not in rendered  # no raw tag inside the plotly figure JSON
     assert "&lt;script&gt;alert" in rendered
-    chart = chart_of(FRAME, "sphere", {"s5": {"description": EVIL}})
+    chart = chart_of(FRAME, "sphere", described(s5=EVIL))
     fig = charts.figure(chart, ["fast", "exact"])
     hovers = [h for t in fig.data if t.hovertext for h in t.hovertext]
     assert any("worst case: s5: &lt;script&gt;" in h for h in hovers)
     assert not any("<script" in h for h in hovers)
-    info = {"engines": [{"name": "fast", "settings": EVIL}]}
-    point = by_engine(charts.speed_chart(FRAME, "sphere", info, {}))["fast"]
+    point = by_engine(charts.speed_chart(FRAME, "sphere", info_of(EVIL), {}))["fast"]
     assert "&lt;script&gt;" in charts.hover(point, chart.measure)
     assert "<script" not in charts.hover(point, chart.measure)
 
@@ -265,4 +288,4 @@ def test_chart_from_a_real_run_of_fakes(tmp_path: Path) -> None:
         times = frame[frame["engine"] == engine].drop_duplicates("case_id")["query_s"]
         assert points[engine].query_s == times.median() > 0
         assert points[engine].median == error
-    assert chart_of(frame, "sphere").y(points["fake-right"].median) == charts.ZERO_FLOOR
+    assert chart_of(frame, "sphere").y(points["fake-right"].median) == style.ZERO_FLOOR

@@ -15,11 +15,11 @@ import pandas as pd
 import pytest
 
 import adapters
-from crosscheck.cases import load_paths
+from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
-from crosscheck.execute import RunOptions
-from crosscheck.runner import run
-from crosscheck.store import ResultsStore, StoreError, read_results
+from crosscheck.core.options import RunOptions
+from crosscheck.results.store import ResultsStore, StoreError, read_results
+from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import ROOT
 

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import pandas as pd
 
-from adapters.base import Adapter
-from crosscheck import oracle
-from crosscheck.execute import RunOptions
-from crosscheck.model import Observation
-from crosscheck.runner import at_contact, run, timed_sample
-from crosscheck.schema import AnyCase
-from crosscheck.store import ResultsStore, read_cases, read_results
+from crosscheck.core.contract import Adapter
+from crosscheck.core.model import Observation
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase
+from crosscheck.results.store import ResultsStore, read_cases, read_results
+from crosscheck.run.runner import at_contact, run, timed_sample
+from crosscheck.truth import oracle
 from tests import fakes
 from tests.conftest import response, sphere
 
@@ -89,7 +89,7 @@ def test_cases_are_stored_for_the_report(tmp_path: Path) -> None:
     run_fakes(tmp_path, fakes.AlwaysRight())
     stored = read_cases(tmp_path / "run")
     assert list(stored) == [c.id for c in CASES]
-    assert stored["resp"]["a"]["velocity"] == [1.0, 0.0]
+    assert stored["resp"] == next(c for c in CASES if c.id == "resp")  # typed, as it ran
 
 
 def test_half_written_line_is_ignored(tmp_path: Path) -> None:
@@ -115,7 +115,11 @@ def test_timing_sample_is_per_file_kind_and_dim_without_twins_or_bad_input() -> 
     twin = cases[0].model_copy(update={"id": "s0.swapped", "tags": ("swapped",)})
     bad = cases[1].model_copy(update={"id": "bad", "tags": ("bad-input",)})
     other = cases[2].model_copy(update={"id": "o", "source": "cases/b.toml"})
-    assert timed_sample([twin, bad, *cases, other], 2) == {"s0", "s1", "o"}
+    options = RunOptions(time_per_group=2)
+    assert timed_sample([twin, bad, *cases, other], options) == {"s0", "s1", "o"}
+    assert timed_sample(cases, RunOptions(quick=True, time_per_group=2)) == frozenset()
+    every = RunOptions(time_per_group=0)
+    assert timed_sample([twin, *cases], every) == {twin.id, *options_ids(cases)}
 
 
 def test_untimed_cases_have_no_timing(tmp_path: Path) -> None:
@@ -126,3 +130,7 @@ def test_untimed_cases_have_no_timing(tmp_path: Path) -> None:
     store.close()
     frame = read_results(tmp_path / "run").drop_duplicates("case_id")
     assert list(frame["loops"] > 0) == [True, False, False, False]
+
+
+def options_ids(cases: list[AnyCase]) -> set[str]:
+    return {case.id for case in cases}

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import math
 
-from adapters.base import Conventions
-from crosscheck import oracle
-from crosscheck.model import Category, Observation, Status, Undefined
-from crosscheck.score import (
+from crosscheck.core.contract import Conventions
+from crosscheck.core.model import Category, Observation, Status, Undefined
+from crosscheck.truth import oracle
+from crosscheck.truth.score import (
     encode,
     error_of,
     judge,

@@ -11,11 +11,14 @@ import pandas as pd
 import pytest
 
 import adapters
-from crosscheck import report, stability
-from crosscheck.cases import load_paths
-from crosscheck.execute import RunOptions
-from crosscheck.runner import run
-from crosscheck.store import ResultsStore, read_cases, read_results
+from crosscheck.cases.load import load_paths
+from crosscheck.cli import stability as stability_command
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import CASE_ADAPTER
+from crosscheck.report import stability
+from crosscheck.report.style import templates
+from crosscheck.results.store import ResultsStore, read_cases, read_results
+from crosscheck.run.launch import launch, new_info
 from tests.conftest import ROOT
 
 EVIL = "<script>alert('pwned')</script>"
@@ -124,12 +127,11 @@ def test_only_single_parameter_sweep_points_are_read() -> None:
 def test_relative_error_divides_by_the_case_scale() -> None:
     body = {"center": [1000.0, 0.0, 0.0], "radius": 0.5}
     moving = {"center": [0.0, 0.0, 0.0], "radius": 0.5, "mass": 1.0, "velocity": [4.0, 0, 0]}
-    cases = {
-        "s.offset=1000": {"id": "s.offset=1000", "description": "d", "kind": "sphere", "dim": 3,
-                          "a": body, "b": body, "source": "x"},
-        "r.mass_ratio=10": {"id": "r.mass_ratio=10", "description": "d", "dim": 3,
-                            "kind": "sphere_response", "a": moving,
-                            "b": moving | {"velocity": [-2.0, 0, 0]}, "source": "x"}}
+    cases = {case["id"]: CASE_ADAPTER.validate_python(case) for case in (
+        {"id": "s.offset=1000", "description": "d", "kind": "sphere", "dim": 3,
+         "a": body, "b": body, "source": "x"},
+        {"id": "r.mass_ratio=10", "description": "d", "dim": 3, "kind": "sphere_response",
+         "a": moving, "b": moving | {"velocity": [-2.0, 0, 0]}, "source": "x"})}
     frame = pd.DataFrame(rows("s", "offset", [(1000, "agree")]) + rows(
         "r", "mass_ratio", [(10, "agree")], quantity="v2", kind="sphere_response"))
     points = stability.sweep_points(frame.assign(error=[2e-9, 2e-9]), cases)
@@ -144,13 +146,10 @@ def test_relative_error_divides_by_the_case_scale() -> None:
 def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     directory = tmp_path_factory.mktemp("stability") / "run"
     cases = load_paths([ROOT / "cases" / "sweeps.toml"]).cases
-    store = ResultsStore(directory)
     engines = [adapters.get("reference"), adapters.get("reference-f32")]
-    store.write_run_info({"run_id": "run", "engines": [{"name": a.name} for a in engines]})
-    try:
-        run(cases, engines, store, RunOptions(quick=True, jobs=2))
-    finally:
-        store.close()
+    options = RunOptions(quick=True, jobs=2)
+    launch(ResultsStore(directory), cases, engines, options,
+           new_info(directory, "test", options, engines, cases))
     return directory
 
 
@@ -196,7 +195,7 @@ def test_chart_text_is_escaped() -> None:
 
 
 def render(stability_data: dict[str, Any] | None) -> str:
-    page = report._environment().from_string(
+    page = templates().from_string(
         "<main>{% include '_stability.html.j2' %}</main>")
     return page.render(stability=stability_data)
 
@@ -226,7 +225,7 @@ def test_template_escapes_text() -> None:
 
 def parser() -> argparse.ArgumentParser:
     top = argparse.ArgumentParser()
-    stability.register(top.add_subparsers())
+    stability_command.register(top.add_subparsers())
     return top
 
 

@@ -1,0 +1,182 @@
+"""Sweep expansion and A/B swapping: one case block becomes the cases that run.
+
+A block with ``sweep`` becomes one case per combination of its parameters,
+with stable ids ``<id>.<param>=<value>[,<param>=<value>]``.  Every case (unless
+``swap = false``) also runs with A and B exchanged, as ``<id>.swapped``; its
+answers must mirror the original's.
+
+>>> from crosscheck.core.schema import CASE_ADAPTER
+>>> case = CASE_ADAPTER.validate_python({"id": "g", "description": "d", "kind": "sphere",
+...     "dim": 2, "a": {"center": [0, 0], "radius": 0.5}, "b": {"center": [1, 0], "radius": 0.5},
+...     "sweep": {"gap": [0.5, -0.25]}})
+>>> [(c.id, c.b.center) for c in expand(case)]
+[('g.gap=0.5', (1.5, 0.0)), ('g.gap=-0.25', (0.75, 0.0))]
+>>> swapped(case).id, swapped(case).a.center
+('g.swapped', (1.0, 0.0))
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterator, Sequence
+from typing import Any
+
+import numpy as np
+
+from crosscheck.core.schema import (
+    AabbCase,
+    AnyCase,
+    LinSpace,
+    LogSpace,
+    PairCase,
+    ResponseCase,
+    SceneCase,
+    Values,
+)
+
+PARAMETERS = ("scale", "gap", "overlap", "offset", "mass_ratio", "speed")
+RESPONSE_ONLY = ("mass_ratio", "speed")
+
+
+class SweepError(ValueError):
+    """A sweep that cannot be expanded; ``field`` names the offending parameter."""
+
+    def __init__(self, field: str, reason: str) -> None:
+        super().__init__(reason)
+        self.field = field
+
+
+def values_of(spec: Values) -> list[float]:
+    """The numbers a sweep parameter takes."""
+    if isinstance(spec, LogSpace):
+        lo, hi, n = spec.logspace
+        return [float(x) for x in np.logspace(lo, hi, n)]
+    if isinstance(spec, LinSpace):
+        lo, hi, n = spec.linspace
+        return [float(x) for x in np.linspace(lo, hi, n)]
+    return [float(x) for x in spec]
+
+
+def expand_steps(case: SceneCase) -> Iterator[SceneCase]:
+    """One case per ``dt`` x ``iterations`` of the block's ``steps`` (the block itself if none)."""
+    if case.steps is None:
+        yield case
+        return
+    iterations: Sequence[int | None] = case.steps.iterations or [None]
+    for dt, k in itertools.product(values_of(case.steps.dt), iterations):
+        label = f"dt={dt:.6g}" + (f",iterations={k}" if k is not None else "")
+        yield case.model_copy(update={
+            "id": f"{case.id}.{label}", "description": f"{case.description} [{label}]",
+            "tags": (*case.tags, "dynamics"), "steps": None, "dt": dt, "iterations": k})
+
+
+def _label(name: str, value: float) -> str:
+    return f"{name}={value:.6g}"
+
+
+def expand(case: AnyCase) -> list[AnyCase]:
+    """The cases a block stands for: itself, or one per sweep combination."""
+    if isinstance(case, SceneCase):
+        if case.sweep is not None:
+            raise SweepError("sweep", "scenes are swept over `steps` (dt, iterations), not sweep")
+        return list(expand_steps(case))
+    if case.sweep is None:
+        return [case]
+    grid = [(name, values_of(spec)) for name in PARAMETERS
+            if (spec := getattr(case.sweep, name)) is not None]
+    if not grid:
+        raise SweepError("sweep", "a sweep needs at least one parameter")
+    for name, _ in grid:
+        if name in RESPONSE_ONLY and not isinstance(case, ResponseCase):
+            raise SweepError(f"sweep.{name}", f"{name} applies to sphere_response cases only")
+    return [_point(case, dict(zip([n for n, _ in grid], combo, strict=True)))
+            for combo in itertools.product(*(values for _, values in grid))]
+
+
+def _point(case: PairCase, params: dict[str, float]) -> PairCase:
+    out = case
+    for name in PARAMETERS:
+        if name in params:
+            out = _APPLY[name](out, params[name])
+    labels = ",".join(_label(name, value) for name, value in params.items())
+    shown = ", ".join(f"{name} = {value:.6g}" for name, value in params.items())
+    return out.model_copy(update={
+        "id": f"{case.id}.{labels}", "description": f"{case.description} [{shown}]",
+        "tags": (*case.tags, "sweep"), "sweep": None})
+
+
+def _bodies(case: PairCase, **changes: dict[str, Any]) -> PairCase:
+    a = case.a.model_copy(update=changes.get("a", {}))
+    b = case.b.model_copy(update=changes.get("b", {}))
+    return case.model_copy(update={"a": a, "b": b})
+
+
+def _scale(case: PairCase, s: float) -> PairCase:
+    def sized(body: Any) -> dict[str, Any]:
+        size = ({"half": tuple(h * s for h in body.half)} if isinstance(case, AabbCase)
+                else {"radius": body.radius * s})
+        return {"center": tuple(c * s for c in body.center), **size}
+    return _bodies(case, a=sized(case.a), b=sized(case.b))
+
+
+def _unit(case: PairCase) -> tuple[float, ...]:
+    d = case.sweep.direction if case.sweep and case.sweep.direction else tuple(
+        y - x for x, y in zip(case.a.center, case.b.center, strict=True))
+    if len(d) != case.dim:
+        raise SweepError("sweep.direction", f"expected {case.dim} components, got {len(d)}")
+    length = math.sqrt(math.fsum(x * x for x in d))
+    if not length > 0:
+        raise SweepError("sweep.direction", "gap needs a direction: the centres coincide")
+    return tuple(x / length for x in d)
+
+
+def _touch_distance(case: PairCase, u: tuple[float, ...]) -> float:
+    if not isinstance(case, AabbCase):
+        return case.a.radius + case.b.radius
+    axes = [i for i, x in enumerate(u) if x != 0]
+    if len(axes) != 1:
+        raise SweepError("sweep.direction", "a box gap must be along one axis")
+    return case.a.half[axes[0]] + case.b.half[axes[0]]
+
+
+def _gap(case: PairCase, g: float) -> PairCase:
+    u = _unit(case)
+    step = _touch_distance(case, u) * (1.0 + g)
+    centre = tuple(c + x * step for c, x in zip(case.a.center, u, strict=True))
+    return _bodies(case, b={"center": centre})
+
+
+def _offset(case: PairCase, t: float) -> PairCase:
+    return _bodies(case, a={"center": tuple(c + t for c in case.a.center)},
+                   b={"center": tuple(c + t for c in case.b.center)})
+
+
+def _mass_ratio(case: PairCase, r: float) -> PairCase:
+    assert isinstance(case, ResponseCase)
+    return _bodies(case, b={"mass": case.a.mass * r})
+
+
+def _speed(case: PairCase, k: float) -> PairCase:
+    assert isinstance(case, ResponseCase)
+    return _bodies(case, a={"velocity": tuple(v * k for v in case.a.velocity)},
+                   b={"velocity": tuple(v * k for v in case.b.velocity)})
+
+
+_APPLY = {"scale": _scale, "gap": _gap, "overlap": lambda c, o: _gap(c, -o),
+          "offset": _offset, "mass_ratio": _mass_ratio, "speed": _speed}
+
+
+def swapped(case: PairCase) -> PairCase:
+    """The same case with A and B exchanged (its answers mirror the original's)."""
+    return case.model_copy(update={
+        "id": f"{case.id}.swapped", "description": f"{case.description} (A and B swapped)",
+        "tags": (*case.tags, "swapped"), "a": case.b, "b": case.a, "swap": False})
+
+
+def with_swaps(cases: list[AnyCase]) -> Iterator[AnyCase]:
+    """Each case, followed by its swapped twin unless it opts out."""
+    for case in cases:
+        yield case
+        if case.swap and not isinstance(case, SceneCase):
+            yield swapped(case)

@@ -1,0 +1,275 @@
+"""Load and validate case files: TOML -> pydantic models -> semantic checks -> Cases.
+
+Every problem becomes a :class:`CaseError` naming the file, the case id, the
+field and the reason; a bad block never stops the good ones from loading.
+
+>>> import tempfile, pathlib
+>>> p = pathlib.Path(tempfile.mkdtemp()) / "c.toml"
+>>> _ = p.write_text('''[[case]]
+... id = "s1"
+... description = "negative radius"
+... kind = "sphere"
+... dim = 2
+... a = { center = [0.0, 0.0], radius = -1.0 }
+... b = { center = [1.0, 0.0], radius = 0.5 }
+... ''')
+>>> result = load_paths([p])
+>>> print(result.errors[0].message.replace(str(p), "c.toml"))  # doctest: +ELLIPSIS
+c.toml: case 's1': field a.radius: must be >= 0, got -1.0 (tag the case 'bad-input' ...)
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import tomllib
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from crosscheck.cases.expand import SweepError, expand, with_swaps
+from crosscheck.core.schema import (
+    CASE_ADAPTER,
+    AabbBody,
+    AnyCase,
+    MovingSphere,
+    ResponseCase,
+    SceneCase,
+    SphereBody,
+    SphereCase,
+)
+from crosscheck.truth import oracle
+
+
+@dataclass(frozen=True, slots=True)
+class CaseError:
+    """A validation problem: where (file, case, field) and why."""
+
+    file: str
+    case_id: str
+    field: str
+    reason: str
+
+    @property
+    def message(self) -> str:
+        case = f"case {self.case_id}: " if self.case_id != "-" else ""
+        where = f"field {self.field}: " if self.field else ""
+        return f"{self.file}: {case}{where}{self.reason}"
+
+    def __str__(self) -> str:
+        return self.message
+
+
+@dataclass
+class LoadResult:
+    """The cases that loaded and the errors of those that did not.
+
+    ``blocks`` counts the curated ``[[case]]`` blocks that loaded; ``cases``
+    is what runs: sweeps expanded and A/B-swapped twins added.
+    """
+
+    cases: list[AnyCase] = field(default_factory=list)
+    errors: list[CaseError] = field(default_factory=list)
+    files: list[Path] = field(default_factory=list)
+    blocks: int = 0
+
+
+def case_files(paths: Iterable[Path | str]) -> list[Path]:
+    """Expand files and directories into a sorted list of ``*.toml`` files."""
+    out: list[Path] = []
+    for raw in paths:
+        path = Path(raw)
+        out.extend(sorted(path.rglob("*.toml")) if path.is_dir() else [path])
+    return out
+
+
+def load_paths(paths: Iterable[Path | str]) -> LoadResult:
+    """Load every case under ``paths``; duplicate ids across files are errors."""
+    result = LoadResult(files=case_files(paths))
+    seen: dict[str, str] = {}
+    for path in result.files:
+        blocks, errors = load_file(path)
+        result.errors.extend(errors)
+        result.blocks += len(blocks)
+        for case in with_swaps(_expanded(path, blocks, result.errors)):
+            if case.id in seen:
+                first = seen[case.id]
+                if "swapped" not in case.tags:  # a duplicate's twin is a duplicate too
+                    result.errors.append(CaseError(str(path), repr(case.id), "id",
+                                                   f"duplicate id, first defined in {first}"))
+                continue
+            seen[case.id] = str(path)
+            result.cases.append(case)
+    return result
+
+
+def _expanded(path: Path, blocks: list[AnyCase], errors: list[CaseError]) -> list[AnyCase]:
+    """Every sweep point of every block; problems of a point become errors."""
+    out: list[AnyCase] = []
+    for block in blocks:
+        try:
+            points = expand(block)
+        except SweepError as exc:
+            errors.append(CaseError(str(path), repr(block.id), exc.field, str(exc)))
+            continue
+        for point in points:
+            problems = semantic_problems(point) if point is not block else []
+            errors.extend(CaseError(str(path), repr(point.id), f, r) for f, r in problems)
+            out += [] if problems else [point]
+    return out
+
+
+def load_file(path: Path) -> tuple[list[AnyCase], list[CaseError]]:
+    """Parse one TOML file and validate each ``[[case]]`` block on its own."""
+    name = str(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError) as exc:
+        return [], [CaseError(name, "-", "", f"cannot read file: {exc}")]
+    except tomllib.TOMLDecodeError as exc:
+        return [], [CaseError(name, "-", "", f"TOML syntax error: {exc}")]
+    blocks = data.pop("case", None)
+    errors = [CaseError(name, "-", key, "unknown top-level key (expected only [[case]])")
+              for key in data]
+    if not isinstance(blocks, list) or not blocks:
+        return [], [*errors, CaseError(name, "-", "case", "no [[case]] blocks in file")]
+    cases: list[AnyCase] = []
+    for index, block in enumerate(blocks):
+        case, block_errors = _validate_block(name, index, block)
+        errors.extend(block_errors)
+        if case is not None and not block_errors:
+            cases.append(case)
+    return cases, errors
+
+
+def _label(index: int, block: object) -> str:
+    raw = block.get("id") if isinstance(block, dict) else None
+    return repr(raw) if isinstance(raw, str) else f"#{index + 1} (no valid id)"
+
+
+def _validate_block(name: str, index: int, block: Any) -> tuple[AnyCase | None, list[CaseError]]:
+    label = _label(index, block)
+    if isinstance(block, dict):
+        block = {**block, "source": name}
+    try:
+        case = CASE_ADAPTER.validate_python(block)
+    except ValidationError as exc:
+        return None, [CaseError(name, label, *_pydantic_problem(err)) for err in exc.errors()]
+    return case, [CaseError(name, label, f, r) for f, r in semantic_problems(case)]
+
+
+def _pydantic_problem(err: Any) -> tuple[str, str]:
+    loc = list(err["loc"])
+    if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
+        return "kind", err["msg"].replace("Input tag", "kind")
+    if loc and loc[0] in ("aabb", "sphere", "sphere_response"):
+        loc = loc[1:]
+    loc = [part for i, part in enumerate(loc) if i == 0 or part != loc[i - 1]]  # union tags
+    where = ".".join(str(part) for part in loc)
+    got = err.get("input")
+    shown = "" if err["type"] == "missing" or isinstance(got, dict) else f" (got {got!r})"
+    return where, f"{err['msg']}{shown}"
+
+
+def semantic_problems(case: AnyCase) -> list[tuple[str, str]]:
+    """Rules beyond the schema: vector lengths always; value rules unless bad-input."""
+    problems = list(_length_problems(case))
+    if not case.bad_input:
+        problems += list(_value_problems(case))
+    if not problems:
+        problems += list(_expect_problems(case))
+    return problems
+
+
+def _expect_problems(case: AnyCase) -> Iterator[tuple[str, str]]:
+    """An author's pinned ``expect`` must agree exactly with the oracle."""
+    expect = getattr(case, "expect", None)
+    if expect is None:
+        return
+    truth = oracle.truth(case)
+    for name in ("hit", "distance"):
+        pinned, exact = getattr(expect, name), truth.get(name)
+        if pinned is not None and pinned != exact:
+            yield f"expect.{name}", f"pinned {pinned!r} but the exact oracle says {exact!r}"
+
+
+def _vectors(case: AnyCase) -> Iterator[tuple[str, Sequence[float]]]:
+    bodies: tuple[tuple[str, AabbBody | SphereBody], ...] = (
+        tuple((f"bodies[{i}]", b) for i, b in enumerate(case.bodies))
+        if isinstance(case, SceneCase) else (("a", case.a), ("b", case.b)))
+    for side, body in bodies:
+        yield f"{side}.center", body.center
+        if isinstance(body, AabbBody):
+            yield f"{side}.half", body.half
+        if isinstance(body, MovingSphere):
+            yield f"{side}.velocity", body.velocity
+
+
+def _length_problems(case: AnyCase) -> Iterator[tuple[str, str]]:
+    for where, vec in _vectors(case):
+        if len(vec) != case.dim:
+            yield where, f"expected {case.dim} components for dim = {case.dim}, got {len(vec)}"
+
+
+def _scalars(case: AnyCase) -> Iterator[tuple[str, float]]:
+    for where, vec in _vectors(case):
+        for i, x in enumerate(vec):
+            yield f"{where}[{i}]", x
+    if isinstance(case, SphereCase | ResponseCase):
+        yield "a.radius", case.a.radius
+        yield "b.radius", case.b.radius
+    if isinstance(case, ResponseCase):
+        yield "a.mass", case.a.mass
+        yield "b.mass", case.b.mass
+        yield "restitution", case.restitution
+    if isinstance(case, SceneCase):
+        for i, body in enumerate(case.bodies):
+            yield f"bodies[{i}].radius", body.radius
+            yield f"bodies[{i}].mass", body.mass
+        yield "restitution", case.restitution
+        yield "duration", case.duration
+        if case.dt is not None:
+            yield "dt", case.dt
+
+
+_HINT = " (tag the case 'bad-input' to test engines on it)"
+
+
+def _value_problems(case: AnyCase) -> Iterator[tuple[str, str]]:
+    for where, x in _scalars(case):
+        if not math.isfinite(x):
+            yield where, f"must be finite, got {x!r}{_HINT}"
+        elif where.endswith((".radius",)) or ".half[" in where:
+            if x < 0:
+                yield where, f"must be >= 0, got {x!r}{_HINT}"
+        elif where.endswith(".mass") and x <= 0:
+            yield where, f"must be > 0, got {x!r}{_HINT}"
+        elif where == "restitution" and not 0 <= x <= 1:
+            yield where, f"must be in [0, 1], got {x!r}"
+        elif where in ("duration", "dt") and x <= 0:
+            yield where, f"must be > 0, got {x!r}"
+    if isinstance(case, SceneCase):
+        yield from _scene_problems(case)
+
+
+MAX_STEPS = 10_000_000
+"""Most steps a scene case may ask of an engine (duration / dt)."""
+
+
+def _scene_problems(case: SceneCase) -> Iterator[tuple[str, str]]:
+    """Scene rules beyond the schema: two bodies or more, radii > 0, no overlap at the start."""
+    if len(case.bodies) < 2:
+        yield "bodies", "a scene needs at least two bodies (list them or give a generator)"
+    for i, body in enumerate(case.bodies):
+        if not body.radius > 0:
+            yield f"bodies[{i}].radius", f"must be > 0 in a scene, got {body.radius!r}"
+    for (i, p), (j, q) in itertools.combinations(enumerate(case.bodies), 2):
+        d2 = sum((Fraction(x) - Fraction(y)) ** 2 for x, y in zip(p.center, q.center, strict=False))
+        if d2 < (Fraction(p.radius) + Fraction(q.radius)) ** 2:
+            yield f"bodies[{j}].center", f"overlaps bodies[{i}] at the start (touching is allowed)"
+    if case.step_count > MAX_STEPS:
+        yield "dt", f"{case.step_count} steps exceed {MAX_STEPS}: use a larger dt"

@@ -1,0 +1,41 @@
+"""The ``crosscheck`` command line: a thin face over the library, one module per command family.
+
+Each family module (``run``, ``report`` with ``compare``, ``cases`` with
+``validate``, ``new-case`` and ``schema``, ``engines``, ``fuzz``, ``bench``,
+``stability``) parses its options, calls the library and prints; everything
+it does is callable from Python without rich.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from crosscheck.cli import bench, cases, engines, fuzz, report, run, stability
+
+FAMILIES = (run, report, cases, fuzz, bench, stability, engines)
+"""The command families, in the order ``crosscheck --help`` lists them."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of every command."""
+    parser = argparse.ArgumentParser(
+        prog="crosscheck",
+        description="Collision Crosscheck: run, report, compare, validate, new-case, fuzz, "
+                    "bench, stability, engines, schema.")
+    sub = parser.add_subparsers(dest="command", required=True)
+    for family in FAMILIES:
+        family.register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run one ``crosscheck`` command; its exit code."""
+    args = build_parser().parse_args(argv)
+    code: int = args.func(args)
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,92 @@
+"""``crosscheck validate``, ``new-case`` and ``schema``: the case files' commands."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from crosscheck.cases.load import load_paths
+from crosscheck.cases.newcase import NewCaseError, append_case
+from crosscheck.cli.console import err, fail, out, report_case_errors, say
+from crosscheck.core.model import PAIR_KINDS
+from crosscheck.core.schema import json_schema_text
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    loaded = load_paths(args.paths or [Path("cases")])
+    report_case_errors(loaded)
+    if not loaded.files:
+        err.print("[red]invalid:[/red] no case files found")
+        return 1
+    status = "[red]FAILED[/red]" if loaded.errors else "[green]ok[/green]"
+    out.print(f"{status}: {loaded.blocks} curated cases in {len(loaded.files)} files, "
+              f"{len(loaded.cases)} after sweep expansion and A/B swaps, "
+              f"{len(loaded.errors)} errors")
+    return 1 if loaded.errors else 0
+
+
+def _floats(text: str) -> list[float]:
+    return [float(x) for x in text.split(",")]
+
+
+def _body(args: argparse.Namespace, side: str) -> dict[str, object]:
+    body: dict[str, object] = {}
+    for key in ("center", "half", "radius", "mass", "velocity"):
+        value = getattr(args, f"{side}_{key}")
+        if value is not None:
+            body[key] = value[0] if key in ("radius", "mass") else value
+    return body
+
+
+def cmd_new_case(args: argparse.Namespace) -> int:
+    try:
+        append_case(args.file, args.kind, args.dim, args.id, description=args.description,
+                    tags=args.tag, a=_body(args, "a"), b=_body(args, "b"),
+                    restitution=args.restitution)
+    except NewCaseError as exc:
+        for problem in exc.problems:
+            fail(problem)
+        return 2
+    say(f"appended case {args.id!r} to {args.file}; check: crosscheck validate")
+    return 0
+
+
+def cmd_schema(args: argparse.Namespace) -> int:
+    text = json_schema_text()
+    if args.check:
+        current = args.output.read_text() if args.output.exists() else ""
+        if current != text:
+            err.print(f"{args.output} is out of date; run: crosscheck schema")
+            return 1
+        return 0
+    args.output.write_text(text)
+    out.print(f"wrote {args.output}")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Add ``validate``, ``new-case`` and ``schema``."""
+    p = sub.add_parser("validate", help="check case files")
+    p.add_argument("paths", nargs="*", type=Path)
+    p.set_defaults(func=cmd_validate)
+    p = sub.add_parser("new-case", help="append a valid template case to a file")
+    p.add_argument("--kind", required=True, choices=PAIR_KINDS)
+    p.add_argument("--dim", required=True, type=int, choices=[2, 3])
+    p.add_argument("--id", required=True)
+    p.add_argument("--file", type=Path, default=Path("cases/user.toml"))
+    p.add_argument("--description", help="what the case probes")
+    p.add_argument("--tag", action="append", help="a tag (repeatable)")
+    p.add_argument("--restitution", type=float, help="sphere_response only (default 1)")
+    for side in ("a", "b"):
+        for key, help_text in (("center", "x,y[,z]"), ("half", "half-widths hx,hy[,hz]"),
+                               ("velocity", "vx,vy[,vz]")):
+            p.add_argument(f"--{side}-{key}", type=_floats, metavar=help_text.split()[-1],
+                           help=f"body {side.upper()}: {help_text}")
+        for key in ("radius", "mass"):
+            p.add_argument(f"--{side}-{key}", type=_floats, metavar="X",
+                           help=f"body {side.upper()}: {key}")
+    p.set_defaults(func=cmd_new_case)
+    p = sub.add_parser("schema", help="write the case-file JSON Schema")
+    p.add_argument("--output", type=Path, default=Path("cases/schema.json"))
+    p.add_argument("--check", action="store_true", help="fail if the file is out of date")
+    p.set_defaults(func=cmd_schema)

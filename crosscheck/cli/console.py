@@ -1,0 +1,64 @@
+"""The terminal face shared by every command: consoles, error lines, progress, the summary."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+
+import pandas as pd
+from rich.console import Console
+from rich.markup import escape
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
+from rich.table import Table
+
+from crosscheck.cases.load import LoadResult
+from crosscheck.core.model import Status
+
+out = Console(soft_wrap=True)
+err = Console(stderr=True, soft_wrap=True)
+
+
+def fail(message: str) -> None:
+    """Print an error line; the message is shown literally (no rich markup)."""
+    err.print(f"[red]error:[/red] {escape(message)}", highlight=False)
+
+
+def say(message: str) -> None:
+    """Print a line literally (no rich markup)."""
+    out.print(escape(message), highlight=False)
+
+
+def report_case_errors(loaded: LoadResult) -> None:
+    """One line per rejected case block: file, case, field and reason."""
+    for problem in loaded.errors:
+        err.print(f"[red]invalid:[/red] {escape(problem.message)}", highlight=False)
+
+
+@contextlib.contextmanager
+def progress_bar(total: int, label: str = "case x engine") -> Iterator[Callable[[int], None]]:
+    """A transient progress bar on stderr; yields the function that advances it by n."""
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+               TimeElapsedColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=err, transient=True) as bar:
+        task = bar.add_task(label, total=total)
+        yield lambda n: bar.update(task, advance=n)
+
+
+def print_summary(directory: Path) -> None:
+    """Print the engine x kind counts from the run's summary.csv (written by the report)."""
+    table = pd.read_csv(directory / "summary.csv", keep_default_na=False)
+    rich_table = Table(title=f"summary of {directory}")
+    columns: Sequence[str] = ("engine", "kind", *(str(s) for s in Status))
+    for column in columns:
+        rich_table.add_column(column, no_wrap=column in ("engine", "kind"))
+    for row in table.itertuples(index=False):
+        rich_table.add_row(*(str(getattr(row, c)) for c in columns))
+    out.print(rich_table)

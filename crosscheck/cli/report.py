@@ -1,0 +1,52 @@
+"""``crosscheck report`` and ``crosscheck compare``: stored runs to CSV and HTML."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from crosscheck.cli.console import err, fail, say
+from crosscheck.report.compare import compare
+from crosscheck.report.render import markdown_summary, render
+from crosscheck.results.store import StoreError, read_results
+
+
+def cmd_report(args: argparse.Namespace) -> int:
+    try:
+        paths = render(args.directory)
+    except (OSError, StoreError) as exc:
+        fail(f"cannot render {args.directory}: {exc}")
+        return 2
+    if args.markdown:
+        print(markdown_summary(read_results(args.directory)))
+    say(f"report: {paths['report']}")
+    return 0
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    target = args.out or Path("reports") / f"compare-{args.a.name}-vs-{args.b.name}"
+    try:
+        result = compare(args.a, args.b, target)
+    except (OSError, StoreError) as exc:
+        fail(f"cannot compare: {exc}")
+        return 2
+    for difference in result.machine_differences:
+        err.print(f"warning: the runs come from different machines: {difference}; timing "
+                  "changes below may be the machines', not the engines'",
+                  markup=False, highlight=False)
+    say(f"{result.verdict_changes} verdict changes, {result.timing_changes} timing changes "
+        f"beyond the noise; see {target / 'compare.html'}")
+    return 0
+
+
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Add ``report`` and ``compare``."""
+    p = sub.add_parser("report", help="re-render CSV and HTML from a stored run")
+    p.add_argument("directory", type=Path)
+    p.add_argument("--markdown", action="store_true", help="also print the summary as Markdown")
+    p.set_defaults(func=cmd_report)
+    p = sub.add_parser("compare", help="verdict and timing changes between two stored runs")
+    p.add_argument("a", type=Path, help="the earlier run directory")
+    p.add_argument("b", type=Path, help="the later run directory")
+    p.add_argument("--out", type=Path, help="output folder (default: reports/compare-A-vs-B/)")
+    p.set_defaults(func=cmd_compare)

@@ -1,0 +1,107 @@
+"""``crosscheck run``: run cases on engines into a folder, then render its report."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shlex
+import sys
+from collections.abc import Sequence
+from datetime import UTC, datetime
+from pathlib import Path
+
+from crosscheck.cases.load import load_paths
+from crosscheck.cli import engines as engine_choice
+from crosscheck.cli.console import err, fail, out, print_summary, progress_bar, report_case_errors
+from crosscheck.core.contract import Adapter
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase
+from crosscheck.report.render import render
+from crosscheck.results.runinfo import RunInfo
+from crosscheck.results.store import ResultsStore, StoreError, read_run
+from crosscheck.run.launch import launch, new_info, pending
+
+
+def run_dir(base: Path, prefix: str = "") -> Path:
+    """A new folder under ``base`` named by the time (``-1``, ``-2`` ... if taken)."""
+    stamp = prefix + datetime.now(UTC).strftime("%Y%m%d-%H%M%S")
+    path, n = base / stamp, 1
+    while path.exists():
+        path, n = base / f"{stamp}-{n}", n + 1
+    return path
+
+
+def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
+           options: RunOptions, info: RunInfo) -> int:
+    """Run what is left with a progress bar, then render and summarise; the exit code."""
+    try:
+        with progress_bar(pending(cases, engines, store)) as advance:
+            launch(store, cases, engines, options, info, progress=advance)
+    except KeyboardInterrupt:
+        err.print(f"interrupted; finished rows are kept. Resume with: "
+                  f"crosscheck run --resume {store.directory}", markup=False, highlight=False)
+        return 130
+    paths = render(store.directory)
+    print_summary(store.directory)
+    out.print(f"report: {paths['report']}", markup=False, highlight=False)
+    return 0
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    if args.resume:
+        return resume(args.resume)
+    loaded = load_paths(args.paths or [Path("cases")])
+    report_case_errors(loaded)
+    engines = engine_choice.select(args.engine)
+    directory = args.out or run_dir(Path("reports"))
+    try:
+        store = ResultsStore(directory)
+    except StoreError as exc:
+        fail(str(exc))
+        return 2
+    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample, timeout_s=args.timeout,
+                         time_per_group=args.time_per_group,
+                         isolate=not args.no_isolation, jobs=args.jobs or os.cpu_count() or 1,
+                         scheduler=args.scheduler)
+    info = new_info(directory, shlex.join(["crosscheck", *sys.argv[1:]]), options, engines,
+                    loaded.cases, loaded.files, [e.message for e in loaded.errors])
+    code = finish(store, loaded.cases, engines, options, info)
+    return code or (1 if loaded.errors else 0)
+
+
+def resume(directory: Path) -> int:
+    """Finish a stopped run in ``directory`` with its own cases, engines and options."""
+    try:
+        stored = read_run(directory)
+        store = ResultsStore(directory, resume=True)
+    except (OSError, StoreError) as exc:
+        fail(f"cannot resume {directory}: {exc}")
+        return 2
+    engines = engine_choice.select(stored.info.engine_names)
+    out.print(f"resuming {directory}: {len(store.done)} case x engine pairs already done",
+              markup=False, highlight=False)
+    return finish(store, list(stored.cases.values()), engines, stored.info.options,
+                  stored.info.resume())
+
+
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Add ``run``."""
+    p = sub.add_parser("run", help="run cases on engines and write a report")
+    p.add_argument("paths", nargs="*", type=Path, help="case files or folders (default: cases/)")
+    p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
+    p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
+    p.add_argument("--quick", action="store_true", help="skip timing")
+    p.add_argument("--min-sample", type=float, default=0.01, help="seconds per timing sample")
+    p.add_argument("--time-per-group", type=int, default=3, metavar="K",
+                   help="time the first K cases of each case file x kind x dim (0: all)")
+    p.add_argument("--timeout", type=float, default=3.0,
+                   help="seconds allowed per case x engine before it is marked timeout")
+    p.add_argument("--jobs", type=int, default=0,
+                   help="cases run at once, each lane with its own workers (default: cores)")
+    p.add_argument("--resume", type=Path, metavar="DIR",
+                   help="finish a stopped run in DIR without redoing what is done")
+    p.add_argument("--no-isolation", action="store_true",
+                   help="run engines in this process (faster start, no crash or hang safety)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run cases on this Dask scheduler (e.g. tcp://host:8786)")
+    p.set_defaults(func=cmd_run)

@@ -1,0 +1,97 @@
+"""``crosscheck stability``: the command of the stability study (crosscheck.report.stability).
+
+Without a run folder it first runs ``cases/sweeps.toml`` (``--quick``) on
+every engine into ``reports/stability-<time>/``, through the same launch and
+report as ``crosscheck run``; then it analyses the run and prints the verdicts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+from pathlib import Path
+
+import pandas as pd
+from rich.markup import escape
+from rich.table import Table
+
+from crosscheck.cases.load import load_paths
+from crosscheck.cli import engines as engine_choice
+from crosscheck.cli.console import fail, out, report_case_errors, say
+from crosscheck.cli.run import finish, run_dir
+from crosscheck.core.options import RunOptions
+from crosscheck.report.stability import analyse, save
+from crosscheck.results.store import ResultsStore, StoreError
+from crosscheck.run.launch import new_info
+
+SWEEPS = Path("cases/sweeps.toml")
+
+
+def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
+    """Add ``stability``."""
+    p = sub.add_parser("stability", help="where each engine starts to disagree along the sweeps")
+    p.add_argument("directory", nargs="?", type=Path, metavar="DIR",
+                   help="a run to analyse (default: run cases/sweeps.toml first)")
+    p.add_argument("--out", type=Path, help="without DIR: the run folder (default: "
+                   "reports/stability-<timestamp>/); with DIR: where the CSVs go (default: DIR)")
+    p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
+    p.set_defaults(func=cmd_stability)
+
+
+def run_sweeps(directory: Path, engine_names: list[str] | None) -> int:
+    """Run the sweeps, quick, through the normal launch and report; the exit code."""
+    loaded = load_paths([SWEEPS])
+    report_case_errors(loaded)
+    if not loaded.cases:
+        fail(f"no sweep cases in {SWEEPS} (run from the project folder)")
+        return 2
+    try:
+        engines = engine_choice.select(engine_names)
+        store = ResultsStore(directory)
+    except (engine_choice.UnknownEngine, StoreError) as exc:
+        fail(str(exc.args[0]))
+        return 2
+    options = RunOptions(quick=True, jobs=os.cpu_count() or 1)
+    command = "".join(f" --engine {e}" for e in engine_names or [])
+    info = new_info(directory, f"crosscheck stability{command} --out {directory}", options,
+                    engines, loaded.cases, [SWEEPS], [e.message for e in loaded.errors])
+    return finish(store, loaded.cases, engines, options, info)
+
+
+def print_table(table: pd.DataFrame) -> None:
+    """The headline verdicts as a rich table: a section per engine, a row per sweep walk."""
+    rich = Table(title="stability: the first value that breaks, from easy to hard "
+                 "(distance; v2 for responses)",
+                 caption="breaks: disagree, error, crash or timeout; skip and undefined are "
+                         "stepped over (they neither agree nor break)")
+    for column in ("engine", "sweep (walk)", "verdict"):
+        rich.add_column(column)
+    style = {"none": "green", "breaks": "yellow", "already": "red", "unjudged": "dim"}
+    for n, (engine, rows) in enumerate(table[table["headline"]].groupby("engine", sort=False)):
+        if n:
+            rich.add_section()
+        for i, r in enumerate(rows.itertuples()):
+            walk_name = f"{str(r.sweep).removeprefix('sweep-')} ({r.direction})"
+            rich.add_row("" if i else escape(str(engine)), escape(walk_name),
+                         f"[{style[str(r.state)]}]{escape(str(r.verdict))}[/]")
+    out.print(rich)
+
+
+def cmd_stability(args: argparse.Namespace) -> int:
+    directory = args.directory
+    if directory is None:
+        directory = args.out or run_dir(Path("reports"), "stability-")
+        code = run_sweeps(directory, args.engine)
+        if code:
+            return code
+    elif not (directory / "results.jsonl").is_file():
+        fail(f"{directory} holds no results.jsonl")
+        return 2
+    points, table = analyse(directory)
+    if table.empty:
+        say(f"no sweep cases in {directory}: nothing to analyse")
+    else:
+        print_table(table)
+    paths = save(points, table, args.out if args.directory and args.out else directory)
+    say(f"thresholds: {paths['stability']}, points: {paths['stability_points']}")
+    return 0

@@ -1,0 +1,162 @@
+"""The adapter contract: what every engine adapter declares and does.
+
+An adapter translates a Case into one engine's own API and the engine's
+answer back into the harness's conventions (signed distance, gap positive;
+unit normal from A to B).  ``prepare`` builds what the case needs and is not
+timed; ``query`` does only the measured work.  An adapter declares:
+
+- ``name`` (the report row; variants such as ``pybullet-default`` are separate
+  adapters) and ``settings`` (what this variant configures);
+- ``capabilities``: the (kind, dim) pairs it supports; anything else is a
+  ``skip`` with the reason from :meth:`Adapter.unsupported`;
+- ``conventions``: the engine's documented rules.  They feed the report's
+  conventions table and the category of every disagreement.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import asdict, dataclass, field
+from typing import Any, ClassVar
+
+from crosscheck.core.model import Kind, Observation
+from crosscheck.core.schema import AnyCase
+
+Capability = tuple[Kind, int]
+
+TEXTBOOK_TOUCHING: dict[str, bool] = {"sphere": False, "face": True, "edge": True,
+                                      "corner": True}
+"""The textbook's rule: touching boxes overlap (any feature); touching spheres do not collide."""
+
+
+def all_capabilities(*kinds: Kind, dims: tuple[int, ...] = (2, 3)) -> frozenset[Capability]:
+    """Every (kind, dim) pair for the given kinds."""
+    return frozenset((k, d) for k in kinds for d in dims)
+
+
+@dataclass(frozen=True, slots=True)
+class Conventions:
+    """An engine's documented rules, each with its source.
+
+    ``touching`` maps a touching feature (``sphere``; ``face``, ``edge`` or
+    ``corner`` for boxes) to whether the engine counts exact touching there as
+    contact; a feature not listed follows the textbook (boxes touching
+    overlap, spheres touching do not collide).  ``margin`` is an absolute
+    distance tolerance (collision margin, slop); ``rtol`` a relative one (the
+    engine's arithmetic precision), scaled by the case's size.
+    ``restitution_threshold`` is the approach speed below which the engine
+    makes a bounce perfectly inelastic (0: none); ``resolves_separating`` is
+    False for engines that leave bodies which are already moving apart alone
+    (the textbook formula exchanges momentum anyway).
+    """
+
+    box_extents: str = "half"
+    normal: str = "A to B"
+    touching: dict[str, bool] = field(default_factory=dict)
+    margin: float = 0.0
+    rtol: float = 0.0
+    restitution: str = "case value"
+    restitution_threshold: float = 0.0
+    resolves_separating: bool = True
+    notes: str = ""
+    sources: tuple[str, ...] = field(default=())
+
+    def touching_is_contact(self, feature: str) -> bool:
+        """Whether the engine counts exact touching at ``feature`` as contact.
+
+        >>> Conventions(touching={"sphere": True}).touching_is_contact("sphere")
+        True
+        >>> Conventions().touching_is_contact("edge")
+        True
+        """
+        return self.touching.get(feature, TEXTBOOK_TOUCHING[feature])
+
+    def touching_rule(self) -> str:
+        """The touching rule in words, for the conventions table.
+
+        >>> Conventions(touching={"edge": False}).touching_rule()
+        'contact when touching: sphere no, face yes, edge NO, corner yes'
+        """
+        words = []
+        for feature, textbook in TEXTBOOK_TOUCHING.items():
+            rule = self.touching_is_contact(feature)
+            word = "yes" if rule else "no"
+            words.append(f"{feature} {word if rule == textbook else word.upper()}")
+        return "contact when touching: " + ", ".join(words)
+
+
+def describe(capabilities: frozenset[Capability]) -> list[str]:
+    """Capabilities grouped by kind, e.g. ``['aabb 2-D/3-D', 'sphere 3-D']``.
+
+    >>> describe(all_capabilities(Kind.SPHERE) | {(Kind.AABB, 3)})
+    ['aabb 3-D', 'sphere 2-D/3-D']
+    """
+    dims: dict[str, list[int]] = {}
+    for kind, dim in sorted(capabilities):
+        dims.setdefault(str(kind), []).append(dim)
+    return [f"{kind} {'/'.join(f'{d}-D' for d in ds)}" for kind, ds in dims.items()]
+
+
+HANG_PROBE_S = 0.25
+"""Time limit for a case an adapter declares as a known hang (see Adapter.known_hang)."""
+
+
+class Adapter(ABC):
+    """Base class of every engine adapter (see the module docstring)."""
+
+    name: ClassVar[str]
+    engine: ClassVar[str]
+    settings: ClassVar[str] = "defaults"
+    capabilities: ClassVar[frozenset[Capability]]
+    conventions: ClassVar[Conventions]
+
+    @abstractmethod
+    def version(self) -> str:
+        """The engine's version string."""
+
+    def available(self) -> str | None:
+        """None when the engine can run here, else the reason it cannot."""
+        return None
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        """The reason to skip ``case``, or None if the adapter supports it."""
+        if (case.kind_enum, case.dim) in self.capabilities:
+            return None
+        return f"{self.name} does not support {case.kind} in {case.dim}-D"
+
+    def known_hang(self, case: AnyCase) -> str | None:
+        """Why the engine is known to hang on ``case`` (None: not known to).
+
+        The case still runs, under :data:`HANG_PROBE_S` instead of the run's
+        limit: a fixed engine answers in microseconds and its result is real,
+        while a hang costs a fraction of a second instead of the full limit.
+        """
+        return None
+
+    @abstractmethod
+    def prepare(self, case: AnyCase) -> Any:
+        """Build only what ``case`` needs (untimed)."""
+
+    @abstractmethod
+    def query(self, prepared: Any) -> Observation:
+        """Do the measured work on a prepared case and report in harness conventions."""
+
+    def release(self, prepared: Any) -> None:  # noqa: B027 - optional hook, empty by default
+        """Free what :meth:`prepare` built (optional)."""
+
+    def observe(self, case: AnyCase) -> Observation:
+        """One untimed prepare, query and release, in this process (tests, exploration)."""
+        prepared = self.prepare(case)
+        try:
+            return self.query(prepared)
+        finally:
+            self.release(prepared)
+
+
+def engine_info(adapter: Adapter) -> dict[str, object]:
+    """Everything a run records about an adapter (run.json, the conventions table)."""
+    return {"name": adapter.name, "engine": adapter.engine, "version": adapter.version(),
+            "settings": adapter.settings, "available": adapter.available() or "yes",
+            "capabilities": describe(adapter.capabilities),
+            "conventions": asdict(adapter.conventions),
+            "touching_rule": adapter.conventions.touching_rule()}

@@ -1,0 +1,302 @@
+"""Speed against error: one log-log chart per kind, one point per engine variant.
+
+For each kind, a point is one engine: x is its median time per query over the
+cases of that kind it timed (``query_s``, one value per case x engine), y the
+median error over the cases it was scored on (``agree`` or ``disagree``).  The
+error is the distance error for the detection kinds and, for responses, the
+worse of the ``v1`` and ``v2`` errors of each case; ``hit`` errors are 0 or 1,
+so the verdicts go to a side panel (share of wrong verdicts) instead.  A
+whisker runs from the median up to the 95th percentile (nearest rank) and a
+cross marks the largest error.  A log axis has no 0 and no infinity: exact
+answers are drawn at a labelled floor, infinite errors at a labelled ceiling.
+
+Every text that reaches plotly (engine names and settings, case ids and
+descriptions) is HTML-escaped first: plotly renders its labels as HTML.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import textwrap
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import plotly.graph_objects as go
+from plotly.subplots import make_subplots
+
+from crosscheck.core.schema import AnyCase
+from crosscheck.report.style import COLOURS, PLOT_CONFIG, SYMBOLS, ZERO_FLOOR, plotly_template
+from crosscheck.results.runinfo import RunInfo
+
+SCORED = ("agree", "disagree")
+FAILED = ("error", "crash", "timeout")
+
+
+@dataclass(frozen=True, slots=True)
+class Measure:
+    """What the chart of one kind plots: error quantities, verdict quantities, labels."""
+
+    errors: tuple[str, ...]
+    verdicts: tuple[str, ...]
+    error_label: str
+    verdict_label: str
+
+
+MEASURES: dict[str, Measure] = {
+    kind: Measure(("distance",), ("hit",), "absolute error of the signed distance",
+                  "wrong hit verdicts")
+    for kind in ("aabb", "sphere")
+} | {"sphere_response": Measure(("v1", "v2"), ("v1", "v2"),
+                                "velocity error |v - v_true| (worse of v1, v2 per case)",
+                                "cases with a velocity beyond tolerance")}
+
+
+@dataclass(frozen=True, slots=True)
+class Point:
+    """One engine on the chart of one kind; NaN where there is nothing to measure."""
+
+    engine: str
+    about: str
+    """The engine, its version and its settings (from run.json)."""
+    cases: int
+    timed: int
+    query_s: float
+    scored: int
+    zeros: int
+    median: float
+    p95: float
+    max: float
+    worst: str
+    """Id and description of the case with the largest error."""
+    wrong: int
+    verdicts: int
+    failed: int
+
+
+@dataclass(frozen=True, slots=True)
+class SpeedChart:
+    """The points of one kind and how to draw them on log axes."""
+
+    kind: str
+    measure: Measure
+    points: list[Point]
+    floor: float
+    ceiling: float | None
+    """Where infinite errors are drawn, or None when there are none."""
+
+    @property
+    def plotted(self) -> list[Point]:
+        return [p for p in self.points if p.scored and p.timed]
+
+    @property
+    def not_timed(self) -> list[Point]:
+        return [p for p in self.points if p.scored and not p.timed]
+
+    @property
+    def not_scored(self) -> list[Point]:
+        return [p for p in self.points if not p.scored]
+
+    def y(self, value: float) -> float:
+        """Where an error is drawn: 0 at the floor, infinity at the ceiling."""
+        if value == 0.0:
+            return self.floor
+        return self.ceiling if math.isinf(value) and self.ceiling else value
+
+
+def error_stats(errors: pd.Series) -> tuple[float, float, float]:
+    """Median, 95th percentile (nearest rank) and max of non-negative errors (inf allowed)."""
+    values = np.sort(errors.dropna().to_numpy(dtype=float))
+    if not len(values):
+        return math.nan, math.nan, math.nan
+    p95 = values[math.ceil(0.95 * len(values)) - 1]
+    return float(np.median(values)), float(p95), float(values[-1])
+
+
+def _about(engine: str, info: RunInfo) -> str:
+    for entry in info.engines:
+        if entry.get("name") == engine:
+            return f"{entry.get('engine')} {entry.get('version')}: {entry.get('settings')}"
+    return ""
+
+
+def _worst(errors: pd.Series, cases: Mapping[str, AnyCase]) -> str:
+    if errors.empty:
+        return ""
+    case_id = str(errors.idxmax())
+    case = cases.get(case_id)
+    return f"{case_id}: {case.description if case else ''}"
+
+
+def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
+          cases: Mapping[str, AnyCase]) -> Point:
+    """The point of one engine, from its rows of one kind."""
+    engine = str(rows["engine"].iloc[0])
+    scored = rows[rows["status"].isin(SCORED)]
+    errors = scored[scored["quantity"].isin(measure.errors)].groupby("case_id")["error"].max()
+    verdicts = scored[scored["quantity"].isin(measure.verdicts)]
+    times = rows.drop_duplicates(["case_id", "engine"])["query_s"].dropna()
+    median, p95, top = error_stats(errors)
+    return Point(
+        engine=engine, about=_about(engine, info), cases=rows["case_id"].nunique(),
+        timed=len(times), query_s=float(times.median()) if len(times) else math.nan,
+        scored=len(errors), zeros=int((errors == 0).sum()), median=median, p95=p95, max=top,
+        worst=_worst(errors, cases), verdicts=verdicts["case_id"].nunique(),
+        wrong=verdicts.loc[verdicts["status"] == "disagree", "case_id"].nunique(),
+        failed=rows.loc[rows["status"].isin(FAILED), "case_id"].nunique())
+
+
+def _axis_limits(points: list[Point]) -> tuple[float, float | None]:
+    values = [v for p in points for v in (p.median, p.p95, p.max)]
+    finite = [v for v in values if 0 < v < math.inf]
+    below = 10.0 ** (math.floor(math.log10(min(finite))) - 1) if finite else ZERO_FLOOR
+    floor = min(ZERO_FLOOR, below)
+    if not any(math.isinf(v) for v in values):
+        return floor, None
+    return floor, 10.0 ** (math.ceil(math.log10(max(finite, default=1.0))) + 2)
+
+
+def speed_chart(frame: pd.DataFrame, kind: str, info: RunInfo,
+                cases: Mapping[str, AnyCase]) -> SpeedChart:
+    """The speed-against-error data of one kind: one point per engine with rows of it."""
+    measure = MEASURES[kind]
+    rows = frame[frame["kind"] == kind]
+    points = [point(group, measure, info, cases)
+              for _, group in rows.groupby("engine", sort=False)]
+    plotted = [p for p in points if p.scored and p.timed]
+    return SpeedChart(kind, measure, points, *_axis_limits(plotted))
+
+
+def speed_charts(frame: pd.DataFrame, info: RunInfo,
+                 cases: Mapping[str, AnyCase]) -> list[SpeedChart]:
+    """One chart per kind present in the results, in the order of MEASURES."""
+    present = set(frame["kind"])
+    return [speed_chart(frame, kind, info, cases) for kind in MEASURES if kind in present]
+
+
+def _esc(text: str, width: int = 70) -> str:
+    """Plain text as plotly label HTML: escaped, wrapped with <br>."""
+    return "<br>".join(html.escape(line) for line in textwrap.wrap(text, width))
+
+
+def _share(part: int, whole: int) -> str:
+    return f"{part} of {whole} ({part / whole:.0%})" if whole else "none"
+
+
+def hover(p: Point, measure: Measure) -> str:
+    """The hover text of a point (escaped HTML)."""
+    return "<br>".join([
+        f"<b>{html.escape(p.engine)}</b>", _esc(p.about),
+        f"median query: {seconds(p.query_s)} (timed on {p.timed} of {p.cases} cases)",
+        f"error: median {p.median:.3g}, 95th percentile {p.p95:.3g}, max {p.max:.3g}",
+        f"scored cases: {p.scored} ({p.zeros} exactly 0)",
+        f"{html.escape(measure.verdict_label)}: {_share(p.wrong, p.verdicts)}",
+        f"failed (error, crash, timeout): {p.failed} cases",
+    ])
+
+
+def _style(index: int) -> dict[str, Any]:
+    return {"color": COLOURS[index % len(COLOURS)], "symbol": SYMBOLS[index % len(SYMBOLS)]}
+
+
+def _add_point(fig: go.Figure, chart: SpeedChart, p: Point, style: dict[str, Any]) -> None:
+    y = chart.y(p.median)
+    fig.add_trace(go.Scatter(
+        x=[p.query_s], y=[y], mode="markers", name=html.escape(p.engine),
+        legendgroup=html.escape(p.engine), hovertext=[hover(p, chart.measure)], hoverinfo="text",
+        marker={"size": 13, "line": {"width": 1, "color": "#333"}, **style},
+        error_y={"type": "data", "symmetric": False, "array": [chart.y(p.p95) - y],
+                 "arrayminus": [0.0], "color": style["color"], "thickness": 2, "width": 7},
+    ), row=1, col=1)
+    fig.add_trace(go.Scatter(
+        x=[p.query_s], y=[chart.y(p.max)], mode="markers", showlegend=False,
+        legendgroup=html.escape(p.engine), hoverinfo="text",
+        hovertext=[f"<b>{html.escape(p.engine)}</b>: max error {p.max:.3g}<br>"
+                   f"worst case: {_esc(p.worst[:160])}"],
+        marker={"symbol": "x-thin", "size": 11, "line": {"width": 2, "color": style["color"]}},
+    ), row=1, col=1)
+
+
+def _add_verdicts(fig: go.Figure, chart: SpeedChart, styles: dict[str, dict[str, Any]]) -> None:
+    shown = [p for p in chart.points if p.verdicts]
+    fig.add_trace(go.Bar(
+        x=[p.wrong / p.verdicts for p in shown], y=[html.escape(p.engine) for p in shown],
+        orientation="h", marker_color=[styles[p.engine]["color"] for p in shown],
+        text=[f"{p.wrong}/{p.verdicts}" for p in shown], textposition="outside",
+        hoverinfo="text", showlegend=False,
+        hovertext=[f"{html.escape(p.engine)}: {_share(p.wrong, p.verdicts)}" for p in shown],
+    ), row=1, col=2)
+    fig.update_xaxes(range=[0, 1.35], tickvals=[0, 0.5, 1], tickformat=".0%", row=1, col=2)
+    fig.update_yaxes(autorange="reversed", row=1, col=2)
+
+
+def _error_axis(fig: go.Figure, chart: SpeedChart) -> None:
+    low = round(math.log10(chart.floor))
+    values = [v for p in chart.plotted for v in (p.median, p.p95, p.max) if 0 < v < math.inf]
+    high = max([low + 1, *(math.ceil(math.log10(v)) for v in values)])
+    step = max(1, math.ceil((high - low) / 8))
+    ticks = {10.0 ** k: f"1e{k}" for k in range(low + step, high + 1, step)}
+    ticks = {chart.floor: "0"} | ticks
+    if chart.ceiling:
+        ticks[chart.ceiling] = "inf"
+    top = math.log10(chart.ceiling or 10.0 ** high)
+    title = f"median {chart.measure.error_label}<br>(0 plotted at {chart.floor:.0e}"
+    title += f", inf at {chart.ceiling:.0e})" if chart.ceiling else ")"
+    fig.update_yaxes(type="log", tickvals=list(ticks), ticktext=list(ticks.values()),
+                     range=[low - 0.5, top + 0.5], title_text=title, row=1, col=1)
+    for y, label in ((chart.floor, "exact (error 0)"), (chart.ceiling, "infinite error")):
+        if y:  # annotations on a log axis take log10 of the value, shapes the value itself
+            fig.add_hline(y=y, line_dash="dot", line_color="#888", row=1, col=1)
+            fig.add_annotation(text=label, x=1, xref="x domain", y=math.log10(y), yref="y",
+                               xanchor="right", yanchor="top" if y == chart.floor else "bottom",
+                               showarrow=False, font={"size": 11, "color": "#666"})
+
+
+def _time_axis(fig: go.Figure, chart: SpeedChart) -> None:
+    """Log time axis spanning at least a decade, so small differences do not look large."""
+    logs = [math.log10(p.query_s) for p in chart.plotted]
+    middle, half = (min(logs) + max(logs)) / 2, max(0.5, (max(logs) - min(logs)) / 2 + 0.15)
+    low, high = middle - half, middle + half
+    ticks = [m * 10.0**k for k in range(math.floor(low), math.ceil(high) + 1) for m in (1, 2, 5)]
+    ticks = [t for t in ticks if low <= math.log10(t) <= high]
+    fig.update_xaxes(type="log", range=[low, high], tickvals=ticks,
+                     ticktext=[seconds(t) for t in ticks], row=1, col=1,
+                     title_text="median time per query")
+
+
+def seconds(value: float) -> str:
+    """A duration with an SI prefix: 2e-05 -> '20 µs'."""
+    for scale, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs"), (1e-9, "ns")):
+        if value >= scale * 0.9995:
+            return f"{value / scale:.3g} {unit}"
+    return f"{value:.3g} s"
+
+
+def figure(chart: SpeedChart, order: list[str]) -> go.Figure:
+    """The chart of one kind: speed against error (left), wrong verdicts (right).
+
+    ``order`` fixes each engine's colour and symbol, the same on every chart."""
+    fig = make_subplots(rows=1, cols=2, column_widths=[0.7, 0.3], horizontal_spacing=0.16,
+                        subplot_titles=("speed against error (lower left is better)",
+                                        chart.measure.verdict_label))
+    names = dict.fromkeys([*order, *(p.engine for p in chart.points)])
+    styles = {name: _style(i) for i, name in enumerate(names)}
+    for p in chart.plotted:
+        _add_point(fig, chart, p, styles[p.engine])
+    _add_verdicts(fig, chart, styles)
+    _error_axis(fig, chart)
+    _time_axis(fig, chart)
+    fig.update_layout(template=plotly_template(), height=480, hoverlabel={"align": "left"},
+                      margin={"t": 40, "b": 40, "l": 40, "r": 20},
+                      legend={"title_text": "engine (cross: max error)"})
+    return fig
+
+
+def figure_html(chart: SpeedChart, order: list[str]) -> str:
+    """The chart as a <div> with its script; plotly.js must be on the page once already."""
+    return str(figure(chart, order).to_html(
+        full_html=False, include_plotlyjs=False, div_id=f"speed-{chart.kind}",
+        config=PLOT_CONFIG))

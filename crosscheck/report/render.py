@@ -1,0 +1,45 @@
+"""Report rendering: a stored run -> CSV files and one self-contained HTML page.
+
+Reporting reads only the run directory (through :func:`crosscheck.results.store.read_run`);
+it never runs an engine, so ``crosscheck report DIR`` can re-render any stored
+run.  The page is the list of :data:`crosscheck.report.sections.SECTIONS`,
+each rendered from the run in its order.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from markupsafe import Markup
+
+from crosscheck.report.sections import SECTIONS, RunView
+from crosscheck.report.style import plotly_js, templates
+from crosscheck.report.tables import markdown_summary
+from crosscheck.results.store import read_run, write_csv
+
+__all__ = ["markdown_summary", "render", "render_html"]
+
+
+def render_html(view: RunView) -> str:
+    """The self-contained HTML report (inline CSS and JS, plotly.js once, no network fetches)."""
+    built = [(section, section.build(view)) for section in sorted(SECTIONS, key=lambda s: s.order)]
+    shown = [(section, context) for section, context in built if context is not None]
+    html = [Markup(templates().get_template(section.template).render(**context))
+            for section, context in shown]
+    plots = any(section.plots(context) for section, context in shown)
+    return templates().get_template("report.html.j2").render(
+        info=view.info, total=len(view.frame), sections=html,
+        plotly_js=Markup(plotly_js()) if plots else None)
+
+
+def render(directory: Path) -> dict[str, Path]:
+    """Write results, summary, disagreements and asymmetries CSV files and report.html."""
+    view = RunView(read_run(directory))
+    paths = {"results": write_csv(view.frame, directory)}
+    for name, table in (("summary", view.summary), ("disagreements", view.disagreements),
+                        ("asymmetries", view.asymmetries)):
+        paths[name] = directory / f"{name}.csv"
+        table.to_csv(paths[name], index=False)
+    paths["report"] = directory / "report.html"
+    paths["report"].write_text(render_html(view), encoding="utf-8")
+    return paths

@@ -1,0 +1,170 @@
+"""The report's sections: a list of objects, each with a name, an order, a builder and a template.
+
+In the manner of asv's publishers, :func:`crosscheck.report.render.render_html`
+walks :data:`SECTIONS` in order: ``build`` makes a section's template context
+from the stored run (``None``: the section has nothing to show and is left
+out), the section's template renders it, and the page stacks the results.
+Adding a section is one builder, one template and one entry in the list.
+
+>>> [s.name for s in sorted(SECTIONS, key=lambda s: s.order)][:3]
+['case errors', 'engines x case groups', 'engine x kind']
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import pandas as pd
+from markupsafe import Markup
+
+from crosscheck.core.schema import AnyCase
+from crosscheck.report import charts, dynamics, stability
+from crosscheck.report.mirror import asymmetries
+from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
+from crosscheck.results.runinfo import RunInfo
+from crosscheck.results.store import StoredRun
+
+Context = dict[str, Any]
+
+
+class RunView:
+    """A stored run and what several sections (and the CSV files) derive from it, once each."""
+
+    def __init__(self, stored: StoredRun) -> None:
+        self.stored = stored
+        self.frame: pd.DataFrame = stored.results
+        self.info: RunInfo = stored.info
+        self.cases: Mapping[str, AnyCase] = stored.cases
+
+    @functools.cached_property
+    def order(self) -> list[str]:
+        """The engines in run order: each keeps its colour and marker on every chart."""
+        return [str(e) for e in dict.fromkeys(self.frame["engine"])]
+
+    @functools.cached_property
+    def summary(self) -> pd.DataFrame:
+        return summary(self.frame)
+
+    @functools.cached_property
+    def disagreements(self) -> pd.DataFrame:
+        return disagreements(self.frame)
+
+    @functools.cached_property
+    def asymmetries(self) -> pd.DataFrame:
+        return asymmetries(self.frame)
+
+
+def _no_plots(context: Context) -> bool:
+    return False
+
+
+@dataclass(frozen=True)
+class Section:
+    """One part of the page: ``build`` makes its context (or None), ``template`` renders it."""
+
+    name: str
+    order: int
+    template: str
+    build: Callable[[RunView], Context | None]
+    plots: Callable[[Context], bool] = _no_plots
+    """Whether the built section draws plotly charts (the page then inlines plotly.js once)."""
+
+
+def _errors(view: RunView) -> Context | None:
+    return {"info": view.info} if view.info.case_errors else None
+
+
+def _matrix(view: RunView) -> Context:
+    return {"matrix": group_matrix(view.frame)}
+
+
+def _summary(view: RunView) -> Context:
+    return {"summary": view.summary.to_dict("records"), "statuses": STATUSES}
+
+
+def _speed(view: RunView) -> Context:
+    made = charts.speed_charts(view.frame, view.info, view.cases)
+    return {"speed": [{"data": chart, "html": Markup(charts.figure_html(chart, view.order))
+                       if chart.plotted else None} for chart in made]}
+
+
+def _dynamics(view: RunView) -> Context | None:
+    built = dynamics.section(view.frame, view.cases, view.order)
+    if not built["runs"]:
+        return None
+    built["charts"] = [{**c, "html": Markup(c["html"])} for c in built["charts"]]
+    return {"dynamics": built}
+
+
+def _stability(view: RunView) -> Context | None:
+    points = stability.sweep_points(view.frame, view.cases)
+    if points.empty:
+        return None
+    return {"stability": {
+        "table": stability.thresholds(points).to_dict("records"),
+        "charts": [{**c, "html": Markup(c["html"])} for c in stability.charts(points)]}}
+
+
+def _disagreements(view: RunView) -> Context:
+    return {"disagreements": view.disagreements.to_dict("records")}
+
+
+def _symmetry(view: RunView) -> Context:
+    return {"asymmetries": view.asymmetries.to_dict("records")}
+
+
+def _info(view: RunView) -> Context:
+    return {"info": view.info}
+
+
+_INPUTS = {"a", "b", "restitution", "tolerance"}
+
+
+def case_details(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> list[dict[str, Any]]:
+    """Per case: its inputs and every engine's rows, for the collapsible case list."""
+    by_case: dict[str, list[dict[str, Any]]] = {}
+    columns = [str(c) for c in frame.columns]  # plain lists: ~3x faster than to_dict("records")
+    for row in zip(*(frame[c].tolist() for c in columns), strict=True):
+        record = dict(zip(columns, row, strict=True))
+        by_case.setdefault(str(record["case_id"]), []).append(record)
+    details = []
+    for case_id, rows in by_case.items():
+        case = cases.get(case_id)
+        details.append({
+            "id": case_id, "description": case.description if case else "",
+            "kind": case.kind if case else "", "dim": case.dim if case else "",
+            "tags": " ".join(case.tags) if case else "", "source": case.source if case else "",
+            "inputs": json.dumps(case.model_dump(include=_INPUTS) if case else {}),
+            "bad": any(r["status"] != "agree" for r in rows), "rows": rows})
+    return details
+
+
+def _cases(view: RunView) -> Context:
+    return {"cases": case_details(view.frame, view.cases)}
+
+
+def _has(key: str) -> Callable[[Context], bool]:
+    def plots(context: Context) -> bool:
+        return bool(context[key]["charts"])
+    return plots
+
+
+SECTIONS: list[Section] = [
+    Section("case errors", 10, "_errors.html.j2", _errors),
+    Section("engines x case groups", 20, "_matrix.html.j2", _matrix),
+    Section("engine x kind", 30, "_summary.html.j2", _summary),
+    Section("speed against error", 40, "_speed.html.j2", _speed,
+            lambda c: any(chart["html"] for chart in c["speed"])),
+    Section("dynamics", 50, "_dynamics.html.j2", _dynamics, _has("dynamics")),
+    Section("stability", 60, "_stability.html.j2", _stability, _has("stability")),
+    Section("disagreements", 70, "_disagreements.html.j2", _disagreements),
+    Section("A/B symmetry", 80, "_symmetry.html.j2", _symmetry),
+    Section("engines and conventions", 90, "_engines.html.j2", _info),
+    Section("cases", 100, "_cases.html.j2", _cases),
+    Section("environment", 110, "_environment.html.j2", _info),
+]
+"""Every section of the report page, with its place in the page."""

@@ -1,0 +1,338 @@
+"""The stability study: where along each sweep an engine first stops agreeing with the oracle.
+
+A sweep (``cases/sweeps.toml``) varies one difficulty: the gap or overlap
+relative to the size, the body scale, the distance from the origin, the mass
+ratio or the approach speed.  For every engine x quantity, each sweep is walked
+from its easiest value to its hardest; the *threshold* is the first value where
+the answer breaks: status ``disagree``, ``error``, ``crash`` or ``timeout``.
+``skip`` and ``undefined`` neither break nor agree: they are stepped over.
+The scale sweep is walked twice from 1, towards tiny and towards huge bodies.
+
+Charts plot a relative error against the difficulty: the distance error over
+the case's length scale, a velocity error over its velocity scale, the normal
+error in radians (see :func:`relative_error`).
+"""
+
+from __future__ import annotations
+
+import html
+import math
+import re
+from collections.abc import Hashable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+from markupsafe import Markup
+
+from crosscheck.cases.expand import PARAMETERS
+from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
+from crosscheck.report.style import COLOURS, SYMBOLS, ZERO_FLOOR, plot_div, plotly_template
+from crosscheck.results.store import read_cases, read_results
+from crosscheck.truth.score import length_scale, velocity_scale
+
+_GAP = "gap or overlap relative to size"
+AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale", "gap": _GAP,
+                        "overlap": _GAP, "mass_ratio": "mass ratio", "speed": "approach speed"}
+"""Sweep parameter -> the axis of difficulty it probes."""
+
+BREAKING = ("disagree", "error", "crash", "timeout")
+NEUTRAL = ("skip", "undefined")
+HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2"}
+"""The quantity the threshold table shows for each kind."""
+CHARTED = {"aabb": ("distance", "normal"), "sphere": ("distance", "normal"),
+           "sphere_response": ("v2",)}
+DASHES = ("solid", "dot", "dash", "longdash", "dashdot")
+ID_RE = re.compile(rf"^(?P<sweep>.+)\.(?P<param>{'|'.join(PARAMETERS)})=(?P<value>[-+.0-9eE]+)$")
+"""A single-parameter sweep point (``<sweep-id>.<param>=<value>``); twins do not match."""
+
+
+@dataclass(frozen=True, slots=True)
+class Direction:
+    """One walk along a sweep: which values it covers and which way difficulty grows."""
+
+    name: str
+    harder_up: bool
+    """True: larger values are harder."""
+    low: float = -math.inf
+    high: float = math.inf
+
+
+_UP, _DOWN = Direction("larger", True), Direction("smaller", False)
+DIRECTIONS: dict[str, tuple[Direction, ...]] = {
+    "offset": (_UP,), "gap": (_DOWN,), "overlap": (_DOWN,), "mass_ratio": (_UP,), "speed": (_DOWN,),
+    "scale": (Direction("tiny", False, high=1.0), Direction("huge", True, low=1.0))}
+X_LABEL = {"offset": "offset added to every coordinate", "scale": "factor on every length",
+           "gap": "gap / touching distance", "overlap": "overlap / touching distance",
+           "mass_ratio": "mass ratio m_B / m_A", "speed": "factor on both velocities"}
+Y_LABEL = {"distance": "|distance error| / length scale", "normal": "normal error (radians)",
+           "v1": "|v1 error| / velocity scale", "v2": "|v2 error| / velocity scale"}
+POINT_COLUMNS = ["sweep", "axis", "param", "value", "direction", "kind", "dim", "engine",
+                 "quantity", "status", "category", "error", "rel_error", "rel_tolerance",
+                 "case_id"]
+TABLE_COLUMNS = ["sweep", "axis", "param", "direction", "harder", "kind", "dim", "engine",
+                 "quantity", "headline", "column", "threshold", "status", "category", "verdict",
+                 "state", "cell", "reached", "recovers", "recovered_at", "checked", "easiest",
+                 "hardest", "points"]
+
+# --- points ---------------------------------------------------------------------------------
+
+
+def _scales(cases: Mapping[str, AnyCase], ids: set[str]) -> dict[str, tuple[float, float]]:
+    """Length and velocity scale of each case (NaN for a case the run did not store)."""
+    out = dict.fromkeys(ids, (math.nan, math.nan))
+    for case_id in ids & cases.keys():
+        case = cases[case_id]
+        if isinstance(case, AabbCase | SphereCase | ResponseCase):
+            out[case_id] = (length_scale(case), velocity_scale(case))
+    return out
+
+
+def relative_error(quantity: str, error: float, scales: tuple[float, float]) -> float:
+    """Distance error / length scale, velocity error / velocity scale, normal and hit as is.
+
+    >>> relative_error("distance", 3e-9, (2.0, 0.0)), relative_error("normal", 0.5, (9, 9))
+    (1.5e-09, 0.5)
+    """
+    scale = {"distance": scales[0], "v1": scales[1], "v2": scales[1]}.get(quantity, 1.0)
+    return error / scale if scale > 0 else math.nan
+
+
+def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
+    """One row per sweep case x engine x quantity (x walk: scale 1 is in both scale walks)."""
+    parts = frame["case_id"].astype(str).str.extract(ID_RE) if len(frame) else None
+    if parts is None or parts["param"].isna().all():
+        return pd.DataFrame(columns=POINT_COLUMNS)
+    rows = frame.drop(columns=["value"]).join(parts)
+    rows["value"] = pd.to_numeric(rows["value"], errors="coerce")
+    rows = rows[rows["kind"].isin(HEADLINE) & rows["value"].notna()].copy()
+    rows["axis"] = rows["param"].map(AXES)
+    scales = _scales(cases, set(rows["case_id"]))
+    for column, of in (("rel_error", "error"), ("rel_tolerance", "tolerance")):
+        rows[column] = [relative_error(q, float(x), scales[c]) for q, x, c
+                        in zip(rows["quantity"], rows[of], rows["case_id"], strict=True)]
+    walks = [rows[(rows["param"] == p) & rows["value"].between(d.low, d.high)].assign(
+        direction=d.name) for p, ds in DIRECTIONS.items() for d in ds]
+    points = pd.concat(walks).sort_index(kind="stable").reset_index(drop=True)
+    points["category"] = points["category"].fillna("")
+    return points[POINT_COLUMNS]
+
+
+# --- thresholds -----------------------------------------------------------------------------
+
+
+def _direction(param: str, name: str) -> Direction:
+    return next(d for d in DIRECTIONS[param] if d.name == name)
+
+
+def _with_category(status: str, category: str) -> str:
+    return f"{status}, {category}" if category else status
+
+
+def _holds(checked: float, judged: bool) -> dict[str, Any]:
+    """The verdict of a walk that never breaks."""
+    if not judged:
+        return {"state": "unjudged", "reached": math.nan, "cell": "\u2013",
+                "verdict": "no verdict (skip or undefined at every value)"}
+    return {"state": "none", "reached": 1.0, "cell": "none",
+            "verdict": f"none in range (checked to {checked:.3g})"}
+
+
+def _breaks(at: float, status: str, category: str, first: bool,
+            again: float | None) -> dict[str, Any]:
+    """The verdict of a walk that breaks at ``at`` (``first``: at its easiest value)."""
+    what = _with_category(status, category)
+    verdict = (f"already at the easiest value {at:.3g} ({what})" if first
+               else f"breaks at {at:.3g} ({what})")
+    return {"threshold": at, "status": status, "category": category,
+            "state": "already" if first else "breaks", "cell": f"{at:.3g}",
+            "recovers": again is not None, "recovered_at": math.nan if again is None else again,
+            "verdict": verdict + ("" if again is None else f"; agrees again at {again:.3g}")}
+
+
+def walk(rows: pd.DataFrame) -> dict[str, Any]:
+    """The threshold of one sweep walk x engine x quantity (rows: its points, any order)."""
+    first = rows.iloc[0]
+    way = _direction(str(first["param"]), str(first["direction"]))
+    ordered = rows.sort_values("value", ascending=way.harder_up, kind="stable")
+    values, statuses = ordered["value"].tolist(), ordered["status"].tolist()
+    judged = [i for i, s in enumerate(statuses) if s not in NEUTRAL]
+    agreed = [i for i in judged if statuses[i] == "agree"]
+    broken = next((i for i in judged if statuses[i] in BREAKING), None)
+    out: dict[str, Any] = {
+        "threshold": math.nan, "status": "", "category": "", "recovers": False,
+        "recovered_at": math.nan, "checked": values[agreed[-1]] if agreed else math.nan,
+        "easiest": values[0], "hardest": values[-1], "points": len(judged)}
+    if broken is None:
+        return out | _holds(out["checked"], bool(judged))
+    again = next((values[i] for i in agreed if i > broken), None)
+    reached = sum(i < broken for i in judged) / len(judged)
+    return out | {"reached": reached} | _breaks(
+        values[broken], statuses[broken], ordered["category"].iloc[broken], broken == 0, again)
+
+
+def thresholds(points: pd.DataFrame) -> pd.DataFrame:
+    """One row per sweep walk x engine x quantity: the threshold, its verdict text, recovery."""
+    rows = []
+    keys = ["sweep", "direction", "engine", "quantity"]
+    for (sweep, direction, engine, quantity), group in points.groupby(keys, sort=False):
+        first = group.iloc[0]
+        way = _direction(str(first["param"]), str(direction))
+        kind = str(first["kind"])
+        rows.append({
+            "sweep": sweep, "axis": first["axis"], "param": first["param"], "direction": direction,
+            "harder": f"{'larger' if way.harder_up else 'smaller'} is harder", "kind": kind,
+            "dim": first["dim"],
+            "engine": engine, "quantity": quantity, "headline": HEADLINE.get(kind) == quantity,
+            "column": f"{sweep} ({direction})", **walk(group)})
+    return pd.DataFrame(rows, columns=TABLE_COLUMNS)
+
+
+# --- charts ---------------------------------------------------------------------------------
+# Figures are plain dicts rendered without validation: go.Figure takes ~0.5 s per chart.
+
+
+def _limits(rows: pd.DataFrame) -> tuple[float, float | None, float]:
+    """Where 0 is drawn, where failures and inf are drawn (if any), the largest finite error."""
+    values = rows["rel_error"].to_numpy(dtype=float)
+    finite = values[(values > 0) & (values < math.inf)]
+    low, high = (finite.min(), finite.max()) if len(finite) else (1.0, 1.0)
+    floor = min(ZERO_FLOOR, 10.0 ** (math.floor(math.log10(low)) - 1))
+    failed = rows["status"].isin(BREAKING[1:]).any() or (values == math.inf).any()
+    return floor, 10.0 ** (max(math.ceil(math.log10(high)), 0) + 2) if failed else None, high
+
+
+def _y(row: dict[Hashable, Any], floor: float, ceiling: float | None) -> float:
+    if row["status"] in BREAKING[1:] or row["rel_error"] == math.inf:
+        return ceiling or math.nan
+    return floor if row["rel_error"] == 0 else float(row["rel_error"])
+
+
+def _hover(row: dict[Hashable, Any]) -> str:
+    return "<br>".join(html.escape(line) for line in (
+        f"{row['engine']}: {_with_category(row['status'], row['category'])}", row["case_id"],
+        f"{row['param']} = {row['value']:.6g}", f"error {row['error']:.3g}",
+        f"relative error {row['rel_error']:.3g}"))
+
+
+def _trace(rows: pd.DataFrame, index: int, panel: int, limits: tuple[float, float | None],
+           first: bool) -> dict[str, Any]:
+    """One engine's line on the sweep panel ``panel`` (1, 2, ...)."""
+    engine = html.escape(str(rows["engine"].iloc[0]))
+    shown = rows.sort_values("value").to_dict("records")
+    colour = COLOURS[index % len(COLOURS)]
+    return {
+        "type": "scatter", "xaxis": f"x{panel}", "yaxis": f"y{panel}", "name": engine,
+        "x": [r["value"] for r in shown], "y": [_y(r, *limits) for r in shown],
+        "mode": "lines+markers", "legendgroup": engine, "showlegend": first,
+        "hoverinfo": "text", "hovertext": [_hover(r) for r in shown],
+        "line": {"color": colour, "width": 1.5, "dash": DASHES[index % len(DASHES)]},
+        "marker": {"color": colour, "size": 8, "symbol": [
+            "x" if r["status"] in BREAKING else SYMBOLS[index % len(SYMBOLS)] for r in shown]}}
+
+
+def _y_axis(quantity: str, floor: float, ceiling: float | None, top: float) -> dict[str, Any]:
+    low, high = round(math.log10(floor)), math.log10(ceiling or max(top, 1.0))
+    step = max(1, math.ceil((high - low) / 8))
+    ticks = {floor: "0"} | {10.0 ** k: f"1e{k}" for k in range(low + step, int(high) + 1, step)}
+    if ceiling:
+        ticks[ceiling] = "failed / inf"
+    note = f"0 drawn at {floor:.0e}" + (f", failures at {ceiling:.0e}" if ceiling else "")
+    return {"type": "log", "range": [low - 0.5, high + 0.5], "tickvals": list(ticks),
+            "ticktext": list(ticks.values()), "title": {"text": f"{Y_LABEL[quantity]}<br>({note})"}}
+
+
+def _panel(n: int, count: int, param: str, sweep: str) -> dict[str, Any]:
+    """Axes (in a grid of at most 3 columns), title, tolerance line and label of panel ``n``."""
+    cols = min(3, count)
+    rows = math.ceil(count / cols)
+    width, height = (1 - 0.05 * (cols - 1)) / cols, (1 - 0.15 * (rows - 1)) / rows
+    row, col = divmod(n - 1, cols)
+    x0, y1 = col * (width + 0.05), 1 - row * (height + 0.15)
+    harder = "away from 1" if param == "scale" else "to the right"
+    reverse = not any(d.harder_up for d in DIRECTIONS[param])
+    return {
+        "x": {"type": "log", "domain": [x0, x0 + width], "anchor": f"y{n}", "exponentformat": "e",
+              "autorange": "reversed" if reverse else True,
+              "title": {"text": f"{X_LABEL[param]} (harder {harder})"}},
+        "y": {"domain": [y1 - height, y1], "anchor": f"x{n}", "showticklabels": col == 0},
+        "title": {"text": html.escape(sweep), "x": x0 + width / 2, "y": y1, "xref": "paper",
+                  "yref": "paper", "xanchor": "center", "yanchor": "bottom", "showarrow": False},
+        "line": {"type": "line", "xref": f"x{n} domain", "x0": 0, "x1": 1, "yref": f"y{n}",
+                 "line": {"dash": "dot", "color": "#888"}},
+        "label": {"text": "tolerance", "xref": f"x{n} domain", "x": 0, "yref": f"y{n}",
+                  "xanchor": "left", "yanchor": "bottom", "showarrow": False,
+                  "font": {"size": 11, "color": "#666"}}}
+
+
+def figure(rows: pd.DataFrame, quantity: str, order: list[str]) -> dict[str, Any]:
+    """Error against difficulty for one axis x kind: a panel per sweep, a line per engine."""
+    rows = rows[rows["quantity"] == quantity].drop_duplicates(["sweep", "engine", "value"])
+    sweeps = list(dict.fromkeys(rows["sweep"]))
+    floor, ceiling, top = _limits(rows)
+    tolerance = float(rows["rel_tolerance"].replace(0.0, math.nan).median())
+    y_axis = _y_axis(quantity, floor, ceiling, max(top, tolerance if tolerance > 0 else 0))
+    layout: dict[str, Any] = {
+        "template": plotly_template(), "height": 260 + 200 * math.ceil(len(sweeps) / 3),
+        "hoverlabel": {"align": "left"}, "margin": {"t": 50, "b": 40, "l": 40, "r": 20},
+        "legend": {"title": {"text": "engine (x: breaks)"}}, "annotations": [], "shapes": []}
+    data: list[dict[str, Any]] = []
+    for n, sweep in enumerate(sweeps, start=1):
+        on = rows[(rows["sweep"] == sweep) & ~rows["status"].isin(NEUTRAL)]
+        panel = _panel(n, len(sweeps), str(rows.loc[rows["sweep"] == sweep, "param"].iloc[0]),
+                       str(sweep))
+        shared = {"matches": "y", "title": {"text": ""}} if n > 1 else {}
+        layout |= {f"xaxis{n}": panel["x"], f"yaxis{n}": panel["y"] | y_axis | shared}
+        layout["annotations"].append(panel["title"])
+        if tolerance > 0:  # a shape takes the value on a log axis, an annotation its log10
+            layout["shapes"].append(panel["line"] | {"y0": tolerance, "y1": tolerance})
+            layout["annotations"].append(panel["label"] | {"y": math.log10(tolerance)})
+        shown = {trace["name"] for trace in data}
+        data += [_trace(group, order.index(str(engine)), n, (floor, ceiling),
+                        html.escape(str(engine)) not in shown)
+                 for engine, group in on.groupby("engine", sort=False)]
+    return {"data": data, "layout": layout}
+
+
+def _chart(rows: pd.DataFrame, axis: str, kind: str, quantity: str,
+           order: list[str]) -> dict[str, Any]:
+    slug = re.sub(r"[^a-z0-9]+", "-", f"{axis}-{kind}-{quantity}")
+    text = plot_div(figure(rows, quantity, order), f"stability-{slug}")
+    extra = "" if quantity == HEADLINE[kind] else f" ({quantity})"
+    return {"title": f"{axis} \u2014 {kind}{extra}", "quantity": quantity, "html": Markup(text)}
+
+
+def charts(points: pd.DataFrame) -> list[dict[str, Any]]:
+    """One chart per axis x kind (plus the normal for detection kinds): title and HTML.
+
+    The HTML is a plotly <div> and script without plotly.js (the page inlines it once,
+    see :func:`crosscheck.report.style.plotly_js`), marked safe for Jinja's autoescaping.
+    """
+    order = [str(e) for e in dict.fromkeys(points["engine"])]
+    return [_chart(rows, str(axis), str(kind), quantity, order)
+            for (axis, kind), on in points.groupby(["axis", "kind"], sort=False)
+            for quantity in CHARTED[str(kind)]
+            if not (rows := on[on["quantity"] == quantity]).empty]
+
+
+# --- files ------------------------------------------------------------------------------------
+
+def analyse(directory: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The sweep points and the threshold table of the run in ``directory``."""
+    points = sweep_points(read_results(directory), read_cases(directory))
+    return points, thresholds(points)
+
+
+def save(points: pd.DataFrame, table: pd.DataFrame, target: Path) -> dict[str, Path]:
+    target.mkdir(parents=True, exist_ok=True)
+    paths = {name: target / f"{name}.csv" for name in ("stability", "stability_points")}
+    table.to_csv(paths["stability"], index=False)
+    points.to_csv(paths["stability_points"], index=False)
+    return paths
+
+
+def write(directory: Path, target: Path | None = None) -> dict[str, Path]:
+    """Read the run in ``directory``; write stability.csv and stability_points.csv there
+    (or to ``target``); return their paths."""
+    return save(*analyse(directory), target or directory)

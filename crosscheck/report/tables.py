@@ -1,0 +1,98 @@
+"""The report's tables: per engine x kind, per engine x case group, the disagreements.
+
+Each is a plain DataFrame (written as CSV beside the report) or the dicts a
+section template shows.
+"""
+
+from __future__ import annotations
+
+from pathlib import PurePosixPath
+from typing import Any
+
+import pandas as pd
+
+from crosscheck.core.model import Status
+
+STATUSES = [str(s) for s in Status]
+FAILURES = ["error", "crash", "timeout"]
+
+
+def summary(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x kind: counts of each status, median and max error, median query time."""
+    if frame.empty:
+        return pd.DataFrame(columns=["engine", "kind", *STATUSES])
+    counts = pd.crosstab([frame["engine"], frame["kind"]], frame["status"])
+    counts = counts.reindex(columns=STATUSES, fill_value=0)
+    scored = frame[frame["status"].isin(["agree", "disagree"])]
+    errors = scored.groupby(["engine", "kind"])["error"].agg(["median", "max"])
+    errors.columns = ["median_error", "max_error"]
+    per_case = frame.drop_duplicates(["engine", "case_id"])
+    times = per_case.groupby(["engine", "kind"])["query_s"].median().rename("median_query_s")
+    out = counts.join(errors).join(times).reset_index()
+    order = {name: i for i, name in enumerate(dict.fromkeys(frame["engine"]))}
+    return out.sort_values(["engine", "kind"], key=lambda s: s.map(order).fillna(s.rank()))
+
+
+def disagreements(frame: pd.DataFrame) -> pd.DataFrame:
+    """Every row that is not agree/skip/undefined, most severe first."""
+    bad = frame[~frame["status"].isin(["agree", "skip", "undefined"])].copy()
+    severity = {"crash": 0, "timeout": 1, "error": 2, "disagree": 3}
+    category = {"error": 0, "tolerance": 1, "convention": 2, "": 3}
+    bad["_s"] = bad["status"].map(severity)
+    bad["_c"] = bad["category"].fillna("").map(category)
+    bad = bad.sort_values(["_s", "_c", "error"], ascending=[True, True, False])
+    return bad.drop(columns=["_s", "_c"])
+
+
+def case_group(source: str) -> str:
+    """The case group of a case file: its stem (``cases/float_traps.toml`` -> ``float_traps``)."""
+    return PurePosixPath(source).stem if source else "(no file)"
+
+
+def group_counts(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x case group: counts of each status (case x quantity rows)."""
+    if frame.empty:
+        return pd.DataFrame(columns=["engine", "group", *STATUSES])
+    groups = frame["source"].fillna("").map(case_group).rename("group")
+    counts = pd.crosstab([frame["engine"], groups], frame["status"])
+    return counts.reindex(columns=STATUSES, fill_value=0).reset_index()
+
+
+def share_colour(share: float | None) -> str:
+    """Cell colour: red (0) through yellow to green (1); grey when nothing was judged."""
+    return "#e4e4e4" if share is None else f"hsl({120 * share:.0f}, 65%, 78%)"
+
+
+def _cell(counts: dict[Any, Any]) -> dict[str, Any]:
+    scored = counts["agree"] + counts["disagree"]
+    failed = {s: counts[s] for s in FAILURES if counts[s]}
+    judged = scored + sum(failed.values())
+    share = counts["agree"] / judged if judged else None
+    everything = sum(counts[s] for s in STATUSES)
+    return {
+        "agree": counts["agree"], "scored": scored, "failed": failed, "share": share,
+        "colour": share_colour(share), "skipped": everything > 0 and counts["skip"] == everything,
+        "undefined": counts["undefined"],
+        "title": ", ".join(f"{counts[s]} {s}" for s in STATUSES if counts[s]) or "no rows",
+    }
+
+
+def group_matrix(frame: pd.DataFrame) -> dict[str, Any]:
+    """The engines x case groups matrix for the report: column heads and coloured cells."""
+    group_of = frame["source"].fillna("").map(case_group)
+    groups = list(dict.fromkeys(group_of))
+    cases = group_of[~frame["case_id"].duplicated()].value_counts()
+    counts = {(r["engine"], r["group"]): r for r in group_counts(frame).to_dict("records")}
+    empty = dict.fromkeys(STATUSES, 0)
+    rows = [{"engine": engine, "cells": [_cell(counts.get((engine, g), empty)) for g in groups]}
+            for engine in dict.fromkeys(frame["engine"])]
+    return {"groups": [{"name": g, "cases": int(cases.get(g, 0))} for g in groups], "rows": rows}
+
+
+def markdown_summary(frame: pd.DataFrame) -> str:
+    """The summary as a Markdown table (counts only), for README excerpts."""
+    table = summary(frame)[["engine", "kind", *STATUSES]]
+    header = "| " + " | ".join(table.columns) + " |"
+    rule = "|" + "---|" * len(table.columns)
+    rows = ["| " + " | ".join(str(v) for v in row) + " |" for row in table.itertuples(index=False)]
+    return "\n".join([header, rule, *rows])

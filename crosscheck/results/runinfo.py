@@ -1,0 +1,117 @@
+"""``run.json``: the typed metadata of one run, with its format history and migrations.
+
+Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
+``update_to_N`` steps); every version this harness has written can be read:
+
+- **1** (up to the layered architecture): a free dict built by hand in three
+  places; ``options`` held ``timed_ids`` (the timing sample, always ``null``
+  when written), ``resumed`` was present only after a resume.
+- **2**: the typed :class:`RunInfo`; ``options`` are :class:`RunOptions`
+  without ``timed_ids`` (which cases are timed is the runner's per-case
+  choice, not an option), and ``resumed`` is always a list.
+
+>>> info = RunInfo(run_id="r", command="crosscheck run", options=RunOptions(quick=True),
+...                machine={}, engines=(), started="2026-01-01T00:00:00+00:00")
+>>> RunInfo.from_json(info.to_json()) == info
+True
+>>> RunInfo.from_json({"format_version": 1, "run_id": "old", "command": "c", "started": "s",
+...     "finished": None, "options": {"quick": True, "timed_ids": None}, "machine": {},
+...     "engines": [], "case_files": [], "cases_run": 0, "case_errors": []}).options.quick
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from datetime import UTC, datetime
+from typing import Any
+
+from crosscheck.core.options import RunOptions
+
+FORMAT_VERSION = 2
+"""The version of run.json (and of the files beside it) that this harness writes."""
+
+
+class FormatError(ValueError):
+    """run.json is of a format this harness cannot read."""
+
+
+def now() -> str:
+    """The current time as ISO 8601 UTC, to the second (run.json's time stamps)."""
+    return datetime.now(UTC).isoformat(timespec="seconds")
+
+
+@dataclass(frozen=True)
+class RunInfo:
+    """Everything a run records about itself, beside its results."""
+
+    run_id: str
+    command: str
+    options: RunOptions
+    machine: dict[str, Any]
+    """CPU, cores, Python, package versions, git commit (see crosscheck.run.environment)."""
+    engines: tuple[dict[str, Any], ...]
+    """Per engine: name, engine, version, settings, capabilities, conventions."""
+    started: str
+    finished: str | None = None
+    case_files: tuple[str, ...] = ()
+    cases_run: int = 0
+    case_errors: tuple[str, ...] = ()
+    resumed: tuple[str, ...] = field(default=())
+    """When the run was resumed, oldest first."""
+
+    @property
+    def engine_names(self) -> list[str]:
+        """The engines of the run, in run order."""
+        return [str(e["name"]) for e in self.engines]
+
+    def finish(self) -> RunInfo:
+        """This info, finished now."""
+        return replace(self, finished=now())
+
+    def resume(self) -> RunInfo:
+        """This info, resumed now (and not finished)."""
+        return replace(self, finished=None, resumed=(*self.resumed, now()))
+
+    def to_json(self) -> dict[str, Any]:
+        """run.json's content, format version first."""
+        return {"format_version": FORMAT_VERSION, "run_id": self.run_id, "command": self.command,
+                "started": self.started, "finished": self.finished,
+                "resumed": list(self.resumed), "options": self.options.to_json(),
+                "machine": self.machine, "engines": list(self.engines),
+                "case_files": list(self.case_files), "cases_run": self.cases_run,
+                "case_errors": list(self.case_errors)}
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> RunInfo:
+        """Read run.json's content of any known format version (older ones are migrated)."""
+        data = migrate(data)
+        return cls(run_id=data["run_id"], command=data["command"],
+                   options=RunOptions.from_json(data["options"]), machine=data["machine"],
+                   engines=tuple(data["engines"]), started=data["started"],
+                   finished=data["finished"], case_files=tuple(data["case_files"]),
+                   cases_run=int(data["cases_run"]), case_errors=tuple(data["case_errors"]),
+                   resumed=tuple(data["resumed"]))
+
+
+def _update_to_2(data: dict[str, Any]) -> dict[str, Any]:
+    options = {k: v for k, v in data.get("options", {}).items() if k != "timed_ids"}
+    return {**data, "options": options, "resumed": data.get("resumed", []),
+            "format_version": 2}
+
+
+_UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {1: _update_to_2}
+"""Version N -> a function that turns a version-N run.json into version N + 1."""
+
+
+def migrate(data: dict[str, Any]) -> dict[str, Any]:
+    """run.json's content brought to :data:`FORMAT_VERSION`, one step at a time."""
+    version = data.get("format_version")
+    while version != FORMAT_VERSION:
+        if not isinstance(version, int) or version not in _UPDATES:
+            raise FormatError(f"run.json has format {version!r}; this harness reads formats "
+                              f"{', '.join(map(str, [*_UPDATES, FORMAT_VERSION]))}")
+        data = _UPDATES[version](data)
+        version = data["format_version"]
+    return data

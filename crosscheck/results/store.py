@@ -1,0 +1,207 @@
+"""The results store of one run: a directory joined to the report by versioned files.
+
+``reports/<run-id>/`` holds:
+
+- ``results.jsonl``: one Record per line, appended and flushed as each
+  case finishes, so a killed run keeps everything it finished;
+- ``cases.jsonl``: the validated inputs of every case of the run, in suite
+  order (the report shows them; ``--resume`` runs exactly these);
+- ``run.json``: a :class:`~crosscheck.results.runinfo.RunInfo` (format
+  version, machine, versions, engines and their conventions, options, start
+  and end times);
+- ``results.csv``: the tidy table, written from ``results.jsonl``.
+
+Running writes these; reporting only reads them, through :func:`read_run`.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any
+
+import pandas as pd
+
+from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase
+from crosscheck.results.runinfo import FormatError, RunInfo
+
+
+class StoreError(RuntimeError):
+    """The results directory cannot be used."""
+
+
+class ResultsStore:
+    """Append-only writer for one run directory.
+
+    A new run refuses a directory that already holds results; ``resume=True``
+    keeps the rows of every finished case x engine (all its quantities
+    present), drops the rest (a half-written line, a pair cut short) and
+    appends after them.  ``done`` is the set of finished (case id, engine).
+    """
+
+    def __init__(self, directory: Path, *, resume: bool = False) -> None:
+        self.directory = directory
+        _check_writable(directory)
+        self._lock = _lock(directory)
+        results = directory / "results.jsonl"
+        if not resume and results.exists() and results.stat().st_size:
+            self._lock.close()
+            raise StoreError(f"{directory} already holds results: resume it with "
+                             f"'crosscheck run --resume {directory}' or choose another --out")
+        self.done: set[tuple[str, str]] = _keep_finished(results) if resume else set()
+        self._results: IO[str] = results.open("a", encoding="utf-8")
+
+    def add_cases(self, cases: Iterable[AnyCase]) -> None:
+        """Record the inputs of every case of the run, in suite order (replacing any)."""
+        lines = [json.dumps(case.model_dump() | {"source": case.source}) for case in cases]
+        _replace(self.directory / "cases.jsonl", lines)
+
+    def append(self, records: Iterable[Record]) -> None:
+        """Append finished records in one write and flush them to disk."""
+        self._results.write("".join(json.dumps(r.row()) + "\n" for r in records))
+        self._results.flush()
+
+    def write_run_info(self, info: RunInfo) -> None:
+        """Write ``run.json`` (replacing any previous one)."""
+        _replace(self.directory / "run.json", [json.dumps(info.to_json(), indent=2)])
+
+    def close(self) -> None:
+        self._results.close()
+        self._lock.close()  # closing the file releases the lock
+
+
+def _lock(directory: Path) -> IO[str]:
+    """Hold ``directory/.lock`` for this run; a second run into the directory is refused."""
+    handle = (directory / ".lock").open("a+", encoding="utf-8")
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        handle.seek(0)
+        holder = handle.read().strip() or "another process"
+        handle.close()
+        raise StoreError(f"another crosscheck run ({holder}) is writing to {directory}; "
+                         "wait for it or choose another --out") from None
+    handle.truncate(0)
+    handle.write(f"pid {os.getpid()}")
+    handle.flush()
+    return handle
+
+
+def _check_writable(directory: Path) -> None:
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        probe = directory / ".write-test"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as exc:
+        raise StoreError(f"cannot write results to {directory}: {exc}") from exc
+
+
+def _replace(path: Path, lines: list[str]) -> None:
+    """Write ``lines`` to ``path`` atomically (a reader never sees half a file)."""
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text("".join(line + "\n" for line in lines), encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def _parsed_lines(path: Path) -> list[dict[str, Any]]:
+    rows = []
+    if path.exists():
+        for line in path.read_text(encoding="utf-8").splitlines():
+            try:
+                rows.append(json.loads(line))
+            except json.JSONDecodeError:
+                continue  # a half-written last line of a killed run
+    return rows
+
+
+def _keep_finished(path: Path) -> set[tuple[str, str]]:
+    """Keep only the rows of finished case x engine pairs; return those pairs."""
+    rows = _parsed_lines(path)
+    seen: dict[tuple[str, str], set[str]] = {}
+    for row in rows:
+        seen.setdefault((row["case_id"], row["engine"]), set()).add(row["quantity"])
+    kinds = {(row["case_id"], row["engine"]): row["kind"] for row in rows}
+    done = {pair for pair, qs in seen.items() if qs == set(quantities_of(Kind(kinds[pair])))}
+    _replace(path, [json.dumps(row) for row in rows if (row["case_id"], row["engine"]) in done])
+    return done
+
+
+def read_results(directory: Path) -> pd.DataFrame:
+    """The results of a run as a DataFrame in COLUMNS order, sorted by case, engine, quantity.
+
+    The order is the suite's (``cases.jsonl``) and the run's engine list
+    (``run.json``), so it does not depend on ``--jobs`` or on resuming.
+    """
+    rows = _parsed_lines(directory / "results.jsonl")
+    frame = pd.DataFrame(rows, columns=list(COLUMNS))
+    if not rows:
+        return frame
+    frame = frame.astype({"dim": "int64", "loops": "int64"})
+    case_rank = {case_id: i for i, case_id in enumerate(_case_ids(directory))}
+    engine_rank = {name: i for i, name in enumerate(_engine_names(directory))}
+    keys = pd.DataFrame({
+        "case": frame["case_id"].map(case_rank).fillna(len(case_rank)),
+        "engine": frame["engine"].map(engine_rank).fillna(len(engine_rank)),
+        "quantity": [quantities_of(Kind(k)).index(q)
+                     for k, q in zip(frame["kind"], frame["quantity"], strict=True)],
+    })
+    order = keys.sort_values(["case", "engine", "quantity"], kind="stable").index
+    return frame.loc[order].reset_index(drop=True)
+
+
+def _engine_names(directory: Path) -> list[str]:
+    path = directory / "run.json"
+    if not path.exists():
+        return []
+    return [e["name"] for e in json.loads(path.read_text()).get("engines", [])]
+
+
+def _case_ids(directory: Path) -> list[str]:
+    return [str(case["id"]) for case in _parsed_lines(directory / "cases.jsonl")]
+
+
+def read_cases(directory: Path) -> dict[str, AnyCase]:
+    """The stored cases of a run, typed as when they ran, by id, in suite order."""
+    return {str(case["id"]): CASE_ADAPTER.validate_python(case)
+            for case in _parsed_lines(directory / "cases.jsonl")}
+
+
+def read_run_info(directory: Path) -> RunInfo:
+    """``run.json`` of a run, of any format version this harness has written."""
+    path = directory / "run.json"
+    try:
+        return RunInfo.from_json(json.loads(path.read_text(encoding="utf-8")))
+    except FileNotFoundError:
+        raise StoreError(f"{path} does not exist: not a run folder, or a run killed before "
+                         "it started") from None
+    except (json.JSONDecodeError, KeyError, TypeError, FormatError) as exc:
+        raise StoreError(f"{path}: {exc}") from exc
+
+
+@dataclass(frozen=True)
+class StoredRun:
+    """A run read back: its info, its results table and its typed cases (by id, suite order)."""
+
+    directory: Path
+    info: RunInfo
+    results: pd.DataFrame
+    cases: dict[str, AnyCase]
+
+
+def read_run(directory: Path) -> StoredRun:
+    """Everything a report, compare, stability study or resume needs from a run folder."""
+    info = read_run_info(directory)
+    return StoredRun(directory, info, read_results(directory), read_cases(directory))
+
+
+def write_csv(frame: pd.DataFrame, directory: Path) -> Path:
+    """Write ``results.csv`` from a results DataFrame."""
+    path = directory / "results.csv"
+    frame.to_csv(path, index=False)
+    return path

@@ -1,0 +1,93 @@
+"""Executing one case on one adapter: prepare (untimed), query, and the calibrated timing loop.
+
+This is what a worker process does for each task (see :mod:`crosscheck.run.worker`);
+it also runs in-process for tests and for ``--no-isolation``.  An exception
+raised by the engine becomes an ``error`` outcome with its reason.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import traceback
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from typing import Any, Protocol, TypeVar
+
+from crosscheck.core.contract import Adapter
+from crosscheck.core.model import Observation, Status
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase
+from crosscheck.run.timing import Timing, measure
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What executing one case on one adapter gave: an observation, or a status and reason."""
+
+    observation: Observation | None
+    status: Status | None = None
+    reason: str = ""
+    setup_s: float = math.nan
+    timing: Timing | None = None
+
+
+def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = False) -> Outcome:
+    """Prepare, query and (if ``timed``) time ``case`` on ``adapter``, in this process."""
+    skip = _availability(adapter) or adapter.unsupported(case)
+    if skip:
+        return Outcome(None, Status.SKIP, skip)
+    prepared: Any = None
+    try:
+        start = time.perf_counter()
+        prepared = adapter.prepare(case)
+        setup = time.perf_counter() - start
+        observation = adapter.query(prepared)
+        if observation.wall_s is not None:  # a scene: its one long run is the measurement
+            timing: Timing | None = Timing(observation.wall_s, 0.0, 1, 1, 0.0, False)
+        else:
+            timing = None if not timed else measure(
+                lambda: adapter.query(prepared), min_sample_s=options.min_sample_s,
+                samples=options.samples)
+        return Outcome(observation, setup_s=setup, timing=timing)
+    except Exception as exc:  # an engine fault is data, not a harness failure
+        where = traceback.extract_tb(exc.__traceback__)[-1]
+        return Outcome(None, Status.ERROR,
+                        f"{type(exc).__name__}: {exc} (at {where.name}:{where.lineno})")
+    finally:
+        if prepared is not None:
+            adapter.release(prepared)
+
+
+_AVAILABLE: dict[int, tuple[Adapter, str | None]] = {}
+
+
+def _availability(adapter: Adapter) -> str | None:
+    """``adapter.available()``, asked once per adapter object (it cannot change in-process)."""
+    known = _AVAILABLE.get(id(adapter))
+    if known is None or known[0] is not adapter:
+        known = _AVAILABLE[id(adapter)] = (adapter, adapter.available())
+    return known[1]
+
+
+Executor = Callable[[Adapter, AnyCase, RunOptions, bool], Outcome]
+"""Runs one case on one adapter, timed or not: :func:`execute` in-process, or a worker pool's."""
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+class Lanes(Protocol):
+    """Where cases run: local lanes (:class:`~crosscheck.run.worker.LocalLanes`) or a Dask
+    cluster (:class:`~crosscheck.run.distributed.DaskLanes`).
+
+    A context manager whose :meth:`map` applies ``fn(item, executor)`` to every
+    item, each with an executor of the lane it runs in, and yields the results
+    as they finish, holding only a bounded window of pending items.
+    """
+
+    def __enter__(self) -> Lanes: ...
+
+    def __exit__(self, *exc: object) -> None: ...
+
+    def map(self, fn: Callable[[T, Executor], R], items: Iterable[T]) -> Iterator[R]: ...

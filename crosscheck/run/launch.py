@@ -1,0 +1,69 @@
+"""One run into one folder, from start to finish: the one place that does it.
+
+Every command that runs cases (``run``, ``run --resume``, ``stability``,
+``fuzz``, ``bench``'s scale-out figure) goes through :func:`launch`: write
+``run.json``, run every case x engine pair not yet done into the results
+store, mark the run finished, close the store.  Rendering a report is a
+separate step (``crosscheck.report``), in the manner of asv's run and publish.
+
+>>> import tempfile
+>>> from pathlib import Path
+>>> from crosscheck.core.schema import CASE_ADAPTER
+>>> from crosscheck.results.store import ResultsStore, read_run
+>>> from tests.fakes import AlwaysRight
+>>> case = CASE_ADAPTER.validate_python({"id": "s", "description": "d", "kind": "sphere",
+...     "dim": 2, "a": {"center": [0, 0], "radius": 0.5}, "b": {"center": [2, 0], "radius": 0.5}})
+>>> folder = Path(tempfile.mkdtemp()) / "run"
+>>> options = RunOptions(quick=True, isolate=False)
+>>> info = launch(ResultsStore(folder), [case], [AlwaysRight()], options,
+...               new_info(folder, "doctest", options, [AlwaysRight()], [case]))
+>>> info.finished is not None, len(read_run(folder).results)
+(True, 3)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from crosscheck.core.contract import Adapter, engine_info
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase
+from crosscheck.results.runinfo import RunInfo, now
+from crosscheck.results.store import ResultsStore
+from crosscheck.run import environment
+from crosscheck.run.runner import Progress, run
+
+
+def new_info(directory: Path, command: str, options: RunOptions, engines: Sequence[Adapter],
+             cases: Sequence[AnyCase], case_files: Sequence[Path | str] = (),
+             case_errors: Sequence[str] = ()) -> RunInfo:
+    """The run.json of a new run into ``directory``: started now, this machine, these engines."""
+    return RunInfo(run_id=directory.name, command=command, options=options,
+                   machine=environment.machine(),
+                   engines=tuple(engine_info(a) for a in engines), started=now(),
+                   case_files=tuple(str(p) for p in case_files), cases_run=len(cases),
+                   case_errors=tuple(case_errors))
+
+
+def pending(cases: Sequence[AnyCase], engines: Sequence[Adapter], store: ResultsStore) -> int:
+    """How many case x engine pairs are still to run in ``store`` (all, unless resumed)."""
+    return sum((c.id, a.name) not in store.done for c in cases for a in engines)
+
+
+def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
+           options: RunOptions, info: RunInfo, progress: Progress | None = None) -> RunInfo:
+    """Write ``info`` as run.json, run what is left, then mark it finished; the final info.
+
+    The store is closed in every case.  An interruption (Ctrl-C) propagates
+    after the store is closed: every finished row is on disk, run.json says
+    the run did not finish, and ``crosscheck run --resume`` completes it.
+    """
+    try:
+        store.write_run_info(info)
+        run(cases, engines, store, options, progress)
+        info = info.finish()
+        store.write_run_info(info)
+    finally:
+        store.close()
+    return info

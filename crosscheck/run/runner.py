@@ -1,0 +1,219 @@
+"""The runner: every case on every engine, scored against the oracle, stored as it goes.
+
+For each case the exact truth is computed once.  For each engine the case is
+executed (:mod:`crosscheck.run.execute`) in that engine's worker process
+(:mod:`crosscheck.run.worker`), then scored quantity by quantity.  An engine that
+raises yields ``error`` rows, one that dies ``crash`` rows, one that hangs
+``timeout`` rows; the run goes on.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections import Counter
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from crosscheck.core.contract import HANG_PROBE_S, Adapter
+from crosscheck.core.model import Observation, Record, Status, quantities_of
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import AnyCase, ResponseCase, SceneCase
+from crosscheck.results.store import ResultsStore
+from crosscheck.run.distributed import DaskLanes
+from crosscheck.run.execute import Executor, Lanes, Outcome
+from crosscheck.run.worker import LocalLanes
+from crosscheck.truth import oracle
+from crosscheck.truth.score import Verdict, encode, judge
+
+
+def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
+               truth: Observation) -> list[Record]:
+    """The records of one case x engine: one per quantity of the case's kind."""
+    records = []
+    for quantity in quantities_of(case.kind_enum):
+        if outcome.observation is None:
+            assert outcome.status is not None
+            verdict = Verdict(outcome.status, reason=outcome.reason)
+            value = None
+        else:
+            value = outcome.observation.get(quantity)
+            judged, truth = at_contact(case, outcome.observation, truth)
+            verdict = judge(judged, adapter.conventions, quantity, value, truth)
+        records.append(_record(case, adapter.name, quantity, value, truth, verdict, outcome))
+    return records
+
+
+def at_contact(case: AnyCase, observation: Observation,
+               truth: Observation) -> tuple[AnyCase, Observation]:
+    """The case and truth at the centres where the engine resolved a response, if it says."""
+    if observation.resolved_at is None or not isinstance(case, ResponseCase):
+        return case, truth
+    pa, pb = observation.resolved_at
+    moved = case.model_copy(update={"a": case.a.model_copy(update={"center": pa}),
+                                    "b": case.b.model_copy(update={"center": pb})})
+    return moved, oracle.truth(moved)
+
+
+def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observation,
+            verdict: Verdict, outcome: Outcome) -> Record:
+    timing = outcome.timing
+    return Record(
+        case_id=case.id, source=case.source, kind=case.kind, dim=case.dim,
+        tags=" ".join(case.tags), engine=engine, quantity=quantity,
+        value=encode(value), truth=encode(truth.get(quantity)),
+        error=verdict.error, tolerance=verdict.tolerance, status=verdict.status,
+        category=verdict.category, reason=verdict.reason, setup_s=outcome.setup_s,
+        query_s=timing.median_s if timing else math.nan,
+        query_iqr_s=timing.iqr_s if timing else math.nan,
+        loops=timing.loops if timing else 0,
+        unstable=timing.unstable if timing else False,
+    )
+
+
+Progress = Callable[[int], None]
+"""Called with the number of case x engine pairs just finished."""
+
+
+Pairs = set[tuple[str, str]] | frozenset[tuple[str, str]]
+
+
+def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
+             options: RunOptions, done: Pairs = frozenset(), timed: bool = False) -> list[Record]:
+    """Every record of one case: the truth once, then each adapter not already done.
+
+    ``timed``: whether this case's query is timed (the runner's sampling decision).
+    """
+    skipped = _quick_skip(case) if options.quick else None
+    truth = oracle.truth(case) if skipped is None else Observation()
+    records: list[Record] = []
+    for adapter in adapters:
+        if (case.id, adapter.name) not in done:
+            outcome = skipped or _execute(executor, adapter, case, options, timed)
+            records += score_case(case, adapter, outcome, truth)
+    return records
+
+
+_instances: dict[type[Adapter], Adapter] = {}
+_instances_lock = threading.Lock()
+
+
+def _instance(cls: type[Adapter]) -> Adapter:
+    """One instance per adapter class per process (engine clients of --no-isolation reused)."""
+    with _instances_lock:
+        if cls not in _instances:
+            _instances[cls] = cls()
+        return _instances[cls]
+
+
+@dataclass(frozen=True)
+class CaseJob:
+    """``run_case`` of one ``(case, done pairs)`` item on ``adapters``: picklable.
+
+    ``timed_ids`` are the cases whose queries are timed.  Locally the job holds
+    the adapter instances; pickled (to a Dask worker) it sends only their
+    classes, instantiated once per worker process there.
+    """
+
+    adapters: tuple[Adapter, ...]
+    options: RunOptions
+    timed_ids: frozenset[str] = frozenset()
+
+    def __call__(self, item: tuple[AnyCase, Pairs], executor: Executor) -> list[Record]:
+        case, done = item
+        return run_case(case, self.adapters, executor, self.options, done,
+                        case.id in self.timed_ids)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return _case_job, (tuple(type(a) for a in self.adapters), self.options, self.timed_ids)
+
+
+def _case_job(classes: Sequence[type[Adapter]], options: RunOptions,
+              timed_ids: frozenset[str]) -> CaseJob:
+    return CaseJob(tuple(_instance(cls) for cls in classes), options, timed_ids)
+
+
+QUICK_SCENE_STEPS = 1000
+"""``--quick`` runs a scene only up to this many steps (the rest are ``skip`` rows)."""
+
+
+def _quick_skip(case: AnyCase) -> Outcome | None:
+    if isinstance(case, SceneCase) and case.step_count > QUICK_SCENE_STEPS:
+        return Outcome(None, Status.SKIP, f"--quick runs scenes of at most {QUICK_SCENE_STEPS} "
+                                          f"steps; this one takes {case.step_count}")
+    return None
+
+
+def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOptions,
+             timed: bool) -> Outcome:
+    """Execute, probing a declared known hang under HANG_PROBE_S and saying so."""
+    hang = adapter.known_hang(case)
+    if isinstance(case, SceneCase):  # stepping takes seconds, not microseconds
+        options = replace(options, timeout_s=max(options.timeout_s, SCENE_TIMEOUT_S))
+    if hang is None:
+        return executor(adapter, case, options, timed)
+    limit = min(options.timeout_s, HANG_PROBE_S)
+    outcome = executor(adapter, case, replace(options, timeout_s=limit), False)
+    if outcome.status is Status.TIMEOUT:
+        return replace(outcome, reason=f"{outcome.reason} (declared known hang: {hang})")
+    return outcome
+
+
+SCENE_TIMEOUT_S = 300.0
+"""Time limit for one scene x engine (the run's --timeout if larger)."""
+
+
+def timed_sample(cases: Sequence[AnyCase], options: RunOptions) -> frozenset[str]:
+    """The ids of the cases whose queries are timed: none under ``--quick``; else the first
+    ``options.time_per_group`` cases of each case file x kind x dim, in suite order
+    (every case when it is 0).
+
+    Swapped twins (the same work as their original) and bad-input cases
+    (timing a failure says nothing) are never timed.
+    """
+    if options.quick:
+        return frozenset()
+    if not options.time_per_group:
+        return frozenset(case.id for case in cases)
+    per_group = options.time_per_group
+    counts: Counter[tuple[str, str, int]] = Counter()
+    chosen = []
+    for case in cases:
+        key = (Path(case.source).stem, case.kind, case.dim)
+        if ("swapped" not in case.tags and not case.bad_input and counts[key] < per_group
+                and not isinstance(case, SceneCase)):  # a scene times its own one run
+            counts[key] += 1
+            chosen.append(case.id)
+    return frozenset(chosen)
+
+
+def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
+        options: RunOptions | None = None, progress: Progress | None = None) -> int:
+    """Run every case on every adapter, appending records to ``store``; return the count.
+
+    Engines run in worker processes unless ``options.isolate`` is False, so a
+    crash or hang costs one case, not the run.  With ``options.jobs`` > 1,
+    cases run concurrently in that many lanes, each with its own workers.
+    Pairs in ``store.done`` (a resumed run) are not run again.  With
+    ``options.scheduler``, cases run as tasks on that Dask cluster instead
+    (:mod:`crosscheck.run.distributed`).
+    """
+    options = options or RunOptions()
+    timed_ids = timed_sample(cases, options)
+    store.add_cases(cases)
+    todo = [c for c in cases if any((c.id, a.name) not in store.done for a in adapters)]
+    done: dict[str, set[tuple[str, str]]] = {}
+    for pair in store.done:
+        done.setdefault(pair[0], set()).add(pair)
+    items = ((case, frozenset(done.get(case.id, ()))) for case in todo)
+    count = 0
+    lanes: Lanes = DaskLanes(options) if options.scheduler else LocalLanes(options)
+    with lanes:
+        for records in lanes.map(CaseJob(tuple(adapters), options, timed_ids), items):
+            store.append(records)
+            count += len(records)
+            if progress:
+                progress(len(adapters))
+    return count

@@ -1,0 +1,350 @@
+"""``crosscheck bench``: the harness's own performance figures, each beside its target.
+
+Five figures, each a ratio or a measurement taken within this one run:
+
+1. batch oracle: throughput of :mod:`reference_impl.batch` over the naive numpy
+   float64 formula on N pairs, 1% within a few ulps of touching, and agreement
+   with the pure exact oracle on every near pair plus a random sample;
+2. harness overhead: per case, ``execute`` (prepare, query, release) plus
+   scoring into records, against the engine's own API in a tight loop
+   (:mod:`crosscheck.studies.rawloops`), for FCL and pymunk detection, and for PyBullet
+   over a long stream of sphere cases (its bodies are reused);
+3. suite time: ``crosscheck run`` (what ``make run`` runs) and ``--quick``, as
+   subprocesses, wall clock;
+4. memory: resident memory over the PyBullet stream (growth after the first
+   fifth, bodies left in the client) and the peak RSS of the suite runs;
+5. scale-out: the same cases on a Dask ``LocalCluster`` of 2 worker processes
+   and locally; results must be identical.
+
+``--quick`` uses smaller sizes (not for the batch oracle, whose target is set on 1M
+pairs) and skips the full-suite run.
+"""
+
+from __future__ import annotations
+
+import gc
+import json
+import logging
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import adapters
+from adapters import pybullet_engine
+from crosscheck.cases.load import load_paths
+from crosscheck.core.options import RunOptions
+from crosscheck.core.schema import CASE_ADAPTER
+from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.run import environment
+from crosscheck.run.execute import execute
+from crosscheck.run.launch import launch, new_info
+from crosscheck.run.runner import score_case
+from crosscheck.studies import rawloops
+from crosscheck.truth import oracle
+from reference_impl.batch import bench_batch, best_of
+
+FORMAT_VERSION = 1
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One measured figure: its value, the target, whether it meets it, and details."""
+    name: str
+    value: float
+    unit: str
+    target: str
+    ok: bool
+    detail: dict[str, Any] = field(default_factory=dict)
+    note: str = ""
+
+
+def settle() -> None:
+    """Collect, then freeze what exists (the cases and truths built for timing).
+
+    A worker holds one case at a time; the bench holds all of them, and without
+    this every garbage collection would walk them inside the timed loops.
+    """
+    gc.collect()
+    gc.freeze()
+
+
+def batch_figures(n: int) -> list[Figure]:
+    """Figure 1, for AABB and sphere pairs."""
+    figures = []
+    for kind in ("aabb", "sphere"):
+        r = bench_batch(n=n, near_fraction=0.01, seed=0, kind=kind)
+        figures.append(Figure(
+            f"batch oracle {kind}: throughput / naive float64", r["ratio"], "x",
+            ">= 0.5 and 100% verdict agreement",
+            r["ratio"] >= 0.5 and r["agreement"] == 1.0, {"pairs": n, **r},
+            note=(f"{r['batch_pairs_per_s'] / 1e6:.1f} vs {r['naive_pairs_per_s'] / 1e6:.1f} "
+                  f"M pairs/s; agreement {r['agreement']:.0%} of {r['checked']:.0f}; "
+                  f"{r['refined']:.0f} refined, {r['fallbacks']:.0f} to Fractions")))
+    return figures
+
+
+def sphere_pairs(n: int, dim: int, seed: int, radii: Sequence[float]) -> list[tuple[Any, ...]]:
+    """``n`` random sphere pairs, about a third overlapping, radii drawn from ``radii``."""
+    rng = np.random.default_rng(seed)
+    pa = rng.uniform(-10, 10, (n, dim))
+    pb = pa + rng.uniform(-2.5, 2.5, (n, dim))
+    r = rng.choice(np.asarray(radii), (n, 2))
+    return [(pa[i].tolist(), float(r[i, 0]), pb[i].tolist(), float(r[i, 1])) for i in range(n)]
+
+
+def box_pairs(n: int, dim: int, seed: int) -> list[tuple[Any, ...]]:
+    """``n`` random box pairs (centre, half-widths), about half overlapping."""
+    rng = np.random.default_rng(seed)
+    ca = rng.uniform(-10, 10, (n, dim))
+    cb = ca + rng.uniform(-3, 3, (n, dim))
+    ha, hb = rng.uniform(0.2, 1.5, (n, dim)), rng.uniform(0.2, 1.5, (n, dim))
+    return [(ca[i].tolist(), ha[i].tolist(), cb[i].tolist(), hb[i].tolist()) for i in range(n)]
+
+
+def as_cases(pairs: Sequence[tuple[Any, ...]], boxes: bool) -> list[Any]:
+    """The harness's case objects for ``pairs`` (validated, as the loader makes them)."""
+    key = "half" if boxes else "radius"
+    return [CASE_ADAPTER.validate_python({
+        "id": f"bench-{i}", "description": "bench", "kind": "aabb" if boxes else "sphere",
+        "dim": len(pa), "a": {"center": pa, key: sa}, "b": {"center": pb, key: sb}})
+        for i, (pa, sa, pb, sb) in enumerate(pairs)]
+
+
+def harness(engine: str, cases: Sequence[Any]) -> tuple[Any, Callable[[int, int], None]]:
+    """The adapter, and a function running cases ``[lo, hi)`` as the harness does.
+
+    Per case: ``execute`` (prepare, query, release) and scoring into records; the
+    exact truths are computed here, once, outside anything timed.
+    """
+
+    adapter = adapters.get(engine)
+    truths = [oracle.truth(c) for c in cases]
+    options = RunOptions(quick=True)
+
+    def run_slice(lo: int, hi: int) -> None:
+        for case, truth in zip(cases[lo:hi], truths[lo:hi], strict=True):
+            score_case(case, adapter, execute(adapter, case, options), truth)
+
+    return adapter, run_slice
+
+
+def overhead_figure(engine: str, kind: str, raw: Callable[[], None], cases: Sequence[Any],
+                    limit: float) -> Figure:
+    """Harness per-case time over raw per-case time (best of three each).
+
+    Also measured: the engine path alone (``execute``: prepare, query, release,
+    no scoring), to show where the overhead goes.
+    """
+
+    n = len(cases)
+    adapter, run_slice = harness(engine, cases)
+    run_slice(0, n)  # warm up: imports, connections, caches
+    settle()
+    raw()
+    options = RunOptions(quick=True)
+
+    def engine_path() -> None:
+        for case in cases:
+            execute(adapter, case, options)
+
+    raw_s, path_s, harness_s = best_of(raw), best_of(engine_path), best_of(lambda: run_slice(0, n))
+    over, path = harness_s / raw_s - 1.0, path_s / raw_s - 1.0
+    return Figure(f"harness overhead {engine} {kind}", over * 100.0, "%", f"<= {limit:.0f}%",
+                  over <= limit / 100.0,
+                  {"cases": n, "raw_us": raw_s / n * 1e6, "engine_path_us": path_s / n * 1e6,
+                   "harness_us": harness_s / n * 1e6, "engine_path_overhead_pct": path * 100.0},
+                  note=f"raw {raw_s / n * 1e6:.1f} us; engine path alone +{path * 100.0:.0f}%")
+
+
+def overhead_figures(n: int) -> list[Figure]:
+    """Figure 2 for FCL (3-D) and pymunk (2-D): spheres and boxes."""
+    figures = []
+    for engine, dim, make in (("fcl", 3, rawloops.fcl_loop), ("pymunk", 2, rawloops.pymunk_loop)):
+        spheres = sphere_pairs(n, dim, 1, radii=(0.5, 0.8, 1.0, 1.3))
+        boxes = box_pairs(n, dim, 2)
+        figures.append(overhead_figure(engine, "sphere", make(spheres, False),
+                                       as_cases(spheres, False), 50.0))
+        figures.append(overhead_figure(engine, "aabb", make(boxes, True),
+                                       as_cases(boxes, True), 50.0))
+    return figures
+
+
+def rss_mb() -> float:
+    """This process's resident memory now (MB)."""
+    pages = int(Path("/proc/self/statm").read_text().split()[1])
+    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def pybullet_figures(n: int) -> list[Figure]:
+    """Figures 2 (PyBullet stream) and 4 (memory over it).
+
+    The stream is what a worker does per case in a ``--quick`` run: ``execute``
+    (prepare on pooled bodies, query, release); scoring runs in the parent, so the
+    harness with records is timed on a tenth of the cases and shown beside it.
+    """
+
+    pairs = sphere_pairs(n, 3, 3, radii=(0.5, 1.0))
+    cases = as_cases(pairs, False)
+    raw, close = rawloops.pybullet_loop(pairs)
+    raw()  # warm up
+    raw_s = best_of(raw)
+    close()
+    adapter, run_slice = harness("pybullet", cases)
+    options = RunOptions(quick=True)
+    run_slice(0, min(n, 100))  # warm up: connect the client, make the first bodies
+    settle()
+    step = max(1, n // 10)
+    rss: list[float] = []
+    start = time.perf_counter()
+    for lo in range(0, n, step):
+        for case in cases[lo:lo + step]:
+            execute(adapter, case, options)
+        rss.append(rss_mb())
+    path_s = time.perf_counter() - start
+    full_s = best_of(lambda: run_slice(0, step), 1) * n / step
+    cid = pybullet_engine.client(adapter.name, adapter.world)
+    bodies = pybullet_engine.engine().getNumBodies(physicsClientId=cid)
+    ratio = path_s / raw_s
+    growth = rss[-1] - rss[min(1, len(rss) - 1)]
+    us = {"raw_us": raw_s / n * 1e6, "engine_path_us": path_s / n * 1e6,
+          "harness_us": full_s / n * 1e6}
+    return [
+        Figure("pybullet sphere stream: per-case cost / raw query", ratio, "x", "<= 3",
+               ratio <= 3.0, {"cases": n, **us},
+               note=(f"{n} cases: raw {us['raw_us']:.1f} us, execute {us['engine_path_us']:.1f}"
+                     f" us; with records {us['harness_us']:.1f} us")),
+        Figure("memory growth over the pybullet stream (after the first fifth)", growth, "MB",
+               "< 20 MB (flat), bodies bounded", growth < 20.0 and bodies <= 64,
+               {"rss_mb": [round(x, 1) for x in rss], "bodies_left": bodies},
+               note=f"RSS {rss[0]:.0f} -> {rss[-1]:.0f} MB; {bodies} bodies in the client"),
+    ]
+
+
+def _cli() -> list[str]:
+    script = Path(sys.executable).parent / "crosscheck"
+    return [str(script)] if script.exists() else [sys.executable, "-m", "crosscheck.cli"]
+
+
+def session_rss_mb(sid: int) -> float:
+    """Proportional resident memory (PSS) of the processes in session ``sid`` now (MB).
+
+    PSS splits each shared page among its sharers, so forked workers are not
+    counted twice for the pages they share with the forkserver.
+    """
+    total_kb = 0
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+            if int(fields[3]) != sid:  # field 6 of stat: the session id
+                continue
+            for line in (stat.parent / "smaps_rollup").read_text().splitlines():
+                if line.startswith("Pss:"):
+                    total_kb += int(line.split()[1])
+        except (OSError, ValueError, IndexError):
+            continue  # the process ended while we looked
+    return total_kb / 1024
+
+
+def run_measured(cmd: Sequence[str]) -> tuple[int, float, float, str]:
+    """Run ``cmd`` in its own session: return code, wall seconds, peak session RSS, stderr tail."""
+    start = time.perf_counter()
+    with tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=err,
+                                start_new_session=True)
+        peak = 0.0
+        while proc.poll() is None:
+            peak = max(peak, session_rss_mb(proc.pid))
+            time.sleep(0.1)
+        wall = time.perf_counter() - start
+        err.seek(0)
+        tail = err.read()[-300:]
+    return proc.returncode, wall, peak, tail
+
+
+def suite_figures(quick: bool) -> list[Figure]:
+    """Figures 3 and 4: wall time of the suite runs and their peak resident memory."""
+    figures = []
+    runs = [("--quick", ["--quick"], 15.0)] + ([] if quick else [("full (make run)", [], 120.0)])
+    peaks = []
+    for label, extra, limit in runs:
+        with tempfile.TemporaryDirectory() as tmp:
+            code, wall, peak, tail = run_measured([*_cli(), "run", *extra, "--out", f"{tmp}/run"])
+        peaks.append((label, peak))
+        figures.append(Figure(f"suite time, crosscheck run {label}", wall, "s",
+                              f"<= {limit:.0f} s", code == 0 and wall <= limit,
+                              {"returncode": code}, note="" if code == 0 else tail))
+    label, peak = max(peaks, key=lambda p: p[1])
+    figures.append(Figure("peak memory of a suite run (PSS, all processes)", peak, "MB", "reported",
+                          True, {"runs": dict(peaks)},
+                          note=f"largest: {label}; sampled every 0.1 s"))
+    return figures
+
+
+def dask_figure(quick: bool) -> Figure:
+    """Figure 5: the same cases on a 2-worker LocalCluster and locally, compared."""
+    import dask
+    from distributed import LocalCluster
+
+
+    files = ["sphere.toml"] if quick else ["sphere.toml", "response.toml", "aabb.toml"]
+    cases = load_paths([ROOT / "cases" / f for f in files]).cases
+    engines = [adapters.get(e) for e in ("reference", "pymunk", "pybullet")]
+    timing = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]
+    frames, walls = [], []
+    with (tempfile.TemporaryDirectory() as tmp,
+          dask.config.set({"distributed.worker.daemon": False}),
+          LocalCluster(n_workers=2, processes=True, threads_per_worker=1,  # type: ignore[no-untyped-call]
+                       dashboard_address=None, silence_logs=logging.ERROR) as cluster):
+        dask_options = RunOptions(quick=True, scheduler=cluster.scheduler_address)
+        for name, options in (("local", RunOptions(quick=True, jobs=2)), ("dask", dask_options)):
+            folder = Path(tmp) / name
+            info = new_info(folder, f"crosscheck bench ({name})", options, engines, cases)
+            start = time.perf_counter()
+            launch(ResultsStore(folder), cases, engines, options, info)
+            walls.append(time.perf_counter() - start)
+            frame = read_results(Path(tmp) / name).drop(columns=timing)
+            frame = frame.sort_values(["case_id", "engine", "quantity"])
+            frames.append(frame.reset_index(drop=True))
+    same = frames[0].equals(frames[1])
+    return Figure("scale-out: Dask LocalCluster (2 workers) / local wall time", walls[1] / walls[0],
+                  "x", "results identical", same,
+                  {"cases": len(cases), "rows": len(frames[0]), "identical": same,
+                   "local_s": walls[0], "dask_s": walls[1]},
+                  note=(f"{len(frames[0])} rows {'identical' if same else 'DIFFER'}; local "
+                        f"{walls[0]:.1f} s, cluster {walls[1]:.1f} s"))
+
+
+def measure(quick: bool) -> list[Figure]:
+    """Every figure, in order."""
+    figures = batch_figures(1_000_000)  # the target is defined on 1M pairs; ~5 s
+    figures += overhead_figures(1_000 if quick else 5_000)
+    figures += pybullet_figures(10_000 if quick else 100_000)
+    figures += suite_figures(quick)
+    figures.append(dask_figure(quick))
+    return figures
+
+
+def write(figures: Sequence[Figure], out: Path, quick: bool) -> Path:
+    """``out/bench.json``: the figures with the machine and versions they were measured on."""
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "bench.json"
+    payload = {"format_version": FORMAT_VERSION, "quick": quick,
+               "command": "crosscheck bench" + (" --quick" if quick else ""),
+               "machine": environment.machine(), "figures": [asdict(f) for f in figures]}
+    path.write_text(json.dumps(payload, indent=2, default=_plain) + "\n")
+    return path
+
+
+def _plain(x: Any) -> Any:
+    if isinstance(x, np.generic):
+        return x.item()
+    raise TypeError(f"cannot write {type(x).__name__} to bench.json")
