@@ -39,7 +39,9 @@ contact and closest points) and ~1.3 ms with a body created and removed per case
 stays flat.  The banner and ``b3Warning`` lines go to the C-level stdout/stderr, so import,
 connect, creating and removing shapes and bodies, and ``changeDynamics`` run with file
 descriptors 1 and 2 on /dev/null (a redirect costs ~8 us); resets, filter calls and
-``query`` print nothing and run without.
+``query`` print nothing and run without.  The quiet import (``engine()``), the redirect
+(``quiet()``), ``connect`` and the tuned settings are shared with the scene runner and the
+studies in :mod:`adapters.pybullet_setup`.
 
 Detection: ``hit`` is the engine's verdict, "contact points exist" after
 ``performCollisionDetection`` (stale until then); Bullet's sphere-sphere and box-box
@@ -80,28 +82,30 @@ coincident sphere centres get (1, 0, 0) on B; a dynamic body whose AABB diagonal
 1e6 (or is not finite) is dropped from collision for good ("Overflow in AABB": its
 activation state becomes DISABLE_SIMULATION, which nothing resets) [btCollisionWorld.cpp].
 
-Variants: ``pybullet`` (tuned for accuracy): restitutionVelocityThreshold 0, contactSlop 0,
-contactERP 0 (erp and frictionERP do not act: no joints, no friction), fixed time step
-1/240 s set explicitly; per body lateral, rolling and spinning friction 0, linear and
-angular damping 0; boxes keep the 0.001 margin (margin 0 makes GJK read 2^-40 gaps as 0).
+Variants: ``pybullet`` (tuned for accuracy; ``TUNED_WORLD`` and ``TUNED_BODY`` of
+``pybullet_setup``): restitutionVelocityThreshold 0, contactSlop 0, contactERP 0 (erp and
+frictionERP do not act: no joints, no friction), fixed time step 1/240 s set explicitly;
+per body lateral, rolling and spinning friction 0, linear and angular damping 0; boxes keep
+the 0.001 margin (margin 0 makes GJK read 2^-40 gaps as 0).
 ``pybullet-default``: only the case's geometry, masses, velocities and restitution;
 everything else as pybullet sets it (damping 0.04, lateral friction 0.5, threshold 0.2,
 contactSlop 1e-5, default contact ERP, dt 1/240 s).  Both set restitution by the product.
+Scenes (``sphere_scene``) are stepped by :mod:`adapters.pybullet_scene` with the variant's
+``scene_tuning``: the tuned settings as a ``pybullet_scene.Tuning``, or None (defaults).
 """
 
 from __future__ import annotations
 
-import contextlib
-import ctypes
 import math
-import os
-import sys
 from collections import OrderedDict
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
+from importlib import metadata
 from typing import Any, ClassVar
 
-from adapters import stepping
+from adapters import pybullet_scene, stepping
+from adapters.pybullet_scene import Tuning
+from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD, connect, engine, quiet
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
@@ -160,47 +164,7 @@ class World:
     busy: int = 0
 
 
-_MODULE: list[Any] = []
 _WORLDS: dict[str, World] = {}
-
-
-@contextlib.contextmanager
-def quiet() -> Iterator[None]:
-    """Send C-level stdout and stderr to /dev/null (the banner, b3Warning lines)."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    saved = (os.dup(1), os.dup(2))
-    null = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(null, 1)
-        os.dup2(null, 2)
-        yield
-    finally:
-        ctypes.CDLL(None).fflush(None)  # C stdio buffers empty into /dev/null
-        os.dup2(saved[0], 1)
-        os.dup2(saved[1], 2)
-        for fd in (*saved, null):
-            os.close(fd)
-
-
-def engine() -> Any:
-    """The pybullet module, imported quietly once (its import prints a banner)."""
-    if not _MODULE:
-        with quiet():
-            import pybullet
-        _MODULE.append(pybullet)
-    return _MODULE[0]
-
-
-def connect(settings: dict[str, float]) -> int:
-    """A new DIRECT client with gravity 0 and ``settings``."""
-    bt = engine()
-    with quiet():
-        cid: int = bt.connect(bt.DIRECT)
-        bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
-        if settings:
-            bt.setPhysicsEngineParameter(**settings, physicsClientId=cid)
-    return cid
 
 
 def world(name: str, settings: dict[str, float], response: bool = False) -> World:
@@ -376,14 +340,10 @@ class PyBulletTuned(Adapter):
         "linear/angular damping 0; restitution A = e, B = 1 (product); "
         "boxes keep the default 0.001 collision margin")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind)
-    scene_tuned: ClassVar[bool] = True
-    """Scenes: the tuned settings (see adapters/pybullet_scene.py), or defaults."""
-    world: ClassVar[dict[str, float]] = {
-        "fixedTimeStep": 1.0 / 240.0, "restitutionVelocityThreshold": 0.0,
-        "contactSlop": 0.0, "contactERP": 0.0}
-    body: ClassVar[dict[str, float]] = {
-        "lateralFriction": 0.0, "rollingFriction": 0.0, "spinningFriction": 0.0,
-        "linearDamping": 0.0, "angularDamping": 0.0}
+    world: ClassVar[dict[str, float]] = TUNED_WORLD
+    body: ClassVar[dict[str, float]] = TUNED_BODY
+    scene_tuning: ClassVar[Tuning | None] = Tuning(TUNED_WORLD, TUNED_BODY)
+    """What scenes are built with (see adapters/pybullet_scene.py); None: engine defaults."""
     conventions: ClassVar[Conventions] = Conventions(
         box_extents="half",
         normal="B to A (contactNormalOnB of getClosestPoints); flipped by the adapter",
@@ -403,9 +363,7 @@ class PyBulletTuned(Adapter):
     )
 
     def version(self) -> str:
-        from importlib.metadata import version
-
-        return version("pybullet")
+        return metadata.version("pybullet")
 
     def available(self) -> str | None:
         try:
@@ -416,9 +374,7 @@ class PyBulletTuned(Adapter):
 
     def prepare(self, case: AnyCase) -> Any:
         if isinstance(case, SceneCase):
-            from adapters import pybullet_scene
-
-            return stepping.prepare(pybullet_scene, case, self.scene_tuned)
+            return stepping.prepare(pybullet_scene, case, self.scene_tuning)
         if isinstance(case, ResponseCase):
             w = world(self.name + "/response", self.world, response=True)
         else:
@@ -529,7 +485,7 @@ class PyBulletDefault(PyBulletTuned):
         "contactSlop 1e-5, default contact ERP, dt 1/240 s)")
     world: ClassVar[dict[str, float]] = {}
     body: ClassVar[dict[str, float]] = {}
-    scene_tuned: ClassVar[bool] = False
+    scene_tuning: ClassVar[Tuning | None] = None
     conventions: ClassVar[Conventions] = replace(
         PyBulletTuned.conventions,
         restitution_threshold=0.2,

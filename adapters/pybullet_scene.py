@@ -5,9 +5,10 @@ gravity, no ground) with a fixed ``dt`` and return the final state, to be scored
 exact reference; :mod:`adapters.pybullet_engine` answers single pair cases instead.  Types
 and input checks are shared with :mod:`adapters.pymunk_scene` in :mod:`adapters.scene`.
 
-Building (``prepare_scene``, untimed): a new DIRECT client per scene (never the pooled
-clients of ``pybullet_engine``; its ``engine()`` and ``quiet()`` import pybullet and keep
-its C-level output off stdout/stderr), gravity 0, ``setPhysicsEngineParameter`` with
+Building (``prepare_scene``, untimed): a new DIRECT client per scene (``connect`` of
+:mod:`adapters.pybullet_setup`, never the pooled clients of ``pybullet_engine``; the same
+module's ``engine()`` and ``quiet()`` import pybullet and keep its C-level output off
+stdout/stderr), gravity 0, ``setPhysicsEngineParameter`` with
 ``fixedTimeStep`` dt, ``numSubSteps`` 0 (one step advances exactly dt: a free sphere at
 speed 1 is at 1.0000000000000007 after 1000 steps of 1e-3) and ``numSolverIterations`` if
 given (else pybullet's 50, read back with ``getPhysicsEngineParameters``).  One base-only
@@ -17,10 +18,12 @@ declared bodies, no ground plane.  ``run_scene`` times only ``stepSimulation`` i
 (~3 us for 0 steps) and reads ``getBasePositionAndOrientation`` / ``getBaseVelocity``
 after it; ``release_scene`` disconnects the client (bodies and shapes go with it).
 
-Variants (``tuned``): tuned uses ``PyBulletTuned``'s world settings (restitutionVelocity-
-Threshold 0, contactSlop 0, contactERP 0; its fixed step replaced by dt) and per-body
-settings (lateral, rolling and spinning friction 0, linear and angular damping 0).
-Default sets only what the scene declares: dt, iterations if given, masses, restitution.
+Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None): tuned
+(``pybullet``) passes ``Tuning(TUNED_WORLD, TUNED_BODY)`` of ``pybullet_setup``, the world
+settings of the pair adapter (restitutionVelocityThreshold 0, contactSlop 0, contactERP 0;
+its fixed step replaced by dt) and its per-body settings (lateral, rolling and spinning
+friction 0, linear and angular damping 0).  Default (``pybullet-default``) passes None and
+sets only what the scene declares: dt, iterations if given, masses, restitution.
 
 Conventions, measured with this module (sources as cited in ``pybullet_engine.SOURCES``):
 
@@ -59,17 +62,30 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from adapters.pybullet_engine import PyBulletTuned, connect, engine, quiet
+from adapters.pybullet_setup import connect, engine, quiet
 from adapters.scene import Body, SceneRun, check_scene, check_steps
 
-__all__ = ["Body", "SceneRun", "prepare_scene", "release_scene", "run_scene"]
+__all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
 
 Vec3 = tuple[float, float, float]
 ZERO: Vec3 = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """Settings a variant adds to a scene; ``None`` instead of a Tuning: engine defaults.
+
+    ``world``: ``setPhysicsEngineParameter`` arguments (``fixedTimeStep`` and
+    ``numSubSteps`` are replaced by the scene's); ``body``: ``changeDynamics`` arguments
+    for every sphere.
+    """
+
+    world: Mapping[str, float]
+    body: Mapping[str, float]
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,16 +97,21 @@ class Prepared:
     bodies: tuple[int, ...]
 
 
-def world_settings(dt: float, iterations: int | None, tuned: bool) -> dict[str, float]:
+def world_settings(dt: float, iterations: int | None,
+                   tuning: Tuning | None) -> dict[str, float]:
     """The ``setPhysicsEngineParameter`` arguments of a scene.
 
-    >>> world_settings(1e-3, None, False)
+    >>> world_settings(1e-3, None, None)
     {'fixedTimeStep': 0.001, 'numSubSteps': 0}
-    >>> sorted(world_settings(1e-3, 20, True))  # doctest: +NORMALIZE_WHITESPACE
+    >>> from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD
+    >>> tuned = world_settings(1e-3, 20, Tuning(TUNED_WORLD, TUNED_BODY))
+    >>> sorted(tuned)  # doctest: +NORMALIZE_WHITESPACE
     ['contactERP', 'contactSlop', 'fixedTimeStep', 'numSolverIterations', 'numSubSteps',
      'restitutionVelocityThreshold']
+    >>> tuned["fixedTimeStep"], TUNED_WORLD["fixedTimeStep"] == 1 / 240
+    (0.001, True)
     """
-    settings: dict[str, float] = dict(PyBulletTuned.world) if tuned else {}
+    settings: dict[str, float] = dict(tuning.world) if tuning is not None else {}
     settings.update(fixedTimeStep=dt, numSubSteps=0)
     if iterations is not None:
         settings["numSolverIterations"] = iterations
@@ -107,11 +128,11 @@ def to3(v: Sequence[float]) -> Vec3:
 
 
 def add_sphere(cid: int, shapes: dict[float, int], body: Body, restitution: float,
-               tuned: bool) -> int:
+               tuning: Tuning | None) -> int:
     """One sphere of the scene with its velocity, restitution sqrt(e) and variant settings."""
     bt = engine()
     center, radius, mass, velocity = body
-    extra = PyBulletTuned.body if tuned else {}
+    extra: Mapping[str, float] = tuning.body if tuning is not None else {}
     with quiet():
         if radius not in shapes:
             shapes[radius] = bt.createCollisionShape(bt.GEOM_SPHERE, radius=radius,
@@ -125,13 +146,16 @@ def add_sphere(cid: int, shapes: dict[float, int], body: Body, restitution: floa
 
 
 def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuned: bool) -> Any:
-    """Build the scene in a new DIRECT client (untimed); ``release_scene`` disconnects it."""
+                  iterations: int | None, tuning: Tuning | None) -> Any:
+    """Build the scene in a new DIRECT client (untimed); ``release_scene`` disconnects it.
+
+    ``tuning``: the variant's settings (see :class:`Tuning`), or None for engine defaults.
+    """
     check_scene(bodies, dim, restitution, dt)
-    cid = connect(world_settings(dt, iterations, tuned))
+    cid = connect(world_settings(dt, iterations, tuning))
     shapes: dict[float, int] = {}
     try:
-        ids = tuple(add_sphere(cid, shapes, body, restitution, tuned) for body in bodies)
+        ids = tuple(add_sphere(cid, shapes, body, restitution, tuning) for body in bodies)
     except Exception:
         release_scene(Prepared(cid, dim, ()))
         raise

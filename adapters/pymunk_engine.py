@@ -50,6 +50,10 @@ Variants (Space settings; sources below):
   0.10000000149), bias ((1 - 0.1f)^60), iterations (10) and friction (0) left
   at their defaults.
 
+Scenes (``sphere_scene``) are stepped by :mod:`adapters.pymunk_scene` with the variant's
+``scene_tuning``: ``pymunk`` passes its slop, bias and friction as a ``pymunk_scene.Tuning``,
+``pymunk-default`` None (pymunk's defaults).
+
 collision_slop is a Space setting: it only sets how much overlap the bias term
 leaves uncorrected.  It does not apply to ``shapes_collide`` nor to the
 velocity impulse, so both variants declare margin 0.  rtol 2^-49: float64
@@ -82,7 +86,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-from adapters import stepping
+from adapters import pymunk_scene, stepping
+from adapters.pymunk_scene import Tuning
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.model import Kind, Observation, Vec
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
@@ -232,12 +237,12 @@ class PymunkTuned(Adapter):
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind, dims=(2,))
     conventions: ClassVar[Conventions] = _conventions(settings)
     dt: ClassVar[float] = 1e-3
-    scene_tuned: ClassVar[bool] = True
-    """Scenes: the tuned settings (see adapters/pymunk_scene.py), or defaults."""
     slop: ClassVar[float | None] = 0.0
     bias: ClassVar[float | None] = 1.0
     iterations: ClassVar[int | None] = 10
     friction: ClassVar[float | None] = 0.0
+    scene_tuning: ClassVar[Tuning | None] = Tuning(slop=slop, bias=bias, friction=friction)
+    """What scenes are built with (see adapters/pymunk_scene.py); None: pymunk's defaults."""
 
     def version(self) -> str:
         import pymunk
@@ -260,9 +265,7 @@ class PymunkTuned(Adapter):
 
     def prepare(self, case: AnyCase) -> Any:
         if isinstance(case, SceneCase):
-            from adapters import pymunk_scene
-
-            return stepping.prepare(pymunk_scene, case, self.scene_tuned)
+            return stepping.prepare(pymunk_scene, case, self.scene_tuning)
         if isinstance(case, ResponseCase):
             bodies, shapes = _discs(case, self.friction)
             prepared = _Response(case, self._space(), self.dt, bodies, shapes)
@@ -318,8 +321,8 @@ class PymunkDefault(PymunkTuned):
                                "iterations (10), friction (0) at defaults; elasticity A = e, B = 1")
     conventions: ClassVar[Conventions] = _conventions(settings)
     dt: ClassVar[float] = 1.0 / 60.0
-    scene_tuned: ClassVar[bool] = False
     slop: ClassVar[float | None] = None
     bias: ClassVar[float | None] = None
     iterations: ClassVar[int | None] = None
     friction: ClassVar[float | None] = None
+    scene_tuning: ClassVar[Tuning | None] = None

@@ -13,10 +13,12 @@ dynamic ``pymunk.Body(m, moment_for_circle(m, 0, r))`` at its centre with its ve
 ``run_scene`` times only ``space.step(dt)`` in a loop (~2 us for 0 steps) and reads
 ``Body.position`` / ``Body.velocity`` after it; ``release_scene`` empties the Space.
 
-Variants (``tuned``): tuned takes ``PymunkTuned``'s collision_slop (0) and collision_bias
-(1.0: no positional correction) and sets friction 0 on every shape (pymunk's default is 0
-too); its dt and iterations do not apply (the scene gives them).  Default sets only what the
-scene declares: dt, iterations if given, masses, elasticity; slop (0.1f) and bias stay.
+Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None): tuned
+(``pymunk``, from ``PymunkTuned`` in ``pymunk_engine``) passes collision_slop 0 and
+collision_bias 1.0 (no positional correction) and friction 0 for every shape (pymunk's
+default is 0 too); the adapter's dt and iterations do not apply (the scene gives them).
+Default (``pymunk-default``) passes None and sets only what the scene declares: dt,
+iterations if given, masses, elasticity; slop (0.1f) and bias stay.
 
 Conventions, measured with this module (sources as cited in ``pymunk_engine.SOURCES``):
 
@@ -52,10 +54,22 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from adapters.pymunk_engine import PymunkTuned
 from adapters.scene import Body, SceneRun, check_scene, check_steps
 
-__all__ = ["Body", "SceneRun", "prepare_scene", "release_scene", "run_scene"]
+__all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """Settings a variant adds to a scene; ``None`` instead of a Tuning: pymunk's defaults.
+
+    ``slop`` and ``bias``: the Space's collision_slop and collision_bias; ``friction``: every
+    shape's.  A field that is None is left at pymunk's default too.
+    """
+
+    slop: float | None
+    bias: float | None
+    friction: float | None
 
 
 @dataclass(frozen=True, eq=False)
@@ -68,7 +82,7 @@ class Prepared:
     shapes: tuple[Any, ...]
 
 
-def make_space(iterations: int | None, tuned: bool) -> Any:
+def make_space(iterations: int | None, tuning: Tuning | None) -> Any:
     """A Space with no gravity and no damping (1.0 keeps all velocity), set per variant."""
     import pymunk
 
@@ -77,14 +91,14 @@ def make_space(iterations: int | None, tuned: bool) -> Any:
     space.damping = 1.0
     if iterations is not None:
         space.iterations = iterations
-    if tuned and PymunkTuned.slop is not None:
-        space.collision_slop = PymunkTuned.slop
-    if tuned and PymunkTuned.bias is not None:
-        space.collision_bias = PymunkTuned.bias
+    if tuning is not None and tuning.slop is not None:
+        space.collision_slop = tuning.slop
+    if tuning is not None and tuning.bias is not None:
+        space.collision_bias = tuning.bias
     return space
 
 
-def make_disc(body: Body, elasticity: float, tuned: bool) -> tuple[Any, Any]:
+def make_disc(body: Body, elasticity: float, tuning: Tuning | None) -> tuple[Any, Any]:
     """One disc of the scene: a dynamic body with its velocity, and its circle shape."""
     import pymunk
 
@@ -94,19 +108,22 @@ def make_disc(body: Body, elasticity: float, tuned: bool) -> tuple[Any, Any]:
     disc.velocity = (velocity[0], velocity[1])
     shape = pymunk.Circle(disc, radius)
     shape.elasticity = elasticity
-    if tuned and PymunkTuned.friction is not None:
-        shape.friction = PymunkTuned.friction
+    if tuning is not None and tuning.friction is not None:
+        shape.friction = tuning.friction
     return disc, shape
 
 
 def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuned: bool) -> Any:
-    """Build the scene in a new Space (untimed).  pymunk is 2-D: ``dim`` 3 raises."""
+                  iterations: int | None, tuning: Tuning | None) -> Any:
+    """Build the scene in a new Space (untimed).  pymunk is 2-D: ``dim`` 3 raises.
+
+    ``tuning``: the variant's settings (see :class:`Tuning`), or None for pymunk's defaults.
+    """
     if dim != 2:
         raise ValueError(f"pymunk is a 2-D engine: no {dim}-D scenes")
     check_scene(bodies, dim, restitution, dt)  # before pymunk.Body: mass <= 0 aborts
-    space = make_space(iterations, tuned)
-    discs = [make_disc(body, math.sqrt(restitution), tuned) for body in bodies]
+    space = make_space(iterations, tuning)
+    discs = [make_disc(body, math.sqrt(restitution), tuning) for body in bodies]
     made = Prepared(space, dt, tuple(d for d, _ in discs), tuple(s for _, s in discs))
     space.add(*made.bodies, *made.shapes)
     return made

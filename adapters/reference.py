@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from typing import Any, ClassVar
 
+import crosscheck
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AnyCase
@@ -40,8 +41,6 @@ class ReferenceF64(Adapter):
     )
 
     def version(self) -> str:
-        import crosscheck
-
         return crosscheck.__version__
 
     def prepare(self, case: AnyCase) -> Any:

@@ -1,9 +1,11 @@
 """Running a ``sphere_scene`` case on an engine module (``pybullet_scene``, ``pymunk_scene``).
 
-An adapter that steps scenes hands its scene module here: ``prepare`` builds the
-world (untimed), ``query`` steps ``round(duration / dt)`` times (the module times the
-stepping loop alone) and reports the final state, momentum and kinetic energy
-with the wall time of the loop, ``release`` frees the world.
+An adapter that steps scenes hands its scene module here, with its settings value for
+that module (the module's ``Tuning``, or None for the engine's defaults), which
+``prepare`` passes through: ``prepare`` builds the world (untimed), ``query`` steps
+``round(duration / dt)`` times (the module times the stepping loop alone) and reports
+the final state, momentum and kinetic energy with the wall time of the loop,
+``release`` frees the world.
 """
 
 from __future__ import annotations
@@ -27,11 +29,14 @@ class PreparedScene:
     masses: tuple[float, ...]
 
 
-def prepare(module: ModuleType, case: SceneCase, tuned: bool) -> PreparedScene:
-    """Build the scene's world in ``module`` (only its bodies: no ground, no gravity)."""
+def prepare(module: ModuleType, case: SceneCase, tuning: object) -> PreparedScene:
+    """Build the scene's world in ``module`` (only its bodies: no ground, no gravity).
+
+    ``tuning`` goes to ``module.prepare_scene`` as it is: the module's ``Tuning`` or None.
+    """
     bodies = [(b.center, b.radius, b.mass, b.velocity) for b in case.bodies]
     world = module.prepare_scene(bodies, case.dim, case.restitution, case.dt or DEFAULT_DT,
-                                 case.iterations, tuned)
+                                 case.iterations, tuning)
     return PreparedScene(module, world, case.step_count, tuple(b.mass for b in case.bodies))
 
 

@@ -68,7 +68,7 @@ import numpy as np
 import numpy.typing as npt
 
 from . import exact
-from ._expansion import products_exact, sum_sign, two_product, two_sum
+from .expansion import products_exact, sum_sign, two_product, two_sum
 from .types import Contact
 
 FloatArray = npt.NDArray[np.float64]
@@ -219,11 +219,11 @@ def _sphere_expansion(a: FloatArray, r1: FloatArray, b: FloatArray,
     TwoSum splits ``pb_i - pa_i = dh + dl`` and ``ra + rb = rh + rl`` exactly; then
     ``(dh + dl)**2 = dh*dh + 2dh*dl + dl*dl`` and likewise for ``r``, each product
     split exactly by TwoProduct, so ``q - r**2`` is a sum of floats whose sign
-    :func:`~reference_impl._expansion.sum_sign` finds exactly.  The terms of a zero
+    :func:`~reference_impl.expansion.sum_sign` finds exactly.  The terms of a zero
     ``dl`` or ``rl`` vanish, so pairs are grouped by which tails are zero and each
     group sums only the terms it has (most differences and many radius sums are
     exact).  Returns the verdicts and the pairs left for Fractions (non-finite
-    inputs, factors outside :func:`~reference_impl._expansion.products_exact`'s range).
+    inputs, factors outside :func:`~reference_impl.expansion.products_exact`'s range).
     """
     hit = np.zeros(len(a), dtype=bool)
     with np.errstate(all="ignore"):

@@ -4,6 +4,10 @@ The exact reference that time-stepping engines (PyBullet, pymunk) are compared
 against: spheres fly freely (no gravity, friction or rotation) and collide
 pairwise with the textbook response and restitution ``e``.
 
+(Longer than the usual 400 lines on purpose: the interval certification of
+impact times, its exact fallback and the tie rule are one argument about
+correctness and are read together; the generators at the end are short.)
+
 * **Exact state.**  Positions and velocities are exact rationals starting from
   the input doubles; free flight ``p(t) = p0 + v (t - t0)`` is exact.
 * **Time of impact** of balls ``i < j``: with ``dp = pj - pi``, ``dv = vj - vi``,
@@ -68,7 +72,7 @@ from fractions import Fraction
 
 import numpy as np
 
-from ._rounding import Bounds, round_with_sqrt, sqrt_bounds, to_float
+from .rounding import Bounds, round_with_sqrt, sqrt_bounds, to_float
 
 FVec = tuple[Fraction, ...]
 Interval = tuple[int, int]
@@ -205,7 +209,7 @@ def _total(xs: Iterable[Interval]) -> Interval:
     return sum(los), sum(his)
 
 
-def _decide(a: Interval, b: Interval, c: Interval, now: Fraction) -> tuple[bool, Fraction | None]:
+def decide(a: Interval, b: Interval, c: Interval, now: Fraction) -> tuple[bool, Fraction | None]:
     """``(True, impact_time)`` if the enclosures of ``a, b, c`` decide it, else ``(False, None)``.
 
     ``f(t) = a t**2 + 2 b t + c`` lies between ``f_lo`` and ``f_hi`` (the ends'
@@ -305,7 +309,7 @@ class _Scene:
 
     def impact(self, i: int, j: int) -> Fraction | None:
         for k in _PRECISIONS:
-            sure, t = _decide(*self.quadratic(i, j, k), self.now)
+            sure, t = decide(*self.quadratic(i, j, k), self.now)
             if sure:
                 return t
         dpn, dvn = self.diffs(i, j)

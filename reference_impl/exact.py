@@ -5,7 +5,7 @@ exact binary value it stores, and every verdict is decided in rationals, so
 the answer is the one the textbook's real-number mathematics gives for those
 inputs, free of rounding.  Distances and normals, which need a square root,
 are returned as float64 values that are *correctly rounded* (see
-:mod:`reference_impl._rounding`); the sphere response needs no square root and
+:mod:`reference_impl.rounding`); the sphere response needs no square root and
 is returned as exact fractions.
 
 Conventions (shared with :mod:`reference_impl.formulas`):
@@ -35,7 +35,7 @@ from collections.abc import Iterable, Sequence
 from fractions import Fraction
 from typing import TypeVar
 
-from ._rounding import quotient, sqrt_minus, sqrt_rounded, to_float
+from .rounding import quotient, sqrt_minus, sqrt_rounded, to_float
 from .types import Contact, Response, Undefined, Vec
 
 AXES = "xyz"

@@ -13,7 +13,8 @@ from typing import Any
 import pytest
 
 import adapters
-from adapters.pybullet_engine import BOX_MARGIN, PyBulletTuned, box_sizes, client, engine
+from adapters.pybullet_engine import BOX_MARGIN, PyBulletTuned, box_sizes, client
+from adapters.pybullet_setup import engine
 from crosscheck.core.contract import Adapter, all_capabilities
 from crosscheck.core.model import Category, Kind, Observation, Status
 from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import doctest
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from reference_impl import batch
+from reference_impl.expansion import sum_sign
 
 KINDS = ["aabb", "sphere"]
 FN = {"aabb": batch.aabb_batch, "sphere": batch.sphere_batch}
@@ -132,10 +134,6 @@ def test_sphere_near_pairs_settled_without_fractions(dim: int) -> None:
                 | st.sampled_from([0.0, 2.0**-400, -(2.0**-400), 1.0, -1.0]),
                 min_size=1, max_size=30))
 def test_sum_sign_is_exact(values: list[float]) -> None:
-    from fractions import Fraction
-
-    from reference_impl._expansion import sum_sign
-
     column = np.array(values)[:, None]
     cancel = np.concatenate([column, -column[::-1]])  # sums to exactly zero
     total = sum(Fraction(v) for v in values)

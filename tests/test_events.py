@@ -19,7 +19,7 @@ import pytest
 from hypothesis import assume, given, reject, settings
 from hypothesis import strategies as st
 
-from reference_impl import _rounding, events, exact
+from reference_impl import events, exact, rounding
 from reference_impl.events import Ball, Event, SceneState, simulate
 from reference_impl.types import Undefined
 
@@ -63,7 +63,7 @@ def naive_time(dp: FVec, dv: FVec, r: Fraction, now: Fraction) -> Fraction | Non
     disc = b * b - a * c
     if disc < 0:
         return None
-    t = _rounding.round_with_sqrt(disc, lambda lo, hi: (now + (-b - hi) / a, now + (-b - lo) / a))
+    t = rounding.round_with_sqrt(disc, lambda lo, hi: (now + (-b - hi) / a, now + (-b - lo) / a))
     return max(now, F(t))
 
 
@@ -221,14 +221,14 @@ def test_impact_time_rational_roots_round_to_nearest_even() -> None:
 def test_decide_certifies_only_unambiguous_roundings() -> None:
     now = F(0)
     # a = 0: t = c / (-2 b), here in [1, 1 + 2**-61] (rounds to 1) or [1, 1 + 2**-52] (ambiguous)
-    assert events._decide((0, 0), (-(2**60), -(2**60)), (2**61, 2**61 + 1), now) == (True, F(1))
-    assert events._decide((0, 0), (-(2**60), -(2**60)), (2**61, 2**61 + 2**9), now) == (False, None)
-    assert events._decide((1, 1), (-3, -3), (9, 9), now) == (True, F(3))  # tangent: disc == 0
-    assert events._decide((1, 2), (-1, -1), (5, 6), now) == (True, None)  # f_lo has no root
-    assert events._decide((1, 1), (0, 0), (-1, -1), now) == (True, None)  # b == 0
-    assert events._decide((1, 1), (-1, 0), (-1, -1), now) == (False, None)  # sign of b unknown
-    assert events._decide((1, 1), (-1, -1), (-1, 0), now) == (True, now)  # touching, approaching
-    assert events._decide((1, 1), (-1, -1), (-1, 1), now) == (False, None)  # touching unknown
+    assert events.decide((0, 0), (-(2**60), -(2**60)), (2**61, 2**61 + 1), now) == (True, F(1))
+    assert events.decide((0, 0), (-(2**60), -(2**60)), (2**61, 2**61 + 2**9), now) == (False, None)
+    assert events.decide((1, 1), (-3, -3), (9, 9), now) == (True, F(3))  # tangent: disc == 0
+    assert events.decide((1, 2), (-1, -1), (5, 6), now) == (True, None)  # f_lo has no root
+    assert events.decide((1, 1), (0, 0), (-1, -1), now) == (True, None)  # b == 0
+    assert events.decide((1, 1), (-1, 0), (-1, -1), now) == (False, None)  # sign of b unknown
+    assert events.decide((1, 1), (-1, -1), (-1, 0), now) == (True, now)  # touching, approaching
+    assert events.decide((1, 1), (-1, -1), (-1, 1), now) == (False, None)  # touching unknown
 
 
 def test_exact_graze_is_predicted_then_dropped() -> None:

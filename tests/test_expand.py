@@ -141,18 +141,20 @@ def test_report_lists_engine_answers_that_do_not_mirror() -> None:
     rows = [
         {"case_id": "c", "engine": "e", "quantity": "normal", "value": "[0.6, 0.8]",
          "tolerance": 1e-9},
-        {"case_id": "c.swapped", "engine": "e", "quantity": "normal", "value": "[-0.6, -0.8]",
-         "tolerance": 1e-9},
+        {"case_id": "c.swapped", "twin_of": "c", "engine": "e", "quantity": "normal",
+         "value": "[-0.6, -0.8]", "tolerance": 1e-9},
         {"case_id": "d", "engine": "e", "quantity": "v1", "value": "[1.0, 0.0]", "tolerance": 0.0},
         {"case_id": "d", "engine": "e", "quantity": "v2", "value": "[2.0, 0.0]", "tolerance": 0.0},
-        {"case_id": "d.swapped", "engine": "e", "quantity": "v1", "value": "[2.0, 0.0]",
+        {"case_id": "d.swapped", "twin_of": "d", "engine": "e", "quantity": "v1",
+         "value": "[2.0, 0.0]",
          "tolerance": 0.0},
-        {"case_id": "d.swapped", "engine": "e", "quantity": "v2", "value": "[1.5, 0.0]",
+        {"case_id": "d.swapped", "twin_of": "d", "engine": "e", "quantity": "v2",
+         "value": "[1.5, 0.0]",
          "tolerance": 0.0},
         {"case_id": "h", "engine": "e", "quantity": "hit", "value": "true", "tolerance": 0.0},
-        {"case_id": "h.swapped", "engine": "e", "quantity": "hit", "value": "false",
+        {"case_id": "h.swapped", "twin_of": "h", "engine": "e", "quantity": "hit", "value": "false",
          "tolerance": 0.0},
     ]
-    found = asymmetries(pd.DataFrame(rows))
+    found = asymmetries(pd.DataFrame(rows).fillna({"twin_of": ""}))
     assert sorted(zip(found["case_id"], found["quantity"], strict=True)) == [
         ("d", "v1"), ("h", "hit")]

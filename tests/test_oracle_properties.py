@@ -17,7 +17,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from reference_impl import exact
-from reference_impl._rounding import quotient, sqrt_minus, sqrt_rounded
+from reference_impl.rounding import quotient, sqrt_minus, sqrt_rounded
 from reference_impl.types import Contact, Response, Undefined
 
 Vec = tuple[float, ...]

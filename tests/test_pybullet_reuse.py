@@ -19,7 +19,9 @@ import pytest
 
 import adapters
 from adapters import pybullet_engine as pbe
-from adapters.pybullet_engine import Pair, PyBulletDefault, PyBulletTuned, engine
+from adapters import pybullet_setup
+from adapters.pybullet_engine import Pair, PyBulletDefault, PyBulletTuned
+from adapters.pybullet_setup import engine
 from crosscheck.core.model import Observation
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import ROOT, aabb, response, sphere
@@ -287,6 +289,7 @@ def test_the_pooled_path_prints_nothing_and_skips_the_redirect(
         return quiet()
 
     monkeypatch.setattr(pbe, "quiet", counted)
+    monkeypatch.setattr(pybullet_setup, "quiet", counted)
     for _ in range(3):
         obs, _ = observe(adapter, case)
         assert obs.hit is True and math.isclose(obs.distance or 0.0, -0.25, abs_tol=1e-12)

@@ -14,7 +14,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 import reference_impl
-from reference_impl import _rounding, exact, formulas, types
+from reference_impl import exact, formulas, rounding, types
 from reference_impl.types import Contact, Response, Undefined
 
 PRECISIONS = ["f64", "f32"]
@@ -31,14 +31,14 @@ def bits(values: Sequence[float]) -> list[str]:
 # ---------------------------------------------------------------- doctests
 
 
-@pytest.mark.parametrize("module", [reference_impl, types, _rounding, exact, formulas])
+@pytest.mark.parametrize("module", [reference_impl, types, rounding, exact, formulas])
 def test_doctests(module: Any) -> None:
     result = doctest.testmod(module)
     assert result.failed == 0
 
 
 def test_doctests_exist() -> None:
-    for module in (_rounding, exact, formulas):
+    for module in (rounding, exact, formulas):
         assert doctest.testmod(module).attempted > 0
 
 

@@ -21,7 +21,9 @@ pytest.importorskip("pybullet")
 pytest.importorskip("pymunk")
 
 from adapters import pybullet_scene, pymunk_scene, scene
-from adapters.pybullet_engine import engine
+from adapters.pybullet_engine import PyBulletDefault, PyBulletTuned
+from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD, engine
+from adapters.pymunk_engine import PymunkDefault, PymunkTuned
 from adapters.scene import Body, SceneRun
 
 DT = 1e-3
@@ -36,11 +38,29 @@ EXACT = 1e-12
 """Relative tolerance of a single contact solved exactly: the impulse is a handful of
 float64 operations (rounding ~1e-16), and later solver iterations add corrections of that
 size; 1e-12 leaves four orders of margin."""
+SETTINGS: dict[tuple[ModuleType, bool], Any] = {
+    (pybullet_scene, True): PyBulletTuned.scene_tuning,
+    (pybullet_scene, False): PyBulletDefault.scene_tuning,
+    (pymunk_scene, True): PymunkTuned.scene_tuning,
+    (pymunk_scene, False): PymunkDefault.scene_tuning,
+}
+
+
+def tuning(module: ModuleType, tuned: bool) -> Any:
+    """The settings value the adapter of that variant passes to ``module.prepare_scene``."""
+    return SETTINGS[module, tuned]
+
+
+def test_adapters_pass_the_tuned_settings_or_none() -> None:
+    assert tuning(pybullet_scene, True) == pybullet_scene.Tuning(TUNED_WORLD, TUNED_BODY)
+    assert PyBulletTuned.world is TUNED_WORLD and PyBulletTuned.body is TUNED_BODY
+    assert tuning(pymunk_scene, True) == pymunk_scene.Tuning(slop=0.0, bias=1.0, friction=0.0)
+    assert tuning(pybullet_scene, False) is None and tuning(pymunk_scene, False) is None
 
 
 def run(module: ModuleType, bodies: Sequence[Body], dim: int, e: float, steps: int,
         tuned: bool) -> SceneRun:
-    prepared = module.prepare_scene(bodies, dim, e, DT, None, tuned)
+    prepared = module.prepare_scene(bodies, dim, e, DT, None, tuning(module, tuned))
     try:
         result: SceneRun = module.run_scene(prepared, steps)
     finally:
@@ -121,7 +141,8 @@ def set_restitutions(module: ModuleType, prepared: Any, values: Sequence[float])
 def test_engines_combine_restitution_by_product(module: ModuleType, tuned: bool,
                                                 dim: int) -> None:
     # 0.5 and 0.8: product 0.4; min 0.5, mean 0.65, max 0.8, geometric mean 0.63.
-    prepared = module.prepare_scene(head_on(dim, 1.0, -1.0), dim, 1.0, DT, None, tuned)
+    prepared = module.prepare_scene(head_on(dim, 1.0, -1.0), dim, 1.0, DT, None,
+                                    tuning(module, tuned))
     try:
         set_restitutions(module, prepared, (0.5, 0.8))
         result = module.run_scene(prepared, 30)
@@ -147,7 +168,8 @@ def cluster(n: int, dim: int, seed: int) -> list[Body]:
 def test_pybullet_2d_scene_stays_in_the_plane(tuned: bool) -> None:
     # Oblique contacts, with default friction 0.5 too: the normals lie in z = 0.
     bodies = cluster(16, 2, seed=1)
-    prepared = pybullet_scene.prepare_scene(bodies, 2, 0.7, DT, None, tuned)
+    prepared = pybullet_scene.prepare_scene(bodies, 2, 0.7, DT, None,
+                                            tuning(pybullet_scene, tuned))
     try:
         result = pybullet_scene.run_scene(prepared, 1500)
         positions, velocities = pybullet_scene.state(prepared)
@@ -162,7 +184,8 @@ def test_pybullet_2d_scene_stays_in_the_plane(tuned: bool) -> None:
 @pytest.mark.parametrize(("module", "tuned", "dim"), VARIANTS)
 def test_setup_is_outside_the_timed_loop(module: ModuleType, tuned: bool, dim: int) -> None:
     start = time.perf_counter()
-    prepared = module.prepare_scene(cluster(16, dim, seed=0), dim, 1.0, DT, None, tuned)
+    prepared = module.prepare_scene(cluster(16, dim, seed=0), dim, 1.0, DT, None,
+                                    tuning(module, tuned))
     prepare_s = time.perf_counter() - start
     try:
         idle = module.run_scene(prepared, 0)
@@ -179,7 +202,8 @@ def test_setup_is_outside_the_timed_loop(module: ModuleType, tuned: bool, dim: i
 def test_pybullet_client_holds_only_the_scene_and_release_disconnects(n: int,
                                                                       dim: int) -> None:
     bt = engine()
-    prepared = pybullet_scene.prepare_scene(cluster(n, dim, seed=2), dim, 1.0, DT, 5, True)
+    prepared = pybullet_scene.prepare_scene(cluster(n, dim, seed=2), dim, 1.0, DT, 5,
+                                            tuning(pybullet_scene, True))
     try:
         assert bt.getNumBodies(physicsClientId=prepared.cid) == n
         assert bt.isConnected(physicsClientId=prepared.cid)
@@ -190,7 +214,7 @@ def test_pybullet_client_holds_only_the_scene_and_release_disconnects(n: int,
 
 def test_pymunk_refuses_3d() -> None:
     with pytest.raises(ValueError, match="2-D"):
-        pymunk_scene.prepare_scene(head_on(3), 3, 1.0, DT, None, True)
+        pymunk_scene.prepare_scene(head_on(3), 3, 1.0, DT, None, tuning(pymunk_scene, True))
 
 
 @pytest.mark.parametrize("module", [pybullet_scene, pymunk_scene], ids=["pybullet", "pymunk"])
@@ -198,9 +222,9 @@ def test_bad_scenes_raise_before_the_engine_sees_them(module: ModuleType) -> Non
     # pymunk aborts the interpreter on mass 0, pybullet makes a mass-0 body static.
     zero_mass: list[Body] = [((0.0, 0.0), 0.5, 0.0, (1.0, 0.0))]
     with pytest.raises(ValueError, match="mass"):
-        module.prepare_scene(zero_mass, 2, 1.0, DT, None, True)
+        module.prepare_scene(zero_mass, 2, 1.0, DT, None, tuning(module, True))
     with pytest.raises(ValueError, match="restitution"):
-        module.prepare_scene(head_on(2), 2, -0.5, DT, None, True)
+        module.prepare_scene(head_on(2), 2, -0.5, DT, None, tuning(module, True))
 
 
 def test_both_modules_share_one_scene_type() -> None:

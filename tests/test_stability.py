@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import math
 from pathlib import Path
 from typing import Any
@@ -29,7 +30,8 @@ def rows(sweep: str, param: str, walk: list[tuple[float, str]], engine: str = "e
     """Result rows of one sweep for one engine: (value, status) pairs, in any order."""
     return [{"case_id": f"{sweep}.{param}={value:.6g}", "kind": kind, "dim": 3, "engine": engine,
              "quantity": quantity, "value": "0.0", "status": status, "error": 1e-6,
-             "tolerance": 1e-9, "category": "tolerance" if status == "disagree" else ""}
+             "tolerance": 1e-9, "category": "tolerance" if status == "disagree" else "",
+             "origin": sweep, "coords": json.dumps({param: value}), "twin_of": ""}
             for value, status in walk]
 
 
@@ -117,9 +119,13 @@ def test_each_engine_and_quantity_has_its_own_threshold() -> None:
 
 
 def test_only_single_parameter_sweep_points_are_read() -> None:
-    frame = pd.DataFrame(rows("x", "gap", [(0.1, "agree")]) + [
-        {**rows("x", "gap", [(0.1, "agree")])[0], "case_id": case_id}
-        for case_id in ("plain", "x.gap=0.1.swapped", "x.dt=0.01", "x.gap=0.1,offset=2")])
+    point = rows("x", "gap", [(0.1, "agree")])[0]
+    others = [  # what the loader sets on a plain case, a twin, a scene step, a 2-parameter point
+        {"case_id": "plain", "origin": "", "coords": ""},
+        {"case_id": "x.gap=0.1.swapped", "twin_of": "x.gap=0.1"},
+        {"case_id": "x.dt=0.01", "coords": json.dumps({"dt": 0.01})},
+        {"case_id": "x.gap=0.1,offset=2", "coords": json.dumps({"gap": 0.1, "offset": 2.0})}]
+    frame = pd.DataFrame([point, *({**point, **other} for other in others)])
     assert stability.sweep_points(frame, {})["case_id"].tolist() == ["x.gap=0.1"]
     assert stability.sweep_points(frame.iloc[:0], {}).empty
 

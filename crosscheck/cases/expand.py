@@ -1,9 +1,12 @@
 """Sweep expansion and A/B swapping: one case block becomes the cases that run.
 
 A block with ``sweep`` becomes one case per combination of its parameters,
-with stable ids ``<id>.<param>=<value>[,<param>=<value>]``.  Every case (unless
-``swap = false``) also runs with A and B exchanged, as ``<id>.swapped``; its
-answers must mirror the original's.
+with stable ids ``<id>.<param>=<value>[,<param>=<value>]``; a scene block one
+per time step (and solver iteration count).  Every case (unless ``swap =
+false``) also runs with A and B exchanged, as ``<id>.swapped``; its answers
+must mirror the original's.  The ids are for people: the coordinates and the
+link are fields of the case (``origin``, ``coords``, ``twin_of``), copied to
+every record, and nothing parses them back out of an id.
 
 >>> from crosscheck.core.schema import CASE_ADAPTER
 >>> case = CASE_ADAPTER.validate_python({"id": "g", "description": "d", "kind": "sphere",
@@ -11,8 +14,12 @@ answers must mirror the original's.
 ...     "sweep": {"gap": [0.5, -0.25]}})
 >>> [(c.id, c.b.center) for c in expand(case)]
 [('g.gap=0.5', (1.5, 0.0)), ('g.gap=-0.25', (0.75, 0.0))]
->>> swapped(case).id, swapped(case).a.center
-('g.swapped', (1.0, 0.0))
+>>> point = expand(case)[1]
+>>> point.origin, point.coords
+('g', {'gap': -0.25})
+>>> twin = swapped(point)
+>>> twin.id, twin.a.center, twin.twin_of, twin.coords
+('g.gap=-0.25.swapped', (0.75, 0.0), 'g.gap=-0.25', {'gap': -0.25})
 """
 
 from __future__ import annotations
@@ -66,9 +73,11 @@ def expand_steps(case: SceneCase) -> Iterator[SceneCase]:
     iterations: Sequence[int | None] = case.steps.iterations or [None]
     for dt, k in itertools.product(values_of(case.steps.dt), iterations):
         label = f"dt={dt:.6g}" + (f",iterations={k}" if k is not None else "")
+        coords = {"dt": dt} | ({"iterations": float(k)} if k is not None else {})
         yield case.model_copy(update={
             "id": f"{case.id}.{label}", "description": f"{case.description} [{label}]",
-            "tags": (*case.tags, "dynamics"), "steps": None, "dt": dt, "iterations": k})
+            "tags": (*case.tags, "dynamics"), "steps": None, "dt": dt, "iterations": k,
+            "origin": case.id, "coords": coords})
 
 
 def _label(name: str, value: float) -> str:
@@ -103,7 +112,7 @@ def _point(case: PairCase, params: dict[str, float]) -> PairCase:
     shown = ", ".join(f"{name} = {value:.6g}" for name, value in params.items())
     return out.model_copy(update={
         "id": f"{case.id}.{labels}", "description": f"{case.description} [{shown}]",
-        "tags": (*case.tags, "sweep"), "sweep": None})
+        "tags": (*case.tags, "sweep"), "sweep": None, "origin": case.id, "coords": params})
 
 
 def _bodies(case: PairCase, **changes: dict[str, Any]) -> PairCase:
@@ -171,7 +180,8 @@ def swapped(case: PairCase) -> PairCase:
     """The same case with A and B exchanged (its answers mirror the original's)."""
     return case.model_copy(update={
         "id": f"{case.id}.swapped", "description": f"{case.description} (A and B swapped)",
-        "tags": (*case.tags, "swapped"), "a": case.b, "b": case.a, "swap": False})
+        "tags": (*case.tags, "swapped"), "a": case.b, "b": case.a, "swap": False,
+        "twin_of": case.id})
 
 
 def with_swaps(cases: list[AnyCase]) -> Iterator[AnyCase]:

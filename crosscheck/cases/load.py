@@ -34,6 +34,7 @@ from pydantic import ValidationError
 from crosscheck.cases.expand import SweepError, expand, with_swaps
 from crosscheck.core.schema import (
     CASE_ADAPTER,
+    LOADER_FIELDS,
     AabbBody,
     AnyCase,
     MovingSphere,
@@ -154,6 +155,11 @@ def _label(index: int, block: object) -> str:
 def _validate_block(name: str, index: int, block: Any) -> tuple[AnyCase | None, list[CaseError]]:
     label = _label(index, block)
     if isinstance(block, dict):
+        loader_set = [key for key in LOADER_FIELDS if key in block]
+        if loader_set:
+            return None, [CaseError(name, label, key, "set by the loader (where the case comes "
+                                    "from, its sweep coordinates, its swapped twin), not in a "
+                                    "case file") for key in loader_set]
         block = {**block, "source": name}
     try:
         case = CASE_ADAPTER.validate_python(block)

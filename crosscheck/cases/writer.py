@@ -30,7 +30,7 @@ from typing import Any
 
 import tomli_w
 
-from crosscheck.core.schema import AnyCase
+from crosscheck.core.schema import LOADER_FIELDS, AnyCase
 
 KEY_ORDER = ("id", "description", "kind", "dim", "tags", "tolerance", "a", "b", "expect",
              "restitution")
@@ -57,7 +57,7 @@ def case_block(case: AnyCase, **overrides: Any) -> str:
 
     Fields outside :data:`KEY_ORDER` are written only when they differ from their default.
     """
-    data = case.model_dump(exclude_none=True) | overrides
+    data = case.model_dump(exclude_none=True, exclude=set(LOADER_FIELDS)) | overrides
     fields = type(case).model_fields
     extra = [key for key in data if key not in KEY_ORDER  # newer optional fields, if set
              and data[key] != fields[key].get_default(call_default_factory=True)]

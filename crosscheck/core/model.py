@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 from enum import StrEnum
+from typing import Literal
 
 from reference_impl.types import Undefined, Vec
 
@@ -43,7 +44,21 @@ class Kind(StrEnum):
 
 
 class Status(StrEnum):
-    """Outcome of one case x engine x quantity."""
+    """Outcome of one case x engine x quantity, and the classes every module judges it by.
+
+    - *scored*: compared with the truth (agree, disagree); the row has an error;
+    - *failed*: the engine gave no answer (error, crash, timeout);
+    - *neutral*: neither right nor wrong (skip, undefined);
+    - *breaking*: the answer is wrong or missing (disagree or failed);
+    - ``severity``: 0 for the worst (crash) to 6 for agree, the report's order.
+
+    >>> Status.TIMEOUT.failed, Status.TIMEOUT.breaking, Status.SKIP.neutral
+    (True, True, True)
+    >>> Status.members("breaking")
+    ('disagree', 'error', 'crash', 'timeout')
+    >>> sorted(Status, key=lambda s: s.severity)[:3]
+    [<Status.CRASH: 'crash'>, <Status.TIMEOUT: 'timeout'>, <Status.ERROR: 'error'>]
+    """
 
     AGREE = "agree"
     DISAGREE = "disagree"
@@ -52,6 +67,40 @@ class Status(StrEnum):
     ERROR = "error"
     CRASH = "crash"
     TIMEOUT = "timeout"
+
+    @property
+    def scored(self) -> bool:
+        """Compared with the truth: the row carries an error and a tolerance."""
+        return self in (Status.AGREE, Status.DISAGREE)
+
+    @property
+    def failed(self) -> bool:
+        """The engine gave no answer: it raised, its worker died or it hung."""
+        return self in (Status.ERROR, Status.CRASH, Status.TIMEOUT)
+
+    @property
+    def neutral(self) -> bool:
+        """Neither right nor wrong: not asked (skip) or no defined value (undefined)."""
+        return self in (Status.SKIP, Status.UNDEFINED)
+
+    @property
+    def breaking(self) -> bool:
+        """Wrong or missing: what a disagreement list, a threshold or a finding counts."""
+        return self is Status.DISAGREE or self.failed
+
+    @property
+    def severity(self) -> int:
+        """0 (crash) ... 6 (agree): most severe first, as the report sorts rows."""
+        return _SEVERITY.index(self)
+
+    @classmethod
+    def members(cls, kind: Literal["scored", "failed", "neutral", "breaking"]) -> tuple[str, ...]:
+        """The values of the statuses of one class, in declaration order (for ``isin``)."""
+        return tuple(str(s) for s in cls if getattr(s, kind))
+
+
+_SEVERITY = (Status.CRASH, Status.TIMEOUT, Status.ERROR, Status.DISAGREE, Status.UNDEFINED,
+             Status.SKIP, Status.AGREE)
 
 
 class Category(StrEnum):
@@ -148,6 +197,12 @@ class Record:
     query_iqr_s: float
     loops: int
     unstable: bool
+    origin: str = ""
+    """The block the case was expanded from ('' for a plain block): a sweep or a scene."""
+    coords: str = ""
+    """The case's sweep (or scene step) coordinates as JSON text, e.g. '{"gap": 1e-09}'."""
+    twin_of: str = ""
+    """For an A/B-swapped twin, the id of the case it mirrors."""
 
     def row(self) -> dict[str, object]:
         """The record as a plain dict, ready for a DataFrame or CSV writer."""

@@ -33,6 +33,8 @@ from crosscheck.core.model import Kind
 from crosscheck.core.scenegen import generated_bodies
 
 BAD_INPUT_TAG = "bad-input"
+LOADER_FIELDS = ("source", "origin", "coords", "twin_of")
+"""Fields the loader sets on every case; a case file may not set them."""
 ID_PATTERN = r"^[a-z0-9][a-z0-9._,=+\-]*$"
 """Ids: lowercase letters, digits, '-', '.', '_'; sweeps add '=', ',' and '+' to expanded ids."""
 
@@ -147,6 +149,12 @@ class _CaseBase(_Frozen):
         "Also run the case with A and B swapped (its results must mirror these)."))
     sweep: Sweep | None = None
     source: SkipJsonSchema[str] = Field("", exclude=True)
+    origin: SkipJsonSchema[str] = ""
+    """Set by the loader: the id of the block this case was expanded from ('' for a plain block)."""
+    coords: SkipJsonSchema[dict[str, float]] = Field(default_factory=dict)
+    """Set by the loader: the sweep (or scene step) coordinates of this case, by parameter."""
+    twin_of: SkipJsonSchema[str] = ""
+    """Set by the loader: for an A/B-swapped twin, the id of the case it mirrors."""
 
     @property
     def kind_enum(self) -> Kind:

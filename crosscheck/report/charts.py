@@ -28,12 +28,13 @@ import pandas as pd
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
+from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
 from crosscheck.report.style import COLOURS, PLOT_CONFIG, SYMBOLS, ZERO_FLOOR, plotly_template
 from crosscheck.results.runinfo import RunInfo
 
-SCORED = ("agree", "disagree")
-FAILED = ("error", "crash", "timeout")
+SCORED = Status.members("scored")
+FAILED = Status.members("failed")
 
 
 @dataclass(frozen=True, slots=True)

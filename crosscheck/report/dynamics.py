@@ -1,7 +1,7 @@
 """The dynamics section of the report: accuracy against speed for stepped scenes.
 
 Reads only stored rows (kind ``sphere_scene``) and the cases' inputs; it never
-runs an engine.  For each scene block (the case id before ``.dt=``) there is one
+runs an engine.  For each scene block (the cases' ``origin``) there is one
 chart, in the manner of published cross-engine simulator benchmarks: the
 real-time factor (simulated seconds per wall second of stepping) on x, the
 error at the end on y, both log scale, one curve per engine variant (and
@@ -50,7 +50,7 @@ def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> 
     wall = float(pos.query_s)
     iterations = case.iterations
     return {
-        "scene": case_id.split(".dt=")[0], "case_id": case_id, "engine": engine,
+        "scene": case.origin or case_id, "case_id": case_id, "engine": engine,
         "variant": engine + (f" (iterations {iterations})" if iterations else ""),
         "dt": dt, "iterations": iterations, "steps": steps, "status": str(pos.status),
         "simulated_s": steps * dt, "wall_s": wall,

@@ -18,7 +18,6 @@ from typing import Any
 
 import pandas as pd
 
-SUFFIX = ".swapped"
 _PARTNER = {"v1": "v2", "v2": "v1"}
 
 
@@ -50,8 +49,8 @@ def _close(a: Any, b: Any, tolerance: float) -> bool:
 def asymmetries(frame: pd.DataFrame) -> pd.DataFrame:
     """Rows where an engine's swapped answer does not mirror its original answer."""
     cols = ["case_id", "engine", "quantity", "value", "tolerance"]
-    twins = frame[frame["case_id"].str.endswith(SUFFIX)][cols].copy()
-    twins["case_id"] = twins["case_id"].str.removesuffix(SUFFIX)
+    twins = frame[frame["twin_of"].fillna("") != ""]
+    twins = twins[cols].assign(case_id=twins["twin_of"])
     twins["quantity"] = twins["quantity"].map(lambda q: _PARTNER.get(q, q))
     both = frame[cols].merge(twins, on=["case_id", "engine", "quantity"],
                              suffixes=("", "_swapped"))

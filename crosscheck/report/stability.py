@@ -16,6 +16,7 @@ error in radians (see :func:`relative_error`).
 from __future__ import annotations
 
 import html
+import json
 import math
 import re
 from collections.abc import Hashable, Mapping
@@ -26,7 +27,7 @@ from typing import Any
 import pandas as pd
 from markupsafe import Markup
 
-from crosscheck.cases.expand import PARAMETERS
+from crosscheck.core.model import Status
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
 from crosscheck.report.style import COLOURS, SYMBOLS, ZERO_FLOOR, plot_div, plotly_template
 from crosscheck.results.store import read_cases, read_results
@@ -37,15 +38,14 @@ AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale",
                         "overlap": _GAP, "mass_ratio": "mass ratio", "speed": "approach speed"}
 """Sweep parameter -> the axis of difficulty it probes."""
 
-BREAKING = ("disagree", "error", "crash", "timeout")
-NEUTRAL = ("skip", "undefined")
+BREAKING = Status.members("breaking")
+NEUTRAL = Status.members("neutral")
+FAILED = Status.members("failed")
 HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2"}
 """The quantity the threshold table shows for each kind."""
 CHARTED = {"aabb": ("distance", "normal"), "sphere": ("distance", "normal"),
            "sphere_response": ("v2",)}
 DASHES = ("solid", "dot", "dash", "longdash", "dashdot")
-ID_RE = re.compile(rf"^(?P<sweep>.+)\.(?P<param>{'|'.join(PARAMETERS)})=(?P<value>[-+.0-9eE]+)$")
-"""A single-parameter sweep point (``<sweep-id>.<param>=<value>``); twins do not match."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,14 +99,37 @@ def relative_error(quantity: str, error: float, scales: tuple[float, float]) -> 
     return error / scale if scale > 0 else math.nan
 
 
+def _single_parameter(coords: str) -> tuple[str, float] | None:
+    """``(param, value)`` of a one-parameter sweep point's coordinates, else None.
+
+    >>> _single_parameter('{"gap": 1e-09}'), _single_parameter(""), _single_parameter('{"dt": 0.1}')
+    (('gap', 1e-09), None, None)
+    """
+    if not coords:
+        return None
+    point = json.loads(coords)
+    if len(point) != 1:
+        return None
+    ((param, value),) = point.items()
+    return (param, float(value)) if param in DIRECTIONS else None
+
+
 def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
-    """One row per sweep case x engine x quantity (x walk: scale 1 is in both scale walks)."""
-    parts = frame["case_id"].astype(str).str.extract(ID_RE) if len(frame) else None
-    if parts is None or parts["param"].isna().all():
+    """One row per sweep case x engine x quantity (x walk: scale 1 is in both scale walks).
+
+    A sweep point is a case with one sweep coordinate (``coords``) that is not a
+    swapped twin; its sweep is the block it came from (``origin``).
+    """
+    found = [None if twin else _single_parameter(str(coords))
+             for coords, twin in zip(frame["coords"], frame["twin_of"], strict=True)]
+    keep = [f is not None and kind in HEADLINE
+            for f, kind in zip(found, frame["kind"], strict=True)]
+    if not any(keep):
         return pd.DataFrame(columns=POINT_COLUMNS)
-    rows = frame.drop(columns=["value"]).join(parts)
-    rows["value"] = pd.to_numeric(rows["value"], errors="coerce")
-    rows = rows[rows["kind"].isin(HEADLINE) & rows["value"].notna()].copy()
+    chosen = [f for f, k in zip(found, keep, strict=True) if k and f is not None]
+    rows = frame[keep].drop(columns=["value"]).assign(
+        param=[p for p, _ in chosen], value=[v for _, v in chosen])
+    rows["sweep"] = rows["origin"]
     rows["axis"] = rows["param"].map(AXES)
     scales = _scales(cases, set(rows["case_id"]))
     for column, of in (("rel_error", "error"), ("rel_tolerance", "tolerance")):
@@ -199,12 +222,12 @@ def _limits(rows: pd.DataFrame) -> tuple[float, float | None, float]:
     finite = values[(values > 0) & (values < math.inf)]
     low, high = (finite.min(), finite.max()) if len(finite) else (1.0, 1.0)
     floor = min(ZERO_FLOOR, 10.0 ** (math.floor(math.log10(low)) - 1))
-    failed = rows["status"].isin(BREAKING[1:]).any() or (values == math.inf).any()
+    failed = rows["status"].isin(FAILED).any() or (values == math.inf).any()
     return floor, 10.0 ** (max(math.ceil(math.log10(high)), 0) + 2) if failed else None, high
 
 
 def _y(row: dict[Hashable, Any], floor: float, ceiling: float | None) -> float:
-    if row["status"] in BREAKING[1:] or row["rel_error"] == math.inf:
+    if row["status"] in FAILED or row["rel_error"] == math.inf:
         return ceiling or math.nan
     return floor if row["rel_error"] == 0 else float(row["rel_error"])
 

@@ -14,7 +14,7 @@ import pandas as pd
 from crosscheck.core.model import Status
 
 STATUSES = [str(s) for s in Status]
-FAILURES = ["error", "crash", "timeout"]
+FAILURES = Status.members("failed")
 
 
 def summary(frame: pd.DataFrame) -> pd.DataFrame:
@@ -23,7 +23,7 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
         return pd.DataFrame(columns=["engine", "kind", *STATUSES])
     counts = pd.crosstab([frame["engine"], frame["kind"]], frame["status"])
     counts = counts.reindex(columns=STATUSES, fill_value=0)
-    scored = frame[frame["status"].isin(["agree", "disagree"])]
+    scored = frame[frame["status"].isin(Status.members("scored"))]
     errors = scored.groupby(["engine", "kind"])["error"].agg(["median", "max"])
     errors.columns = ["median_error", "max_error"]
     per_case = frame.drop_duplicates(["engine", "case_id"])
@@ -35,8 +35,8 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
 
 def disagreements(frame: pd.DataFrame) -> pd.DataFrame:
     """Every row that is not agree/skip/undefined, most severe first."""
-    bad = frame[~frame["status"].isin(["agree", "skip", "undefined"])].copy()
-    severity = {"crash": 0, "timeout": 1, "error": 2, "disagree": 3}
+    bad = frame[frame["status"].isin(Status.members("breaking"))].copy()
+    severity = {str(s): s.severity for s in Status}
     category = {"error": 0, "tolerance": 1, "convention": 2, "": 3}
     bad["_s"] = bad["status"].map(severity)
     bad["_c"] = bad["category"].fillna("").map(category)

@@ -8,7 +8,10 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   when written), ``resumed`` was present only after a resume.
 - **2**: the typed :class:`RunInfo`; ``options`` are :class:`RunOptions`
   without ``timed_ids`` (which cases are timed is the runner's per-case
-  choice, not an option), and ``resumed`` is always a list.
+  choice, not an option), and ``resumed`` is always a list.  Every results
+  row and stored case carries ``origin``, ``coords`` and ``twin_of`` (format
+  1 had them only inside the case id; :mod:`crosscheck.results.legacy` reads
+  them back from there).
 
 >>> info = RunInfo(run_id="r", command="crosscheck run", options=RunOptions(quick=True),
 ...                machine={}, engines=(), started="2026-01-01T00:00:00+00:00")

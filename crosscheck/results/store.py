@@ -28,6 +28,7 @@ import pandas as pd
 
 from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
+from crosscheck.results import legacy
 from crosscheck.results.runinfo import FormatError, RunInfo
 
 
@@ -138,7 +139,7 @@ def read_results(directory: Path) -> pd.DataFrame:
     The order is the suite's (``cases.jsonl``) and the run's engine list
     (``run.json``), so it does not depend on ``--jobs`` or on resuming.
     """
-    rows = _parsed_lines(directory / "results.jsonl")
+    rows = [legacy.record_fields(row) for row in _parsed_lines(directory / "results.jsonl")]
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
     if not rows:
         return frame
@@ -168,7 +169,7 @@ def _case_ids(directory: Path) -> list[str]:
 
 def read_cases(directory: Path) -> dict[str, AnyCase]:
     """The stored cases of a run, typed as when they ran, by id, in suite order."""
-    return {str(case["id"]): CASE_ADAPTER.validate_python(case)
+    return {str(case["id"]): CASE_ADAPTER.validate_python(legacy.case_fields(case))
             for case in _parsed_lines(directory / "cases.jsonl")}
 
 

@@ -19,7 +19,10 @@ Worker processes cannot start engine workers if they are daemonic, which
 ``DASK_DISTRIBUTED__WORKER__DAEMON=False`` (or ``--no-nanny``), or pass
 ``--no-isolation``.
 
-Dask is imported only when a scheduler is used, so local runs do not need it.
+Dask is imported only when a scheduler is used (inside :class:`DaskLanes`): these
+are the harness's only function-level imports besides the optional engines, because
+``import distributed`` costs 0.32-0.40 s (``python -X importtime``, measured here)
+against 0.54 s for the whole CLI, and a local run never needs it.
 """
 
 from __future__ import annotations

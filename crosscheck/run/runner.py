@@ -9,6 +9,7 @@ raises yields ``error`` rows, one that dies ``crash`` rows, one that hangs
 
 from __future__ import annotations
 
+import json
 import math
 import threading
 from collections import Counter
@@ -70,6 +71,8 @@ def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observ
         query_iqr_s=timing.iqr_s if timing else math.nan,
         loops=timing.loops if timing else 0,
         unstable=timing.unstable if timing else False,
+        origin=case.origin, coords=json.dumps(case.coords) if case.coords else "",
+        twin_of=case.twin_of,
     )
 
 

@@ -14,7 +14,8 @@ Five figures, each a ratio or a measurement taken within this one run:
 4. memory: resident memory over the PyBullet stream (growth after the first
    fifth, bodies left in the client) and the peak RSS of the suite runs;
 5. scale-out: the same cases on a Dask ``LocalCluster`` of 2 worker processes
-   and locally; results must be identical.
+   and locally; results must be identical (Dask is imported there only, as in
+   :mod:`crosscheck.run.distributed`).
 
 ``--quick`` uses smaller sizes (not for the batch oracle, whose target is set on 1M
 pairs) and skips the full-suite run.
@@ -38,7 +39,7 @@ from typing import Any
 import numpy as np
 
 import adapters
-from adapters import pybullet_engine
+from adapters import pybullet_engine, pybullet_setup
 from crosscheck.cases.load import load_paths
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER
@@ -212,7 +213,7 @@ def pybullet_figures(n: int) -> list[Figure]:
     path_s = time.perf_counter() - start
     full_s = best_of(lambda: run_slice(0, step), 1) * n / step
     cid = pybullet_engine.client(adapter.name, adapter.world)
-    bodies = pybullet_engine.engine().getNumBodies(physicsClientId=cid)
+    bodies = pybullet_setup.engine().getNumBodies(physicsClientId=cid)
     ratio = path_s / raw_s
     growth = rss[-1] - rss[min(1, len(rss) - 1)]
     us = {"raw_us": raw_s / n * 1e6, "engine_path_us": path_s / n * 1e6,

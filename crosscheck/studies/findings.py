@@ -18,9 +18,10 @@ from typing import Any, Protocol, cast
 import pandas as pd
 
 from crosscheck.cases.writer import case_block, case_file
+from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
 
-FINDING_STATUSES = ("disagree", "error", "crash", "timeout")
+FINDING_STATUSES = Status.members("breaking")
 DRIVER_SLUG = {"relative gap": "gap", "scale": "scale", "offset": "offset", "mass ratio": "ratio"}
 CSV_COLUMNS = ("group", "file", "case_id", "engine", "kind", "dim", "quantity", "status",
                "category", "family", "modifiers", "driver", "decade", "driver_value", "value",

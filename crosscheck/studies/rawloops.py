@@ -16,8 +16,11 @@ made once per radius before timing (a reset is what a reused body costs).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from typing import Any
+
+from adapters.pybullet_setup import connect, engine
 
 Pair = tuple[Sequence[float], Any, Sequence[float], Any]
 Loop = Callable[[], None]
@@ -72,10 +75,6 @@ def pybullet_loop(pairs: Sequence[Pair]) -> tuple[Loop, Callable[[], None]]:
 
     Returns the loop and a function that disconnects the client it made.
     """
-    import math
-
-    from adapters.pybullet_engine import connect, engine
-
     bt = engine()
     cid = connect({})
     bodies: dict[float, tuple[int, int]] = {}

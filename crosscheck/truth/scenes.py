@@ -27,12 +27,12 @@ from collections.abc import Sequence
 from fractions import Fraction
 from typing import Any, cast
 
+from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from reference_impl import events
 
 QUANTITIES = ("positions", "velocities", "momentum", "energy")
-Vec = tuple[float, ...]
 
 
 def simulated_time(case: SceneCase) -> Fraction:
@@ -76,12 +76,9 @@ def observation(positions: Sequence[Vec], velocities: Sequence[Vec],
                        momentum=momentum, energy=energy)
 
 
-def _norm(v: Sequence[float]) -> float:
-    return math.sqrt(math.fsum(x * x for x in v))
-
 
 def _scales(case: SceneCase) -> dict[str, float]:
-    speeds = [_norm(b.velocity) for b in case.bodies]
+    speeds = [norm(b.velocity) for b in case.bodies]
     masses = [b.mass for b in case.bodies]
     return {
         "positions": math.fsum(b.radius for b in case.bodies) / max(1, len(case.bodies)),
@@ -99,12 +96,12 @@ def relative_error(case: SceneCase, quantity: str, value: Value, want: Value) ->
         if len(value) != len(want):
             return math.inf
         mine, theirs = cast(tuple[Vec, ...], value), cast(tuple[Vec, ...], want)
-        diff = max((_norm([x - y for x, y in zip(p, q, strict=True)])
+        diff = max((norm([x - y for x, y in zip(p, q, strict=True)])
                     for p, q in zip(mine, theirs, strict=True)), default=0.0)
     elif quantity == "momentum":
         assert isinstance(value, tuple) and isinstance(want, tuple)
         p, q = cast(Vec, value), cast(Vec, want)
-        diff = _norm([x - y for x, y in zip(p, q, strict=True)])
+        diff = norm([x - y for x, y in zip(p, q, strict=True)])
     else:
         assert isinstance(value, float | int) and isinstance(want, float | int)
         diff = abs(float(value) - float(want))

@@ -22,8 +22,10 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import cast
 
+from crosscheck.core import geometry
 from crosscheck.core.contract import TEXTBOOK_TOUCHING, Conventions
-from crosscheck.core.model import Category, Observation, Status, Undefined, Value, Vec
+from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 from crosscheck.truth import scenes
 
@@ -117,12 +119,8 @@ def tolerance_for(case: PairCase, quantity: str) -> float:
         DEFAULT_RTOL * velocity_scale(case))
 
 
-def _norm(v: Sequence[float]) -> float:
-    return math.sqrt(math.fsum(x * x for x in v))
-
-
 def _is_unit(v: Sequence[float]) -> bool:
-    return abs(_norm(v) - 1.0) <= 1e-6
+    return abs(norm(v) - 1.0) <= 1e-6
 
 
 def error_of(quantity: str, value: Value, truth: Value) -> float:
@@ -133,7 +131,7 @@ def error_of(quantity: str, value: Value, truth: Value) -> float:
         if len(value) != len(truth):
             return math.inf
         a, b = cast(Sequence[float], value), cast(Sequence[float], truth)
-        diff = _norm([x - y for x, y in zip(a, b, strict=True)])
+        diff = norm([x - y for x, y in zip(a, b, strict=True)])
         return 2.0 * math.asin(min(1.0, diff / 2.0)) if quantity == "normal" else diff
     assert isinstance(value, float | int) and isinstance(truth, float | int)
     return abs(float(value) - float(truth))
@@ -158,7 +156,7 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str,
                        f"engine gave undefined ({value.reason}) where truth is defined")
     if quantity == "normal" and isinstance(value, tuple) and not _is_unit(vec := cast(Vec, value)):
         return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
-                       f"engine normal is not a unit vector (length {_norm(vec):.3g})")
+                       f"engine normal is not a unit vector (length {norm(vec):.3g})")
     err = error_of(quantity, value, want)
     if err <= tol:
         return Verdict(Status.AGREE, err, tol)
@@ -168,12 +166,8 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str,
 
 def approach_speed(case: ResponseCase) -> float:
     """Speed at which A and B approach along their line of centres (negative: separating)."""
-    d = [y - x for x, y in zip(case.a.center, case.b.center, strict=True)]
-    length = _norm(d)
-    if not length > 0:
-        return math.nan
-    rel = [x - y for x, y in zip(case.a.velocity, case.b.velocity, strict=True)]
-    return math.fsum(r * c for r, c in zip(rel, d, strict=True)) / length
+    return geometry.approach_speed(case.a.center, case.b.center, case.a.velocity,
+                                   case.b.velocity)
 
 
 def _touch_convention(case: PairCase, conv: Conventions) -> str:
@@ -228,7 +222,7 @@ def categorize(case: PairCase, conv: Conventions, quantity: str, err: float,
     if quantity in ("hit", "normal") and abs(gap) < allowed:
         return Category.TOLERANCE, f"|gap| {abs(gap):.3g} within declared tolerance {allowed:.3g}"
     if quantity == "normal":
-        separation = _norm([y - x for x, y in zip(case.a.center, case.b.center, strict=False)])
+        separation = norm([y - x for x, y in zip(case.a.center, case.b.center, strict=False)])
         allowed = allowed / separation if separation > 0 else 0.0
     if quantity != "hit" and err <= allowed:
         return Category.TOLERANCE, f"error {err:.3g} within declared tolerance {allowed:.3g}"
