@@ -58,8 +58,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
+from crosscheck.core import geometry
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
-from crosscheck.core.model import Kind, Observation, Vec
+from crosscheck.core.geometry import Vec, to3
+from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
 
 FCL = "https://github.com/flexible-collision-library/fcl/"
@@ -98,14 +100,9 @@ class Prepared:
     dim: int
 
 
-def embed(v: Sequence[float]) -> list[float]:
-    """A 2- or 3-vector as a 3-vector (z = 0 for 2-D)."""
-    return [*v, 0.0] if len(v) == 2 else list(v)
-
-
 def z_half(case: AabbCase) -> float:
-    """The z half-width of both boxes of a 2-D case: 2 x the largest half-width, 1 if all are 0."""
-    return 2.0 * max(abs(h) for h in (*case.a.half, *case.b.half)) or 1.0
+    """The z half-width of both boxes of a 2-D case (:func:`crosscheck.core.geometry.z_half`)."""
+    return geometry.z_half(case.a.half, case.b.half)
 
 
 def shapes(case: PairCase) -> tuple[Any, Any]:
@@ -186,8 +183,8 @@ class Fcl(Adapter):
         fcl = engine()
         shape_a, shape_b = shapes(case)
         return Prepared(
-            a=fcl.CollisionObject(shape_a, fcl.Transform(embed(case.a.center))),
-            b=fcl.CollisionObject(shape_b, fcl.Transform(embed(case.b.center))),
+            a=fcl.CollisionObject(shape_a, fcl.Transform(list(to3(case.a.center)))),
+            b=fcl.CollisionObject(shape_b, fcl.Transform(list(to3(case.b.center)))),
             collision=fcl.CollisionRequest(num_max_contacts=1, enable_contact=True),
             distance=fcl.DistanceRequest(enable_nearest_points=True,
                                          enable_signed_distance=True),

@@ -92,6 +92,9 @@ everything else as pybullet sets it (damping 0.04, lateral friction 0.5, thresho
 contactSlop 1e-5, default contact ERP, dt 1/240 s).  Both set restitution by the product.
 Scenes (``sphere_scene``) are stepped by :mod:`adapters.pybullet_scene` with the variant's
 ``scene_tuning``: the tuned settings as a ``pybullet_scene.Tuning``, or None (defaults).
+
+(Longer than 400 lines: about 90 of them are this docstring, the conventions as measured with
+their sources; the code is the pooled bodies and the response stepping that uses them.)
 """
 
 from __future__ import annotations
@@ -107,10 +110,10 @@ from adapters import pybullet_scene, stepping
 from adapters.pybullet_scene import Tuning
 from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD, connect, engine, quiet
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.geometry import Vec3, approach_speed, to3, z_half
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
-Vec3 = tuple[float, float, float]
 Spec = tuple[str, tuple[float, ...], float]
 """A body to build: geometry, size (radius or half-widths) and mass."""
 
@@ -248,16 +251,11 @@ def settled(cid: int, body: int) -> bool:
             and all(math.isfinite(x) for x in (*orientation, *angular)))
 
 
-def to3(v: Sequence[float]) -> Vec3:
-    """A 2- or 3-vector as a 3-vector (z = 0 for 2-D)."""
-    return (v[0], v[1], v[2] if len(v) > 2 else 0.0)
-
-
 def box_sizes(case: AabbCase) -> tuple[Vec3, Vec3]:
     """3-D half-widths of the two boxes; 2-D boxes get the z half-width of the embedding."""
     if case.dim == 3:
         return to3(case.a.half), to3(case.b.half)
-    hz = 2.0 * max(abs(h) for h in (*case.a.half, *case.b.half)) or 1.0
+    hz = z_half(case.a.half, case.b.half)
     return (case.a.half[0], case.a.half[1], hz), (case.b.half[0], case.b.half[1], hz)
 
 
@@ -288,15 +286,6 @@ def ordinary(case: PairCase, ca: Vec3, cb: Vec3, specs: Sequence[Spec]) -> bool:
     return (0.0 < mass_a < math.inf and 0.0 < mass_b < math.inf
             and all(0.0 < x <= SIZE_LIMIT for x in (*size_a, *size_b))
             and all(-COORD_LIMIT <= x <= COORD_LIMIT for x in numbers))
-
-
-def approach(pa: Sequence[float], pb: Sequence[float], va: Sequence[float],
-             vb: Sequence[float]) -> float:
-    """Speed at which A and B approach along the line of centres (negative: separating)."""
-    d = [y - x for x, y in zip(pa, pb, strict=True)]
-    length = math.sqrt(sum(x * x for x in d))
-    rel = [x - y for x, y in zip(va, vb, strict=True)]
-    return sum(r * c for r, c in zip(rel, d, strict=True)) / length if length > 0 else 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -445,7 +434,7 @@ class PyBulletTuned(Adapter):
             bt.stepSimulation(physicsClientId=cid)
             va = bt.getBaseVelocity(pair.a, physicsClientId=cid)[0]
             vb = bt.getBaseVelocity(pair.b, physicsClientId=cid)[0]
-            if not approach(pa, pb, va, vb) > m.tol:
+            if not approach_speed(pa, pb, va, vb) > m.tol:  # NaN (coincident): stop
                 resolved = (pa, pb)
                 break
         return observed(pair.dim, va, vb, resolved)

@@ -68,10 +68,10 @@ from typing import Any
 
 from adapters.pybullet_setup import connect, engine, quiet
 from adapters.scene import Body, SceneRun, check_scene, check_steps
+from crosscheck.core.geometry import Vec3, to3
 
 __all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
 
-Vec3 = tuple[float, float, float]
 ZERO: Vec3 = (0.0, 0.0, 0.0)
 
 
@@ -116,15 +116,6 @@ def world_settings(dt: float, iterations: int | None,
     if iterations is not None:
         settings["numSolverIterations"] = iterations
     return settings
-
-
-def to3(v: Sequence[float]) -> Vec3:
-    """A 2- or 3-vector as a 3-vector (z = 0 for 2-D).
-
-    >>> to3((1.0, 2.0))
-    (1.0, 2.0, 0.0)
-    """
-    return (float(v[0]), float(v[1]), float(v[2]) if len(v) > 2 else 0.0)
 
 
 def add_sphere(cid: int, shapes: dict[float, int], body: Body, restitution: float,

@@ -89,7 +89,8 @@ from typing import Any, ClassVar
 from adapters import pymunk_scene, stepping
 from adapters.pymunk_scene import Tuning
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
-from crosscheck.core.model import Kind, Observation, Vec
+from crosscheck.core.geometry import Vec
+from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
 MUNK2D = "https://github.com/viblo/Munk2D/blob/master/src/"

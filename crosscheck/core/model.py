@@ -19,7 +19,8 @@ from dataclasses import dataclass, fields
 from enum import StrEnum
 from typing import Literal
 
-from reference_impl.types import Undefined, Vec
+from crosscheck.core.geometry import Vec
+from reference_impl.types import Undefined
 
 __all__ = [
     "Category",
@@ -29,7 +30,6 @@ __all__ = [
     "Status",
     "Undefined",
     "Value",
-    "Vec",
     "quantities_of",
 ]
 

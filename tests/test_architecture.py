@@ -1,0 +1,71 @@
+"""The house rules that import-linter does not check: function-level imports, private names,
+module length.  (The layers themselves are checked by ``lint-imports`` in ``make lint``.)"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import ROOT
+
+PACKAGES = ("crosscheck", "adapters", "reference_impl")
+OPTIONAL = {"pybullet", "pymunk", "fcl", "dask", "distributed"}
+"""What may be imported inside a function: the optional engines, and Dask (see run/distributed)."""
+MODULES = sorted(p for package in PACKAGES for p in (ROOT / package).rglob("*.py"))
+
+
+def _name(path: Path) -> str:
+    return str(path.relative_to(ROOT))
+
+
+def _function_imports(tree: ast.Module) -> list[tuple[int, str]]:
+    found = []
+    for func in ast.walk(tree):
+        if isinstance(func, ast.FunctionDef | ast.AsyncFunctionDef):
+            for node in ast.walk(func):
+                if isinstance(node, ast.Import):
+                    found += [(node.lineno, a.name) for a in node.names]
+                elif isinstance(node, ast.ImportFrom) and node.module:
+                    found.append((node.lineno, node.module))
+    return [(line, m) for line, m in found if m.split(".")[0] not in OPTIONAL]
+
+
+def _private_imports(tree: ast.Module) -> list[tuple[int, str]]:
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] in PACKAGES:
+            found += [(node.lineno, f"{node.module}.{a.name}") for a in node.names
+                      if a.name.startswith("_") and not a.name.startswith("__")]
+            if any(part.startswith("_") and not part.startswith("__")
+                   for part in (node.module or "").split(".")):
+                found.append((node.lineno, str(node.module)))
+    return found
+
+
+@pytest.mark.parametrize("path", MODULES, ids=_name)
+def test_no_function_level_import_but_optional_engines(path: Path) -> None:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    assert _function_imports(tree) == []
+
+
+@pytest.mark.parametrize("path", [*MODULES, *sorted((ROOT / "tests").glob("*.py"))], ids=_name)
+def test_no_import_of_another_modules_private_name(path: Path) -> None:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    assert _private_imports(tree) == []
+
+
+@pytest.mark.parametrize("path", MODULES, ids=_name)
+def test_a_module_over_400_lines_says_why(path: Path) -> None:
+    text = path.read_text(encoding="utf-8")
+    if text.count("\n") > 400:
+        docstring = ast.get_docstring(ast.parse(text)) or ""
+        assert "400 lines" in docstring, f"{_name(path)}: {text.count(chr(10))} lines, no reason"
+
+
+def test_the_rules_can_fail() -> None:
+    tree = ast.parse("def f():\n    import json\n    from crosscheck.cases import load\n"
+                     "from crosscheck.report.render import _private\n")
+    assert _function_imports(tree) == [(2, "json"), (3, "crosscheck.cases")]
+    assert _private_imports(tree) == [(4, "crosscheck.report.render._private")]
