@@ -30,7 +30,7 @@ from markupsafe import Markup
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
 from crosscheck.report.style import COLOURS, SYMBOLS, ZERO_FLOOR, plot_div, plotly_template
-from crosscheck.results.store import read_cases, read_results
+from crosscheck.results.store import read_run
 from crosscheck.truth.score import length_scale, velocity_scale
 
 _GAP = "gap or overlap relative to size"
@@ -343,7 +343,8 @@ def charts(points: pd.DataFrame) -> list[dict[str, Any]]:
 
 def analyse(directory: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The sweep points and the threshold table of the run in ``directory``."""
-    points = sweep_points(read_results(directory), read_cases(directory))
+    stored = read_run(directory)
+    points = sweep_points(stored.results, stored.cases)
     return points, thresholds(points)
 
 
