@@ -59,7 +59,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from crosscheck.core import geometry
-from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.contract import FEATURES, Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.geometry import Vec, to3
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
@@ -149,7 +149,7 @@ class Fcl(Adapter):
         box_extents="full (Box takes side lengths; the adapter doubles half-widths)",
         normal="o1 to o2 (Contact.normal), i.e. A to B; no flip",
         touching={"sphere": True, "face": True, "edge": False, "corner": False},
-        margin=GJK_TOLERANCE,
+        margins=dict.fromkeys(FEATURES, GJK_TOLERANCE),
         rtol=2.0**-50,
         restitution="not applicable: FCL has no dynamics",
         notes=("Touching spheres and face-touching boxes collide; edge- or corner-touching "

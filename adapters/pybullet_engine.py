@@ -337,7 +337,7 @@ class PyBulletTuned(Adapter):
         box_extents="half",
         normal="B to A (contactNormalOnB of getClosestPoints); flipped by the adapter",
         touching={"sphere": True},
-        margin=2 * BOX_MARGIN,
+        margins=dict.fromkeys(("face", "edge", "corner"), 2 * BOX_MARGIN),
         rtol=2.0**-50,
         restitution="product of the bodies' restitutions; the adapter sets A = e, B = 1",
         restitution_threshold=0.0,

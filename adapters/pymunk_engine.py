@@ -119,7 +119,6 @@ def _conventions(settings: str) -> Conventions:
         box_extents="full (Poly.create_box takes width and height; the adapter passes 2*half)",
         normal="A to B (ContactPointSet.normal points from the first shape to the second); "
                "used as is",
-        margin=0.0,
         rtol=2.0**-49,
         restitution="product of the shapes' elasticities; A = e, B = 1.0 gives e exactly",
         restitution_threshold=0.0,

@@ -85,7 +85,7 @@ def test_touching_spheres_on_a_345_diagonal_collide_with_a_gjk_distance() -> Non
     assert (obs.hit, obs.normal) == (True, (0.6, 0.8, 0.0))
     assert isinstance(obs.distance, float)
     assert obs.distance == pytest.approx(3.035569508407856e-08, rel=1e-6)
-    assert 0.0 < obs.distance < FCL.conventions.margin
+    assert 0.0 < obs.distance < FCL.conventions.margin_for("sphere")
 
 
 def test_overlapping_spheres_signed_distance_is_approximate() -> None:
@@ -202,7 +202,7 @@ def test_registry_availability_and_declarations() -> None:
     assert conv.box_extents.startswith("full")
     assert conv.touching_is_contact("sphere") and conv.touching_is_contact("face")
     assert not conv.touching_is_contact("edge") and not conv.touching_is_contact("corner")
-    assert conv.margin == 1e-6
+    assert set(conv.margins.values()) == {1e-6} and len(conv.margins) == 4
 
 
 def test_touching_spheres_are_a_convention_disagreement() -> None:

@@ -76,7 +76,7 @@ def test_corner_touching_boxes_read_apart_by_the_margin(name: str) -> None:
     obs = observe(name, aabb([0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0], [1.0, 1.0, 1.0]))
     assert obs.hit is False
     assert obs.distance == pytest.approx(CORNER_GAP, rel=1e-9)
-    assert PyBulletTuned.conventions.margin >= CORNER_GAP  # the declared margin covers it
+    assert PyBulletTuned.conventions.margin_for("corner") >= CORNER_GAP  # declared
 
 
 @pytest.mark.parametrize("name", VARIANTS)

@@ -249,4 +249,4 @@ def test_registry_and_version() -> None:
     assert TUNED.available() is None
     assert TUNED.version().startswith("7.3.1")
     assert TUNED.conventions.box_extents.startswith("full")
-    assert TUNED.conventions.margin == DEFAULT.conventions.margin == 0.0
+    assert TUNED.conventions.margins == DEFAULT.conventions.margins == {}

@@ -86,8 +86,8 @@ def test_touching_rule_difference_is_convention() -> None:
 def test_within_margin_is_tolerance_beyond_is_error() -> None:
     case = sphere(0.0, 1.0005)  # gap 5e-4
     truth = oracle.truth(case)
-    within = judge(case, Conventions(margin=1e-3), "hit", True, truth)
-    beyond = judge(case, Conventions(margin=1e-4), "hit", True, truth)
+    within = judge(case, Conventions(margins={"sphere": 1e-3}), "hit", True, truth)
+    beyond = judge(case, Conventions(margins={"sphere": 1e-4}), "hit", True, truth)
     assert (within.category, beyond.category) == (Category.TOLERANCE, Category.ERROR)
 
 
@@ -122,7 +122,8 @@ def test_box_touch_features_and_per_feature_rules() -> None:
     edge = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.0, 1.0, 0.0], [0.5, 0.5, 0.5])
     corner = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.0, 1.0, 1.0], [0.5, 0.5, 0.5])
     assert [touch_feature(c) for c in (face, edge, corner)] == ["face", "edge", "corner"]
-    engine = Conventions(touching={"edge": False, "corner": False}, margin=1e-3)
+    engine = Conventions(touching={"edge": False, "corner": False},
+                         margins=dict.fromkeys(("face", "edge", "corner"), 1e-3))
     for case, category in [(face, Category.TOLERANCE), (edge, Category.CONVENTION),
                            (corner, Category.CONVENTION)]:
         verdict = judge(case, engine, "hit", False, oracle.truth(case))

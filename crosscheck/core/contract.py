@@ -26,6 +26,8 @@ Capability = tuple[Kind, int]
 
 TEXTBOOK_TOUCHING: dict[str, bool] = {"sphere": False, "face": True, "edge": True,
                                       "corner": True}
+FEATURES = tuple(TEXTBOOK_TOUCHING)
+"""Where two bodies meet: a sphere, or a box's face, edge or corner."""
 """The textbook's rule: touching boxes overlap (any feature); touching spheres do not collide."""
 
 
@@ -41,25 +43,47 @@ class Conventions:
     ``touching`` maps a touching feature (``sphere``; ``face``, ``edge`` or
     ``corner`` for boxes) to whether the engine counts exact touching there as
     contact; a feature not listed follows the textbook (boxes touching
-    overlap, spheres touching do not collide).  ``margin`` is an absolute
-    distance tolerance (collision margin, slop); ``rtol`` a relative one (the
-    engine's arithmetic precision), scaled by the case's size.
+    overlap, spheres touching do not collide).  ``margins`` maps a feature to
+    an absolute distance tolerance there (collision margin, GJK tolerance,
+    slop); a feature not listed has none.  ``rtol`` is a relative tolerance
+    (the engine's arithmetic precision), scaled by the case's size.
     ``restitution_threshold`` is the approach speed below which the engine
     makes a bounce perfectly inelastic (0: none); ``resolves_separating`` is
     False for engines that leave bodies which are already moving apart alone
-    (the textbook formula exchanges momentum anyway).
+    (the textbook formula exchanges momentum anyway).  ``time_step`` is the
+    fixed step (s) in which the engine resolves a response (None: it does
+    not step); ``damping`` a velocity damping the engine applies per second
+    of simulated time in scenes (0: none).  ``zero_mass`` says how the engine
+    reads a body of mass 0 (``"static"``: immovable, infinite mass; ``""``:
+    as the textbook does), ``negative_extents`` how it reads a negative
+    radius or half-width (``"absolute"``: as its magnitude; ``""``: rejects
+    it or reads it literally, as the textbook does).
     """
 
     box_extents: str = "half"
     normal: str = "A to B"
     touching: dict[str, bool] = field(default_factory=dict)
-    margin: float = 0.0
+    margins: dict[str, float] = field(default_factory=dict)
     rtol: float = 0.0
     restitution: str = "case value"
     restitution_threshold: float = 0.0
     resolves_separating: bool = True
+    time_step: float | None = None
+    damping: float = 0.0
+    zero_mass: str = ""
+    negative_extents: str = ""
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
+
+    def margin_for(self, feature: str) -> float:
+        """The declared distance tolerance at ``feature`` (0 where none is declared).
+
+        >>> Conventions(margins={"face": 0.002}).margin_for("face")
+        0.002
+        >>> Conventions(margins={"face": 0.002}).margin_for("sphere")
+        0.0
+        """
+        return self.margins.get(feature, 0.0)
 
     def touching_is_contact(self, feature: str) -> bool:
         """Whether the engine counts exact touching at ``feature`` as contact.

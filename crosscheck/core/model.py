@@ -108,6 +108,7 @@ class Category(StrEnum):
 
     CONVENTION = "convention"
     TOLERANCE = "tolerance"
+    TIMESTEP = "timestep"
     ERROR = "error"
 
 

@@ -206,13 +206,36 @@ def touch_feature(case: PairCase) -> str:
     return "edge" if touching == 2 and case.dim == 3 else "corner"
 
 
+def nearest_feature(case: PairCase) -> str:
+    """Where the bodies are nearest: ``sphere``, or the box ``face``, ``edge`` or ``corner``.
+
+    A box pair separated (or touching) along one axis meets at a face, along two
+    at an edge (a corner in 2-D), along three at a corner; overlapping boxes
+    meet across a face.
+
+    >>> from tests.conftest import aabb
+    >>> nearest_feature(aabb([0.0, 0.0], [0.5, 0.5], [2.0, 3.0], [0.5, 0.5]))
+    'corner'
+    >>> nearest_feature(aabb([0.0, 0.0], [0.5, 0.5], [0.5, 0.2], [0.5, 0.5]))
+    'face'
+    """
+    if not isinstance(case, AabbCase):
+        return "sphere"
+    apart = sum(abs(Fraction(cb) - Fraction(ca)) >= Fraction(ha) + Fraction(hb)
+                for ca, cb, ha, hb in zip(case.a.center, case.b.center, case.a.half,
+                                          case.b.half, strict=True))
+    if apart <= 1:
+        return "face"
+    return "edge" if apart == 2 and case.dim == 3 else "corner"
+
+
 def categorize(case: PairCase, conv: Conventions, quantity: str, err: float,
                truth: Observation) -> tuple[Category, str]:
     """Category and reason of a disagreement, from the adapter's declared conventions."""
     velocity = quantity in ("v1", "v2")
     # margin is a distance: it bounds lengths, never velocities
     allowed = (conv.rtol * velocity_scale(case) if velocity
-               else conv.margin + conv.rtol * length_scale(case))
+               else conv.margin_for(nearest_feature(case)) + conv.rtol * length_scale(case))
     gap = truth.distance if isinstance(truth.distance, float) else math.nan
     rule = _touch_convention(case, conv) if quantity == "hit" and gap == 0.0 else ""
     if velocity and isinstance(case, ResponseCase):
