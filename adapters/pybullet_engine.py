@@ -3,45 +3,48 @@
 Each variant has two DIRECT clients per process (no GUI), connected lazily, gravity 0, no
 ground plane: one for detection cases, one for responses (world settings are global to a
 client, so the variants never share one; detection worlds never step, so their idle bodies
-cost response steps nothing).  A case is two base-only multibodies (mass 1 for detection,
-as static pairs are never tested; the case's masses for responses) on collision shapes
-cached per client by (geometry, size).
+cost response steps nothing).  A case is two base-only multibodies on collision shapes
+cached per client by (geometry, size): for detection static ones (mass 0, no visual shape:
+what a user making a pure collision query builds; a static body's AABB is never checked for
+overflow, see below), for responses dynamic ones with the case's masses.
 
 Bodies are pooled per client, by shape.  ``prepare`` takes an idle body of the shape
 (creating one, ``createMultiBody``, only when none is idle; a pair of equal shapes takes
 two), moves it (``resetBasePositionAndOrientation``, identity orientation) and turns its
-collision on (``setCollisionFilterGroupMask`` group 1, mask -1: what createMultiBody gives a
-dynamic base [URDF2Bullet.cpp]).  ``release`` turns it off (group 0, mask 0: it pairs with
-nothing) and returns it to the pool, where it stays, still, wherever its case left it: the
-world keeps no active body between cases.  What makes a reused body a new one, measured:
-the filter call removes and re-adds the collider, which drops its broadphase pairs and
-contact manifolds and gives it a new proxy id after all others (A before B, as on
-creation); a createMultiBody body never sleeps (sleeping is opt-in); ``changeDynamics(mass=)``
-recomputes the inertia exactly as createMultiBody does.  Detection bodies never get a
-velocity or dynamics; response bodies get their mass, restitution and the variant's
-per-body settings on every ``prepare`` and zero velocities on ``release``, so the steps of
-later cases leave idle bodies where they are.  A detection client keeps at most
+collision on (``setCollisionFilterGroupMask`` group 1, mask -1: what createMultiBody gives
+a dynamic base [URDF2Bullet.cpp]; a new detection body gets the same call, since a static
+base gets StaticFilter with a mask that excludes static-static pairs: two static bodies
+would never make contact, measured here).  ``release`` turns it off (group 0, mask 0: it
+pairs with nothing) and returns it to the pool, where it stays, still, wherever its case
+left it: the world keeps no active body between cases.  What makes a reused body a new one,
+measured: the filter call removes and re-adds the collider, which drops its broadphase
+pairs and contact manifolds and gives it a new proxy id after all others (A before B, as on
+creation); a createMultiBody body never sleeps (sleeping is opt-in);
+``changeDynamics(mass=)`` recomputes the inertia exactly as createMultiBody does.  Detection
+bodies never get a velocity or dynamics; response bodies get their mass, restitution and
+the variant's per-body settings on every ``prepare`` and zero velocities on ``release``, so
+the steps of later cases leave idle bodies where they are.  A detection client keeps at most
 ``IDLE_LIMIT`` idle bodies and a response client ``RESPONSE_IDLE_LIMIT`` (the least
 recently released are removed beyond): an idle body adds ~0.04 us to
 ``performCollisionDetection`` and ~0.55 us to a response step (~2 us with the pair alone),
 and detection clients never step.  Not pooled (new bodies, removed on ``release``): a case
-with a size outside (0, ``SIZE_LIMIT``], a mass that is not positive and finite, a negative
-restitution (``changeDynamics`` ignores negative values, so a reused body would keep the
-last one) or a coordinate or speed not within ``COORD_LIMIT``; and a response body that
-ends non-finite or beyond it, since a body whose AABB overflowed is disabled for good (see
-below).  A shape once used by a body can never be removed (``removeCollisionShape`` refuses
-it even after the body is gone), so a client holding ``SHAPE_LIMIT`` shapes is disconnected
-and replaced by a new one between cases (~5 ms).  Costs measured here: ``createMultiBody``
-~0.6 ms and ``removeBody`` ~0.05 ms (~2 ms among 2,000 bodies; each create and remove also
-leaks ~1 KB); a reset or a filter call ~1 us.  A pooled sphere detection case costs ~32 us
-(prepare, query, release) against ~11 us for the bare engine calls (two resets, detection,
-contact and closest points) and ~1.3 ms with a body created and removed per case; memory
-stays flat.  The banner and ``b3Warning`` lines go to the C-level stdout/stderr, so import,
-connect, creating and removing shapes and bodies, and ``changeDynamics`` run with file
-descriptors 1 and 2 on /dev/null (a redirect costs ~8 us); resets, filter calls and
-``query`` print nothing and run without.  The quiet import (``engine()``), the redirect
-(``quiet()``), ``connect`` and the tuned settings are shared with the scene runner and the
-studies in :mod:`adapters.pybullet_setup`.
+with a size outside (0, ``SIZE_LIMIT``], a response mass that is not positive and finite, a
+negative restitution (``changeDynamics`` ignores negative values, so a reused body would
+keep the last one) or a coordinate or speed not within ``COORD_LIMIT``; and a response body
+that ends non-finite or beyond it, since a dynamic body whose AABB overflowed is disabled
+for good (see below).  A shape once used by a body can never be removed
+(``removeCollisionShape`` refuses it even after the body is gone), so a client holding
+``SHAPE_LIMIT`` shapes is disconnected and replaced by a new one between cases (~5
+ms).  Costs measured here: ``createMultiBody`` ~0.6 ms and ``removeBody`` ~0.05 ms (~2 ms
+among 2,000 bodies; each create and remove also leaks ~1 KB); a reset or a filter call ~1
+us.  A pooled sphere detection case costs ~32 us (prepare, query, release) against ~11 us
+for the bare engine calls (two resets, detection, contact and closest points) and ~1.3 ms
+with a body created and removed per case; memory stays flat.  The banner and ``b3Warning``
+lines go to the C-level stdout/stderr, so import, connect, creating and removing shapes and
+bodies, and ``changeDynamics`` run with file descriptors 1 and 2 on /dev/null (a redirect
+costs ~8 us); resets, filter calls and ``query`` print nothing and run without.  The quiet
+import (``engine()``), the redirect (``quiet()``), ``connect`` and the tuned settings are
+shared with the scene runner and the studies in :mod:`adapters.pybullet_setup`.
 
 Detection: ``hit`` is the engine's verdict, "contact points exist" after
 ``performCollisionDetection`` (stale until then); Bullet's sphere-sphere and box-box
@@ -51,14 +54,19 @@ part.  ``distance`` and ``normal``: the deepest point of ``getClosestPoints(A, B
 at z = 0; a 2-D box gets the z half-width 2 x the case's largest half-width (1 if all are
 0), both centred at z = 0, so the z overlap exceeds any x or y overlap: z is never the axis
 of least overlap nor a gap, and the 3-D answers are the 2-D ones (returned as 2-tuples).
-2 x, not more, keeps the box small (see the AABB limit below).
+2 x, not more, keeps the box small (see the size limits below).
 
 Response: ``query`` resets centres (``resetBasePositionAndOrientation``) and velocities
 (``resetBaseVelocity``, no spin), then calls ``stepSimulation`` until the relative velocity
 along the line of centres the step detected from no longer approaches (not above 1e-12 x
 the case's largest speed), at most 64 steps; it returns ``getBaseVelocity`` and, as
-``resolved_at``, the centres before that step (None if never resolved).  2-D runs at z = 0
-with vz = 0; a result with vz != 0 raises.
+``resolved_at``, the centres at the start of the first step after which
+``getContactPoints(A, B)`` is not empty: the configuration whose contact the solver
+resolved (a step detects at the centres it starts from, measured here).  None if no step
+reported a contact (a grazing pair that passes, bodies whose AABB overflowed).  That step
+need not end the approach (the default contactSlop leaves a slow or grazing pair
+approaching), so it is not the last step.  2-D runs at z = 0 with vz = 0; a result with
+vz != 0 raises.
 
 Conventions, measured here (sources in ``SOURCES``):
 
@@ -73,14 +81,33 @@ Conventions, measured here (sources in ``SOURCES``):
   e, B 1.0.  Below ``restitutionVelocityThreshold`` (0.2 by default) of approach a bounce
   is inelastic [btContactSolverInfo.h].  Separating contacts get no impulse (clamped >= 0)
   [btMultiBodyConstraintSolver.cpp]: resolves_separating False.
+- time step 1/240 s in both variants (tuned: set explicitly; default: pybullet's
+  ``fixedTimeStep``) [quickstart guide, setTimeStep].  Damping: the multibody default
+  linear damping 0.04 [btMultiBody.cpp] acts as dv/dt = -0.04 (1 + |v|) v
+  (``DAMPING_K1_LINEAR`` + ``DAMPING_K2_LINEAR`` |v|, measured in scenes, see
+  :mod:`adapters.pybullet_scene`); the tuned variant sets it to 0.
+- mass 0 is a static body: ``isFixedBase = (mass == 0)`` [URDF2Bullet.cpp], immovable,
+  an infinitely heavy body; a response against it bounces off it moving at the velocity it
+  was given (measured: ``bad-resp-3d-zero-mass``).  Declared ``zero_mass="static"``.
+- negative sizes are not read as magnitudes: a negative radius raises ``pybullet.error``
+  (``createCollisionShape failed``); a box with one negative half-width answers as the
+  textbook's literal formula, one with all negative as neither (measured here).  Declared
+  ``negative_extents=""``.
 
-Other facts measured: multibody damping defaults to 0.04 [btMultiBody.cpp];
-``contactSlop`` (1e-5) keeps slop/dt of the approach (0.0024 at dt 1/240), so a default
-impact finishes a step late; starting overlapped, contact ERP adds energy; radii 0,
-negative or NaN raise ``pybullet.error`` (box half-widths 0 or negative are accepted);
-coincident sphere centres get (1, 0, 0) on B; a dynamic body whose AABB diagonal reaches
-1e6 (or is not finite) is dropped from collision for good ("Overflow in AABB": its
-activation state becomes DISABLE_SIMULATION, which nothing resets) [btCollisionWorld.cpp].
+Other facts measured: ``contactSlop`` (1e-5) keeps slop/dt of the approach (0.0024 at dt
+1/240), so a default impact finishes a step late; starting overlapped, contact ERP adds
+energy; radii 0, negative or NaN raise ``pybullet.error`` (box half-widths 0 or negative
+are accepted); coincident sphere centres get (1, 0, 0) on B.  A dynamic body whose AABB
+diagonal (the contact breaking threshold 0.02 included) reaches 1e6 (or is not finite) is
+dropped from collision for good ("Overflow in AABB": its activation state becomes
+DISABLE_SIMULATION, which nothing resets) [btCollisionWorld.cpp]: a response sphere of
+radius >= 1e6 / (2 sqrt 3) - 0.02 = 288675.1146 makes no contact (measured; bisected to
+1e-10).  Static bodies skip that check, so detection has no such limit; measured there:
+sphere contacts up to radius 1.34e154 (sqrt DBL_MAX), box contacts up to half-width
+3.4e38 (FLT_MAX).  Still there, whatever the body type: ``getClosestPoints`` of
+overlapping boxes is unreliable from half-widths of about 5e3 (overlap 1e-3 of the
+half-width sum: at about half the scales measured between 1e4 and 1e7 it reads about
+-0.002, twice the margin, instead of the depth), while the contact points stay exact.
 
 Variants: ``pybullet`` (tuned for accuracy; ``TUNED_WORLD`` and ``TUNED_BODY`` of
 ``pybullet_setup``): restitutionVelocityThreshold 0, contactSlop 0, contactERP 0 (erp and
@@ -93,7 +120,7 @@ contactSlop 1e-5, default contact ERP, dt 1/240 s).  Both set restitution by the
 Scenes (``sphere_scene``) are stepped by :mod:`adapters.pybullet_scene` with the variant's
 ``scene_tuning``: the tuned settings as a ``pybullet_scene.Tuning``, or None (defaults).
 
-(Longer than 400 lines: about 90 of them are this docstring, the conventions as measured with
+(Longer than 400 lines: about 125 of them are this docstring, the conventions as measured with
 their sources; the code is the pooled bodies and the response stepping that uses them.)
 """
 
@@ -115,7 +142,7 @@ from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 
 Spec = tuple[str, tuple[float, ...], float]
-"""A body to build: geometry, size (radius or half-widths) and mass."""
+"""A body to build: geometry, size (radius or half-widths) and mass (0: static)."""
 
 GH = "https://github.com/bulletphysics/bullet3/blob/master/"
 SOURCES = (
@@ -156,11 +183,13 @@ class World:
     ``idle`` maps a shape id to its idle bodies (most recently released last), ``lru``
     every idle body to its shape id (least recently released first); ``busy`` counts the
     bodies handed out and not yet released (the client is replaced only when it is 0).
+    ``static``: a detection world, whose bodies are static and pair with each other.
     """
 
     settings: dict[str, float]
     limit: int
     cid: int
+    static: bool = False
     shapes: dict[ShapeKey, int] = field(default_factory=dict)
     idle: dict[int, list[int]] = field(default_factory=dict)
     lru: OrderedDict[int, int] = field(default_factory=OrderedDict)
@@ -174,7 +203,7 @@ def world(name: str, settings: dict[str, float], response: bool = False) -> Worl
     """The world (client and pool) called ``name``, connected once per process."""
     if name not in _WORLDS:
         limit = RESPONSE_IDLE_LIMIT if response else IDLE_LIMIT
-        _WORLDS[name] = World(settings, limit, connect(settings))
+        _WORLDS[name] = World(settings, limit, connect(settings), static=not response)
     return _WORLDS[name]
 
 
@@ -222,6 +251,8 @@ def take(w: World, sid: int, mass: float, centre: Vec3, pooled: bool) -> int:
         with quiet():
             body = bt.createMultiBody(baseMass=mass, baseCollisionShapeIndex=sid,
                                       basePosition=centre, physicsClientId=w.cid)
+        if w.static:  # a static base's own filter excludes static-static pairs
+            bt.setCollisionFilterGroupMask(body, -1, GROUP, MASK, physicsClientId=w.cid)
     w.busy += 1
     return int(body)
 
@@ -260,14 +291,14 @@ def box_sizes(case: AabbCase) -> tuple[Vec3, Vec3]:
 
 
 def body_specs(case: PairCase) -> list[Spec]:
-    """The two bodies of a case."""
+    """The two bodies of a case: static (mass 0) for detection, the case's masses for responses."""
     if isinstance(case, AabbCase):
         size_a, size_b = box_sizes(case)
-        return [("box", size_a, 1.0), ("box", size_b, 1.0)]
+        return [("box", size_a, 0.0), ("box", size_b, 0.0)]
     if isinstance(case, ResponseCase):
         return [("sphere", (case.a.radius,), case.a.mass),
                 ("sphere", (case.b.radius,), case.b.mass)]
-    return [("sphere", (case.a.radius,), 1.0), ("sphere", (case.b.radius,), 1.0)]
+    return [("sphere", (case.a.radius,), 0.0), ("sphere", (case.b.radius,), 0.0)]
 
 
 def ordinary(case: PairCase, ca: Vec3, cb: Vec3, specs: Sequence[Spec]) -> bool:
@@ -280,11 +311,11 @@ def ordinary(case: PairCase, ca: Vec3, cb: Vec3, specs: Sequence[Spec]) -> bool:
     (_, size_a, mass_a), (_, size_b, mass_b) = specs
     numbers: tuple[float, ...] = (*ca, *cb)
     if isinstance(case, ResponseCase):
-        if not 0.0 <= case.restitution <= COORD_LIMIT:
+        if not (0.0 <= case.restitution <= COORD_LIMIT
+                and 0.0 < mass_a < math.inf and 0.0 < mass_b < math.inf):
             return False
         numbers += (*case.a.velocity, *case.b.velocity)
-    return (0.0 < mass_a < math.inf and 0.0 < mass_b < math.inf
-            and all(0.0 < x <= SIZE_LIMIT for x in (*size_a, *size_b))
+    return (all(0.0 < x <= SIZE_LIMIT for x in (*size_a, *size_b))
             and all(-COORD_LIMIT <= x <= COORD_LIMIT for x in numbers))
 
 
@@ -342,12 +373,25 @@ class PyBulletTuned(Adapter):
         restitution="product of the bodies' restitutions; the adapter sets A = e, B = 1",
         restitution_threshold=0.0,
         resolves_separating=False,
-        notes=("hit = contact points exist after performCollisionDetection (touching spheres "
-               "and face-touching boxes are contacts); the 0.001 box margin rounds edges and "
-               "corners: edge/corner-touching boxes read 0.00083/0.00146 apart; dynamic "
-               "bodies with an AABB diagonal >= 1e6 make no contacts; 2-D at z = 0, 2-D boxes "
-               "get z half-width 2x the largest half-width; responses stepped until no longer "
-               "approaching, resolved_at = the centres the resolving step detected from"),
+        time_step=1.0 / 240.0,
+        damping=0.0,
+        zero_mass="static",
+        negative_extents="",
+        notes=("hit = contact points exist after performCollisionDetection between static "
+               "(mass 0) bodies (touching spheres and face-touching boxes are contacts); the "
+               "0.001 box margin rounds edges and corners: edge/corner-touching boxes read "
+               "0.00083/0.00146 apart; 2-D at z = 0, 2-D boxes get z half-width 2x the "
+               "largest half-width.  Responses: dynamic bodies stepped at dt 1/240 until no "
+               "longer approaching; resolved_at = the centres at the start of the first step "
+               "that reported the contact.  Measured limits: a dynamic body whose AABB "
+               "diagonal (breaking threshold 0.02 included) reaches 1e6 makes no contact "
+               "(\"Overflow in AABB\"): response spheres of radius >= 288675.1146; static "
+               "detection bodies have no such check (contacts measured up to radius 1.34e154 "
+               "and box half-width 3.4e38); getClosestPoints of overlapping boxes from "
+               "half-width ~5e3 may read -0.002 (-2 x margin) instead of the depth.  Mass 0 "
+               "is a static body (isFixedBase = mass == 0 in URDF2Bullet.cpp).  A negative "
+               "radius raises; a box with one negative half-width reads literally (measured "
+               "here)"),
         sources=SOURCES,
     )
 
@@ -432,10 +476,11 @@ class PyBulletTuned(Adapter):
             pa = bt.getBasePositionAndOrientation(pair.a, physicsClientId=cid)[0]
             pb = bt.getBasePositionAndOrientation(pair.b, physicsClientId=cid)[0]
             bt.stepSimulation(physicsClientId=cid)
+            if resolved is None and bt.getContactPoints(pair.a, pair.b, physicsClientId=cid):
+                resolved = (pa, pb)  # the first step that reported the contact started here
             va = bt.getBaseVelocity(pair.a, physicsClientId=cid)[0]
             vb = bt.getBaseVelocity(pair.b, physicsClientId=cid)[0]
             if not approach_speed(pa, pb, va, vb) > m.tol:  # NaN (coincident): stop
-                resolved = (pa, pb)
                 break
         return observed(pair.dim, va, vb, resolved)
 
@@ -478,6 +523,8 @@ class PyBulletDefault(PyBulletTuned):
     conventions: ClassVar[Conventions] = replace(
         PyBulletTuned.conventions,
         restitution_threshold=0.2,
+        damping=0.04,
         notes=PyBulletTuned.conventions.notes
-        + "; default damping 0.04, friction 0.5 and contactSlop 1e-5 act on responses",
+        + ".  Default damping 0.04 (dv/dt = -0.04 (1 + |v|) v, btMultiBody.cpp; measured in "
+          "adapters/pybullet_scene.py), friction 0.5 and contactSlop 1e-5 act on responses",
     )

@@ -21,8 +21,17 @@ pre-filter, and segment/point queries do not give a pair's distance, so the
 direct pairwise call is used.
 
 Response (``sphere_response``, 2-D): two dynamic circles (mass from the case,
-moment ``moment_for_circle(m, 0, r)``) in a Space with gravity (0, 0) and
-damping 1.0.  Restitution: Munk2D combines the shapes' elasticities as their
+moment ``MOMENT``, infinite) in a Space with gravity (0, 0) and damping 1.0 (no
+damping).  Why not ``moment_for_circle(m, 0, r)``: the moment plays no part in the
+answer (the contact normal of two circles passes through both centres and there is no
+friction, so no impulse has a torque), while the radius-based one is 0 for r = 0 (pymunk
+then refuses the body: AssertionError) and NaN for a NaN radius (Munk2D's
+``cpBodySetMoment`` assert aborts the process).  pymunk documents an infinite moment as a
+body that cannot rotate [body.py]: Munk2D's inverse moment is then exactly 0, so the
+effective mass along the normal is exactly 1/ma + 1/mb, the textbook's, with no rounding
+of a tiny r x n through the moment (measured on the suite's 77 finite 2-D responses: the
+same answers as any finite moment such as 1.0, and as the radius-based moment except for
+an ulp in 3 cases).  Restitution: Munk2D combines the shapes' elasticities as their
 product, so A gets the case's ``e`` and B gets 1.0.  ``prepare`` builds the
 Space, the bodies and the shapes.  ``query`` removes and re-adds the shapes
 (dropping the cached arbiter: no contact persistence or warm-start impulse),
@@ -35,7 +44,9 @@ the contact (seen by a ``pre_solve`` callback registered with
 bodies no longer approach without having touched, or ``MAX_STEPS``.
 Munk2D integrates positions first and then collides, so the centres read in
 ``pre_solve`` are where the resolving contact was computed: they are returned
-as ``resolved_at`` (the truth is computed there, not at the case's centres).
+as ``resolved_at`` (the truth is computed there, not at the case's centres).  The
+first ``pre_solve`` of a query is the first step that reported the contact, and the
+stepping ends with that step: the configuration recorded is the one the solver resolved.
 
 Variants (Space settings; sources below):
 
@@ -65,12 +76,15 @@ boxes (edge, corner, face) collide with distance 0; touching circles do not
 (``distsq < mindist^2``); coincident equal boxes and zero-size boxes report a
 contact with a zero normal (0, -0) and distance 0, even 2^-30 apart, and
 coincident crossed boxes report distance 0 instead of their overlap;
-coincident circles get normal (1, 0); ``Body(mass <= 0, nan, inf)`` aborts the
-interpreter (SIGABRT, caught by the harness worker; not guarded here); the
+coincident circles get normal (1, 0); ``Body(mass < 0, nan, inf)`` aborts the
+interpreter (SIGABRT, caught by the harness worker; not guarded here), a body of mass 0
+is refused at the first step (``AssertionError``: "Dynamic bodies must have a mass > 0",
+space.py), so a zero mass is not read as a static body (declared ``zero_mass=""``); the
 impulse accumulator is clamped at 0, so bodies already separating are left
 alone; there is no restitution threshold (``bounce = vrn * e``); a grazing
 approach (normal speed 2^-10 against tangential 2) is never seen overlapping at
-a step, so it is not resolved at all (at dt = 1e-3 and 1/60).
+a step, so it is not resolved at all (at dt = 1e-3 and 1/60); a disc of NaN radius
+builds (with the infinite moment) and never collides: velocities kept, resolved_at None.
 
 Conventions (each backed by a file in ``SOURCES``, Munk2D and pymunk sources):
 box size full (``create_box``); normal from the first shape to the second,
@@ -78,11 +92,19 @@ A to B (``cpShapesCollide`` in cpShape.c); touching boxes collide (``d <= 0`` in
 cpCollision.c), touching circles do not (strict ``<``); elasticity combines as
 the product (cpArbiter.c); no restitution threshold; collision_slop 0.1,
 collision_bias and 10 iterations by default (space.py); no contact raises
-AssertionError (contact_point_set.py).
+AssertionError (contact_point_set.py).  Time step: each variant's ``dt`` (1e-3, 1/60),
+fixed, one ``Space.step(dt)`` per step; damping 0 (``Space.damping`` 1.0 keeps all velocity,
+space.py).  Negative half-widths are read as their magnitude: ``create_box`` passes the
+corners +-w/2 to ``Poly``, which builds their convex hull (shapes.py; measured here: a box
+of half-width -1 answers as one of 1), declared ``negative_extents="absolute"``.  Negative
+circle radii are not (measured here: the distance is |d| - ra - rb as given, and a
+contact is reported when |d| < |ra + rb|, ``distsq < mindist^2`` in cpCollision.c); the
+suite has no finite negative 2-D radius, and the notes say so.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -101,20 +123,28 @@ SOURCES = (
     MUNK2D + "cpArbiter.c",  # e = a->e * b->e; bounce = vrn * e; jnAcc = max(.., 0)
     MUNK2D + "cpSpaceStep.c",  # positions, collide + pre_solve, prestep, velocities, solver
     PYMUNK + "contact_point_set.py",  # assert count in (1, 2): no contact raises
+    PYMUNK + "body.py",  # moment float('inf'): a body that cannot rotate
     PYMUNK + "shapes.py",  # create_box(size=(width, height), radius=0), shapes_collide
     PYMUNK + "space.py",  # collision_slop 0.1, collision_bias, iterations 10, on_collision
 )
 MAX_STEPS = 100_000
 """Step cap of a response query (bodies still approaching without touching)."""
+MOMENT = math.inf
+"""Every response body's moment: no rotation (see the module docstring), whatever the radius."""
 
 _NOTES = ("Detection uses Shape.shapes_collide (independent of any Space: collision_slop "
           "does not apply, so no margin); no contact raises AssertionError and is reported "
           "as hit False with distance and normal absent.  Response: first step in which "
-          "the solver handled the contact; resolved_at = centres in pre_solve.  Touching "
-          "boxes collide, touching circles do not (textbook rule of each kind).  ")
+          "the solver handled the contact; resolved_at = centres in pre_solve; moment "
+          "infinite (no rotation; independent of the radius).  Touching boxes collide, "
+          "touching circles do not (textbook rule of each kind).  Mass 0 is refused "
+          "(AssertionError at the first step), not static.  Negative half-widths read as "
+          "their magnitude (create_box: convex hull of +-w/2); negative circle radii do "
+          "not (distance |d| - ra - rb as given, contact when |d| < |ra + rb|; measured "
+          "here).  ")
 
 
-def _conventions(settings: str) -> Conventions:
+def _conventions(settings: str, dt: float) -> Conventions:
     return Conventions(
         box_extents="full (Poly.create_box takes width and height; the adapter passes 2*half)",
         normal="A to B (ContactPointSet.normal points from the first shape to the second); "
@@ -123,6 +153,10 @@ def _conventions(settings: str) -> Conventions:
         restitution="product of the shapes' elasticities; A = e, B = 1.0 gives e exactly",
         restitution_threshold=0.0,
         resolves_separating=False,
+        time_step=dt,
+        damping=0.0,
+        zero_mass="",
+        negative_extents="absolute",
         notes=_NOTES + settings,
         sources=SOURCES,
     )
@@ -190,7 +224,7 @@ def _discs(case: ResponseCase, friction: float | None) -> tuple[list[Any], list[
 
     bodies, shapes = [], []
     for data, elasticity in ((case.a, case.restitution), (case.b, 1.0)):
-        body = pymunk.Body(data.mass, pymunk.moment_for_circle(data.mass, 0.0, data.radius))
+        body = pymunk.Body(data.mass, MOMENT)
         shape = pymunk.Circle(body, data.radius)
         shape.elasticity = elasticity
         if friction is not None:
@@ -235,7 +269,7 @@ class PymunkTuned(Adapter):
     settings: ClassVar[str] = ("dt 1e-3 s, collision_slop 0, collision_bias 1.0 (no positional "
                                "correction), iterations 10, friction 0, elasticity A = e, B = 1")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind, dims=(2,))
-    conventions: ClassVar[Conventions] = _conventions(settings)
+    conventions: ClassVar[Conventions] = _conventions(settings, 1e-3)
     dt: ClassVar[float] = 1e-3
     slop: ClassVar[float | None] = 0.0
     bias: ClassVar[float | None] = 1.0
@@ -319,7 +353,7 @@ class PymunkDefault(PymunkTuned):
     name: ClassVar[str] = "pymunk-default"
     settings: ClassVar[str] = ("dt 1/60 s; collision_slop (0.1f), collision_bias ((1-0.1f)^60), "
                                "iterations (10), friction (0) at defaults; elasticity A = e, B = 1")
-    conventions: ClassVar[Conventions] = _conventions(settings)
+    conventions: ClassVar[Conventions] = _conventions(settings, 1.0 / 60.0)
     dt: ClassVar[float] = 1.0 / 60.0
     slop: ClassVar[float | None] = None
     bias: ClassVar[float | None] = None

@@ -9,7 +9,9 @@ Types and input checks are shared with :mod:`adapters.pybullet_scene` in
 Building (``prepare_scene``, untimed): a new ``pymunk.Space`` per scene with gravity (0, 0)
 and damping 1.0 (velocities kept), ``iterations`` if given (else pymunk's 10); per disc a
 dynamic ``pymunk.Body(m, moment_for_circle(m, 0, r))`` at its centre with its velocity and a
-``pymunk.Circle(body, r)``, as ``pymunk_engine`` builds them; only the declared bodies.
+``pymunk.Circle(body, r)`` (radii are positive and finite here, ``check_scene``; the pair
+adapter ``pymunk_engine`` gives its response bodies an infinite moment instead, as it must
+take radius 0 and NaN); only the declared bodies.
 ``run_scene`` times only ``space.step(dt)`` in a loop (~2 us for 0 steps) and reads
 ``Body.position`` / ``Body.velocity`` after it; ``release_scene`` empties the Space.
 

@@ -9,6 +9,10 @@ Conventions (source: the textbook text in ``shared/reference/`` and
 :mod:`reference_impl.formulas`): half-widths; normal from A to B; AABB
 touching overlaps, spheres touching do not collide; no margin; the relative
 tolerance is the rounding of a handful of operations in the declared precision.
+The formula has no time step or damping (``time_step`` None, ``damping`` 0), takes a
+zero mass as the number 0 (``zero_mass`` "") and a negative radius or half-width as the
+number it is (``negative_extents`` "": the textbook's literal reading, which is the
+oracle's).
 """
 
 from __future__ import annotations
@@ -36,6 +40,10 @@ class ReferenceF64(Adapter):
     conventions: ClassVar[Conventions] = Conventions(
         rtol=2.0**-50,
         restitution="case value (textbook generalised with e)",
+        time_step=None,
+        damping=0.0,
+        zero_mass="",
+        negative_extents="",
         notes="Faithful textbook code; float64 throughout.",
         sources=(TEXTBOOK,),
     )
@@ -59,6 +67,10 @@ class ReferenceF32(ReferenceF64):
     conventions: ClassVar[Conventions] = Conventions(
         rtol=2.0**-21,
         restitution="case value (textbook generalised with e)",
+        time_step=None,
+        damping=0.0,
+        zero_mass="",
+        negative_extents="",
         notes="Inputs rounded to float32, every operation in float32.",
         sources=(TEXTBOOK,),
     )

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import signal
 import time
+from dataclasses import replace
 from typing import Any, ClassVar
 
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
@@ -138,3 +139,35 @@ class DeclaresHangs(SleepsForever):
         if prepared.id == "boom":
             super().query(prepared)
         return oracle.truth(prepared)
+
+
+class HangsOnDistance(_Fake):
+    """Declares that only ``distance`` hangs on 'boom' (as FCL's signed distance does): its
+    full query hangs there, while ``query_without`` the distance answers the rest."""
+
+    name: ClassVar[str] = "fake-hangs-on-distance"
+
+    def known_hang(self, case: AnyCase) -> str | None:
+        return "distance loops" if case.id == "boom" else None
+
+    def hanging_quantities(self, case: AnyCase) -> frozenset[str]:
+        return frozenset({"distance"}) if self.known_hang(case) else frozenset()
+
+    def query(self, prepared: Any) -> Observation:
+        while prepared.id == "boom":
+            time.sleep(1.0)
+        return oracle.truth(prepared)
+
+    def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
+        if "distance" not in skip:
+            return self.query(prepared)
+        return replace(oracle.truth(prepared), distance=None)
+
+
+class HangsOnDistanceRestRaises(HangsOnDistance):
+    """As HangsOnDistance, but answering without the distance raises."""
+
+    name: ClassVar[str] = "fake-hangs-rest-raises"
+
+    def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
+        raise RuntimeError("no verdict either")

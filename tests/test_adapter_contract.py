@@ -108,3 +108,25 @@ def test_unsupported_pairs_have_a_reason(name: str) -> None:
             reason = adapter.unsupported(sample(kind, dim))
             assert (reason is None) == ((kind, dim) in adapter.capabilities)
             assert reason is None or name.split("-")[0] in reason or "engine" in reason
+
+
+@pytest.mark.parametrize("name", adapters.names())
+def test_declared_hangs_and_conventions_are_well_formed(name: str) -> None:
+    adapter: Adapter = adapters.get(name)
+    conventions = adapter.conventions
+    assert conventions.zero_mass in ("static", "")
+    assert conventions.negative_extents in ("absolute", "")
+    assert conventions.damping >= 0.0
+    assert conventions.time_step is None or conventions.time_step > 0.0
+    for kind, dim in sorted(adapter.capabilities):
+        if kind is Kind.SPHERE_SCENE:
+            continue
+        case = sample(kind, dim)
+        hanging = adapter.hanging_quantities(case)
+        assert hanging <= set(quantities_of(kind))
+        assert (adapter.known_hang(case) is None) == (not hanging), (name, kind, dim)
+        prepared = adapter.prepare(case)
+        try:  # skipping nothing is the query itself
+            assert adapter.query_without(prepared, frozenset()) == adapter.query(prepared)
+        finally:
+            adapter.release(prepared)

@@ -127,6 +127,37 @@ def test_coincident_spheres_hang_the_signed_distance() -> None:
         subprocess.run([sys.executable, "-c", code], timeout=4, capture_output=True)
 
 
+def test_only_the_distance_of_coincident_spheres_is_declared_hanging() -> None:
+    # collide answers at once (above); so the adapter can answer without the distance.
+    case = sphere(0.0, 0.0, ra=1.0, rb=0.5)
+    assert FCL.known_hang(case) is not None
+    assert FCL.hanging_quantities(case) == frozenset({"distance"})
+    assert FCL.hanging_quantities(sphere(0.0, 0.5)) == frozenset()
+    prepared = FCL.prepare(case)
+    obs = FCL.query_without(prepared, frozenset({"distance"}))
+    FCL.release(prepared)
+    assert obs == Observation(hit=oracle.truth(case).hit, distance=None, normal=(0.0, 0.0, 0.0))
+
+
+@pytest.mark.parametrize("case", [
+    sphere(0.0, 0.75), sphere(0.0, 3.0), sphere(0.0, 1.0, dim=2),
+    aabb([0.0, 0.0, 0.0], [1.0, 1.0, 1.0], [1.5, 0.5, 0.0], [1.0, 1.0, 1.0]),
+    aabb([0.0, 0.0], [1.0, 1.0], [3.0, 0.0], [1.0, 1.0]),
+], ids=["overlap", "apart", "touching-2d", "boxes", "boxes-apart-2d"])
+def test_query_without_the_distance_is_the_query_less_the_distance(case: AnyCase) -> None:
+    # The verdict is collide's in both; the normal is the contact's when they collide and
+    # absent otherwise (it came from the nearest points of the distance call).
+    full = observe(case)
+    prepared = FCL.prepare(case)
+    try:
+        part = FCL.query_without(prepared, frozenset({"distance"}))
+        assert FCL.query_without(prepared, frozenset()) == full
+    finally:
+        FCL.release(prepared)
+    assert (part.hit, part.distance) == (full.hit, None)
+    assert part.normal == (full.normal if full.hit else None)
+
+
 # --- translation -------------------------------------------------------------------------
 
 def test_half_widths_become_full_side_lengths() -> None:
@@ -203,6 +234,9 @@ def test_registry_availability_and_declarations() -> None:
     assert conv.touching_is_contact("sphere") and conv.touching_is_contact("face")
     assert not conv.touching_is_contact("edge") and not conv.touching_is_contact("corner")
     assert set(conv.margins.values()) == {1e-6} and len(conv.margins) == 4
+    # No dynamics: no time step, damping or masses; negative sizes read literally.
+    assert (conv.time_step, conv.damping, conv.zero_mass, conv.negative_extents) == (
+        None, 0.0, "", "")
 
 
 def test_touching_spheres_are_a_convention_disagreement() -> None:

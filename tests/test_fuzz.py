@@ -22,7 +22,7 @@ from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, ResponseCase
 from crosscheck.studies import fuzzgen
 from crosscheck.studies.findings import choose, group_findings, write_findings
 from crosscheck.truth import oracle
-from crosscheck.truth.score import approach_speed
+from crosscheck.truth.categories import approach_speed
 from reference_impl import exact
 
 KINDS = [Kind(k) for k in PAIR_KINDS]  # scenes are not fuzzed

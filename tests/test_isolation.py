@@ -12,6 +12,7 @@ from pathlib import Path
 import pandas as pd
 
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
+from crosscheck.core.model import quantities_of
 from crosscheck.core.options import RunOptions
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.run.runner import run
@@ -52,6 +53,38 @@ def test_declared_hang_is_probed_briefly_and_still_measured(tmp_path: Path) -> N
     boom = frame[frame["case_id"] == "boom"]
     assert set(boom["reason"]) == {
         f"no answer within {HANG_PROBE_S:g} s (declared known hang: stuck in a loop)"}
+
+
+def by_quantity(frame: pd.DataFrame, case_id: str) -> dict[str, tuple[str, str]]:
+    rows = frame[frame["case_id"] == case_id]
+    return {str(q): (str(s), str(r)) for q, s, r in zip(rows["quantity"], rows["status"],
+                                                       rows["reason"], strict=True)}
+
+
+def test_a_hang_declared_on_one_quantity_costs_only_that_quantity(tmp_path: Path) -> None:
+    frame = run_isolated(tmp_path, [fakes.HangsOnDistance()], timeout_s=30.0)
+    declared = f"no answer within {HANG_PROBE_S:g} s (declared known hang: distance loops)"
+    assert by_quantity(frame, "boom") == {"hit": ("agree", ""), "normal": ("agree", ""),
+                                          "distance": ("timeout", declared)}
+    for case_id in ("before", "after"):
+        assert set(frame[frame["case_id"] == case_id]["status"]) == {"agree"}
+
+
+def test_the_rest_of_a_declared_hang_keeps_its_own_outcome(tmp_path: Path) -> None:
+    frame = run_isolated(tmp_path, [fakes.HangsOnDistanceRestRaises()], timeout_s=30.0)
+    boom = by_quantity(frame, "boom")
+    assert boom["distance"][0] == "timeout" and "declared known hang" in boom["distance"][1]
+    for quantity in ("hit", "normal"):
+        status, reason = boom[quantity]
+        assert status == "error" and reason.startswith("RuntimeError: no verdict either")
+
+
+def test_an_adapter_declaring_a_hang_hangs_every_quantity_by_default() -> None:
+    adapter = fakes.DeclaresHangs()
+    boom, before = CASES[1], CASES[0]
+    assert adapter.hanging_quantities(boom) == frozenset(quantities_of(boom.kind_enum))
+    assert adapter.hanging_quantities(before) == frozenset()
+    assert adapter.query_without(before, frozenset({"distance"})) == adapter.query(before)
 
 
 def test_abort_is_a_crash_naming_the_signal(tmp_path: Path) -> None:

@@ -31,7 +31,7 @@ from tests import fakes
 from tests.conftest import sphere
 
 FORMAT1 = Path(__file__).parent / "data" / "format1-run"
-NEW_COLUMNS = ("origin", "coords", "twin_of")
+NEW_COLUMNS = ("origin", "coords", "twin_of", "error_at_contact")
 
 
 @pytest.fixture

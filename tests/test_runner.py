@@ -2,16 +2,18 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pandas as pd
 
 from crosscheck.core.contract import Adapter
-from crosscheck.core.model import Observation
+from crosscheck.core.model import Category, Observation, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.store import ResultsStore, read_cases, read_results
-from crosscheck.run.runner import at_contact, run, timed_sample
+from crosscheck.run.execute import Outcome
+from crosscheck.run.runner import run, score_case, timed_sample
 from crosscheck.truth import oracle
 from tests import fakes
 from tests.conftest import response, sphere
@@ -100,13 +102,23 @@ def test_half_written_line_is_ignored(tmp_path: Path) -> None:
     assert len(read_results(tmp_path / "run")) == 11
 
 
-def test_response_truth_is_taken_where_the_engine_resolved_it() -> None:
-    case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0])
-    seen = Observation(v1=(0.0, 1.0), v2=(0.0, -1.0), resolved_at=((0.0, 0.0), (0.0, 1.0)))
-    moved, truth = at_contact(case, seen, oracle.truth(case))
-    assert moved.b.center == (0.0, 1.0)
-    assert truth.v1 == (1.0, 0.0) and truth.v2 == (-1.0, 0.0)  # along y: nothing exchanged
-    assert at_contact(case, Observation(v1=(0.0, 0.0)), oracle.truth(case))[0] is case
+def test_a_response_right_only_where_the_engine_met_the_contact_is_timestep() -> None:
+    case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0])  # head-on along x
+    contact = ((0.0, 0.0), (0.6, 0.8))  # where a late engine first saw the contact
+    there = oracle.truth(case.model_copy(update={"b": case.b.model_copy(
+        update={"center": contact[1]})}))
+    seen = Observation(v1=there.v1, v2=there.v2, resolved_at=contact)
+    records = score_case(case, fakes.AlwaysRight(), Outcome(seen), oracle.truth(case))
+    for record in records:  # judged against the case as declared: never agree
+        assert (record.status, record.category) == (Status.DISAGREE, Category.TIMESTEP)
+        assert record.error_at_contact == 0.0 and record.error > 0.5
+        assert "first reported the contact" in record.reason
+    wrong = Observation(v1=(5.0, 5.0), v2=(5.0, 5.0), resolved_at=contact)
+    (v1, _) = score_case(case, fakes.AlwaysRight(), Outcome(wrong), oracle.truth(case))
+    assert v1.category == Category.ERROR and v1.error_at_contact > 1.0
+    here = Observation(v1=there.v1, v2=there.v2, resolved_at=(case.a.center, case.b.center))
+    (v1, _) = score_case(case, fakes.AlwaysRight(), Outcome(here), oracle.truth(case))
+    assert v1.category == Category.ERROR and math.isnan(v1.error_at_contact)
 
 
 def test_timing_sample_is_per_file_kind_and_dim_without_twins_or_bad_input() -> None:

@@ -7,14 +7,9 @@ import math
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Category, Observation, Status, Undefined
 from crosscheck.truth import oracle
-from crosscheck.truth.score import (
-    encode,
-    error_of,
-    judge,
-    length_scale,
-    tolerance_for,
-    touch_feature,
-)
+from crosscheck.truth.bounds import bound, error_of
+from crosscheck.truth.categories import touch_feature
+from crosscheck.truth.score import encode, judge
 from tests.conftest import aabb, response, sphere
 
 TEXTBOOK = Conventions()
@@ -41,10 +36,11 @@ def test_exact_answer_agrees() -> None:
         assert judge(case, TEXTBOOK, q, truth.get(q), truth).status is Status.AGREE
 
 
-def test_distance_tolerance_scales_with_case_size() -> None:
-    small, big = sphere(0.0, 2.0), sphere(0.0, 2e6, rb=1e6)
-    assert length_scale(big) == 2e6
-    assert tolerance_for(big, "distance") == 1e6 * tolerance_for(small, "distance")
+def test_distance_bound_scales_with_the_magnitudes_combined_not_the_offset() -> None:
+    small, big = sphere(0.0, 2.0), sphere(0.0, 2e6, ra=5e5, rb=5e5)
+    assert math.isclose(bound(big, "distance"), 1e6 * bound(small, "distance"))  # M = 3, 3e6
+    far = sphere(1e15, 1e15 + 2.0)  # the difference 2 is exact in float64
+    assert bound(far, "distance") == bound(small, "distance")
 
 
 def test_case_tolerance_overrides_default() -> None:

@@ -20,6 +20,7 @@ from crosscheck.report.render import render
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore, StoreError, read_run
 from crosscheck.run.launch import launch, new_info, pending
+from crosscheck.studies.repro import write_run_scripts
 
 
 def run_dir(base: Path, prefix: str = "") -> Path:
@@ -41,6 +42,7 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
         err.print(f"interrupted; finished rows are kept. Resume with: "
                   f"crosscheck run --resume {store.directory}", markup=False, highlight=False)
         return 130
+    write_run_scripts(store.directory)  # repro/<case>_<engine>.py, linked from the report
     paths = render(store.directory)
     print_summary(store.directory)
     out.print(f"report: {paths['report']}", markup=False, highlight=False)

@@ -19,7 +19,7 @@ from abc import ABC, abstractmethod
 from dataclasses import asdict, dataclass, field
 from typing import Any, ClassVar
 
-from crosscheck.core.model import Kind, Observation
+from crosscheck.core.model import Kind, Observation, quantities_of
 from crosscheck.core.schema import AnyCase
 
 Capability = tuple[Kind, int]
@@ -154,8 +154,31 @@ class Adapter(ABC):
         The case still runs, under :data:`HANG_PROBE_S` instead of the run's
         limit: a fixed engine answers in microseconds and its result is real,
         while a hang costs a fraction of a second instead of the full limit.
+        If the probe times out, only :meth:`hanging_quantities` are recorded as
+        ``timeout``; the others come from :meth:`query_without` them.
         """
         return None
+
+    def hanging_quantities(self, case: AnyCase) -> frozenset[str]:
+        """The quantities whose computation hangs on ``case`` (empty: none).
+
+        By default every quantity of the case's kind when :meth:`known_hang` names a
+        hang, else none.  An adapter that can answer the others without the hanging
+        computation narrows this and overrides :meth:`query_without`.
+        """
+        if self.known_hang(case) is None:
+            return frozenset()
+        return frozenset(quantities_of(case.kind_enum))
+
+    def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
+        """:meth:`query`, without computing the quantities in ``skip`` (reported absent).
+
+        The default computes everything (:meth:`query`): an adapter that narrows
+        :meth:`hanging_quantities` overrides it so that the skipped computations never
+        start.  The runner calls it only after a declared hang timed out, and never with
+        every quantity of the case skipped.
+        """
+        return self.query(prepared)
 
     @abstractmethod
     def prepare(self, case: AnyCase) -> Any:

@@ -15,6 +15,7 @@ True
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 from enum import StrEnum
 from typing import Literal
@@ -147,10 +148,15 @@ class Observation:
     v1: Vec | Undefined | None = None
     v2: Vec | Undefined | None = None
     resolved_at: tuple[Vec, Vec] | None = None
-    """For responses: the centres of A and B where the engine resolved the contact.
+    """For responses: the centres of A and B at the start of the first step in which the
+    engine reported a contact between A and B, the configuration its solver resolved
+    (an engine that integrates positions before detecting, as pymunk does, reports the
+    centres it detected at).  None when no step reported a contact.  Not the step where
+    the bodies stopped approaching, which may come later.
 
-    When given, the truth is computed at these positions (with the case's
-    velocities), so an engine is not blamed for resolving a step later."""
+    When given, the truth is also computed at these positions (with the case's
+    velocities), so a discrete step that resolves the contact later than the touching
+    configuration is told apart from an error."""
     positions: tuple[Vec, ...] | Undefined | None = None
     """Scenes: every body's final centre."""
     velocities: tuple[Vec, ...] | Undefined | None = None
@@ -158,6 +164,8 @@ class Observation:
     energy: float | Undefined | None = None
     wall_s: float | None = None
     """Scenes: wall-clock seconds of the stepping loop alone (the scene's timing)."""
+    events: int | None = None
+    """Scenes (the exact reference only): how many impacts the exact run resolved."""
 
     def get(self, quantity: str) -> Value | None:
         """The value of ``quantity`` (one of :func:`quantities_of`), or None if absent."""
@@ -204,6 +212,9 @@ class Record:
     """The case's sweep (or scene step) coordinates as JSON text, e.g. '{"gap": 1e-09}'."""
     twin_of: str = ""
     """For an A/B-swapped twin, the id of the case it mirrors."""
+    error_at_contact: float = math.nan
+    """Responses: the error against the truth at the centres where the engine first reported
+    the contact (NaN when it reported none elsewhere than the case's own centres)."""
 
     def row(self) -> dict[str, object]:
         """The record as a plain dict, ready for a DataFrame or CSV writer."""

@@ -42,6 +42,8 @@ def _close(a: Any, b: Any, tolerance: float) -> bool:
     if isinstance(a, float | int) and isinstance(b, float | int):
         if math.isnan(a) or math.isnan(b):
             return math.isnan(a) and math.isnan(b)
+        if a == b:  # equal, infinities included (inf - inf is NaN)
+            return True
         return abs(a - b) <= (tolerance if math.isfinite(tolerance) else 0.0)
     return bool(a == b)
 

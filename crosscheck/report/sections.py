@@ -26,7 +26,7 @@ from crosscheck.report import charts, dynamics, stability
 from crosscheck.report.mirror import asymmetries
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import StoredRun
+from crosscheck.results.store import StoredRun, repro_name
 
 Context = dict[str, Any]
 
@@ -110,7 +110,14 @@ def _stability(view: RunView) -> Context | None:
 
 
 def _disagreements(view: RunView) -> Context:
-    return {"disagreements": view.disagreements.to_dict("records")}
+    """The rows, each with ``repro``: the link of its case x engine's script, if written."""
+    folder = view.stored.directory / "repro"
+    written = {p.name for p in folder.glob("*.py")} if folder.is_dir() else set()
+    rows = view.disagreements.to_dict("records")
+    for row in rows:
+        name = f"{repro_name(str(row['case_id']), str(row['engine']))}.py"
+        row["repro"] = f"repro/{name}" if name in written else ""
+    return {"disagreements": rows}
 
 
 def _symmetry(view: RunView) -> Context:

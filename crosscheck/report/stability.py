@@ -31,7 +31,7 @@ from crosscheck.core.model import Status
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
 from crosscheck.report.style import COLOURS, SYMBOLS, ZERO_FLOOR, plot_div, plotly_template
 from crosscheck.results.store import read_run
-from crosscheck.truth.score import length_scale, velocity_scale
+from crosscheck.truth.categories import length_scale, velocity_scale
 
 _GAP = "gap or overlap relative to size"
 AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale", "gap": _GAP,

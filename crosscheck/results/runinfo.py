@@ -11,7 +11,8 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   choice, not an option), and ``resumed`` is always a list.  Every results
   row and stored case carries ``origin``, ``coords`` and ``twin_of`` (format
   1 had them only inside the case id; :mod:`crosscheck.results.legacy` reads
-  them back from there).
+  them back from there), and ``error_at_contact`` (NaN in format 1: responses
+  were judged at the engine's contact instead, category ``timestep`` did not exist).
 
 >>> info = RunInfo(run_id="r", command="crosscheck run", options=RunOptions(quick=True),
 ...                machine={}, engines=(), started="2026-01-01T00:00:00+00:00")

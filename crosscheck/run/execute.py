@@ -2,7 +2,10 @@
 
 This is what a worker process does for each task (see :mod:`crosscheck.run.worker`);
 it also runs in-process for tests and for ``--no-isolation``.  An exception
-raised by the engine becomes an ``error`` outcome with its reason.
+raised by the engine becomes an ``error`` outcome with its reason.  With ``skip``
+(quantities an adapter declares as hanging, see
+:meth:`~crosscheck.core.contract.Adapter.hanging_quantities`) the query is
+:meth:`~crosscheck.core.contract.Adapter.query_without` them.
 """
 
 from __future__ import annotations
@@ -23,32 +26,44 @@ from crosscheck.run.timing import Timing, measure
 
 @dataclass(frozen=True, slots=True)
 class Outcome:
-    """What executing one case on one adapter gave: an observation, or a status and reason."""
+    """What executing one case on one adapter gave: an observation, or a status and reason.
+
+    ``hung``: quantities that a declared known hang kept from being answered (recorded
+    ``timeout`` with ``hang_reason``); the others are in ``observation`` or share
+    ``status``.
+    """
 
     observation: Observation | None
     status: Status | None = None
     reason: str = ""
     setup_s: float = math.nan
     timing: Timing | None = None
+    hung: frozenset[str] = frozenset()
+    hang_reason: str = ""
 
 
-def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = False) -> Outcome:
-    """Prepare, query and (if ``timed``) time ``case`` on ``adapter``, in this process."""
-    skip = _availability(adapter) or adapter.unsupported(case)
-    if skip:
-        return Outcome(None, Status.SKIP, skip)
+def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = False,
+            skip: frozenset[str] = frozenset()) -> Outcome:
+    """Prepare, query (without the quantities in ``skip``) and (if ``timed``) time ``case``
+    on ``adapter``, in this process."""
+    unable = _availability(adapter) or adapter.unsupported(case)
+    if unable:
+        return Outcome(None, Status.SKIP, unable)
     prepared: Any = None
+
+    def query() -> Observation:
+        return adapter.query_without(prepared, skip) if skip else adapter.query(prepared)
+
     try:
         start = time.perf_counter()
         prepared = adapter.prepare(case)
         setup = time.perf_counter() - start
-        observation = adapter.query(prepared)
+        observation = query()
         if observation.wall_s is not None:  # a scene: its one long run is the measurement
             timing: Timing | None = Timing(observation.wall_s, 0.0, 1, 1, 0.0, False)
         else:
             timing = None if not timed else measure(
-                lambda: adapter.query(prepared), min_sample_s=options.min_sample_s,
-                samples=options.samples)
+                query, min_sample_s=options.min_sample_s, samples=options.samples)
         return Outcome(observation, setup_s=setup, timing=timing)
     except Exception as exc:  # an engine fault is data, not a harness failure
         where = traceback.extract_tb(exc.__traceback__)[-1]
@@ -70,8 +85,13 @@ def _availability(adapter: Adapter) -> str | None:
     return known[1]
 
 
-Executor = Callable[[Adapter, AnyCase, RunOptions, bool], Outcome]
-"""Runs one case on one adapter, timed or not: :func:`execute` in-process, or a worker pool's."""
+class Executor(Protocol):
+    """Runs one case on one adapter, timed or not, without the quantities in ``skip``:
+    :func:`execute` in-process, or a worker pool's."""
+
+    def __call__(self, adapter: Adapter, case: AnyCase, options: RunOptions,
+                 timed: bool = False, skip: frozenset[str] = frozenset()) -> Outcome: ...
+
 
 T = TypeVar("T")
 R = TypeVar("R")

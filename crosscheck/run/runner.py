@@ -21,7 +21,7 @@ from typing import Any
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
 from crosscheck.core.model import Observation, Record, Status, quantities_of
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import AnyCase, ResponseCase, SceneCase
+from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome
@@ -32,7 +32,7 @@ from crosscheck.truth.score import Verdict, encode, judge
 
 def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
                truth: Observation) -> list[Record]:
-    """The records of one case x engine: one per quantity of the case's kind."""
+    """The records of one case x engine: one per quantity, judged against the case as declared."""
     records = []
     for quantity in quantities_of(case.kind_enum):
         if outcome.observation is None:
@@ -41,21 +41,10 @@ def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
             value = None
         else:
             value = outcome.observation.get(quantity)
-            judged, truth = at_contact(case, outcome.observation, truth)
-            verdict = judge(judged, adapter.conventions, quantity, value, truth)
+            verdict = judge(case, adapter.conventions, quantity, value, truth,
+                            outcome.observation)
         records.append(_record(case, adapter.name, quantity, value, truth, verdict, outcome))
     return records
-
-
-def at_contact(case: AnyCase, observation: Observation,
-               truth: Observation) -> tuple[AnyCase, Observation]:
-    """The case and truth at the centres where the engine resolved a response, if it says."""
-    if observation.resolved_at is None or not isinstance(case, ResponseCase):
-        return case, truth
-    pa, pb = observation.resolved_at
-    moved = case.model_copy(update={"a": case.a.model_copy(update={"center": pa}),
-                                    "b": case.b.model_copy(update={"center": pb})})
-    return moved, oracle.truth(moved)
 
 
 def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observation,
@@ -72,7 +61,7 @@ def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observ
         loops=timing.loops if timing else 0,
         unstable=timing.unstable if timing else False,
         origin=case.origin, coords=json.dumps(case.coords) if case.coords else "",
-        twin_of=case.twin_of,
+        twin_of=case.twin_of, error_at_contact=verdict.error_at_contact,
     )
 
 
@@ -88,6 +77,8 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
     """Every record of one case: the truth once, then each adapter not already done.
 
     ``timed``: whether this case's query is timed (the runner's sampling decision).
+    Quantities a declared hang kept from answering (``Outcome.hung``) are ``timeout``
+    rows with the hang's reason; the others are scored as usual.
     """
     skipped = _quick_skip(case) if options.quick else None
     truth = oracle.truth(case) if skipped is None else Observation()
@@ -95,7 +86,13 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
     for adapter in adapters:
         if (case.id, adapter.name) not in done:
             outcome = skipped or _execute(executor, adapter, case, options, timed)
-            records += score_case(case, adapter, outcome, truth)
+            scored = score_case(case, adapter, outcome, truth)
+            if outcome.hung:
+                stuck = Outcome(None, Status.TIMEOUT, outcome.hang_reason)
+                timeouts = score_case(case, adapter, stuck, truth)
+                scored = [t if r.quantity in outcome.hung else r
+                          for r, t in zip(scored, timeouts, strict=True)]
+            records += scored
     return records
 
 
@@ -151,7 +148,12 @@ def _quick_skip(case: AnyCase) -> Outcome | None:
 
 def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOptions,
              timed: bool) -> Outcome:
-    """Execute, probing a declared known hang under HANG_PROBE_S and saying so."""
+    """Execute, probing a declared known hang under HANG_PROBE_S and saying so.
+
+    The full query is probed first (a fixed engine answers it).  If the probe times out
+    and the adapter names only some quantities as hanging, the query runs again without
+    them under the run's limit; they are marked ``hung`` (the rest is its outcome).
+    """
     hang = adapter.known_hang(case)
     if isinstance(case, SceneCase):  # stepping takes seconds, not microseconds
         options = replace(options, timeout_s=max(options.timeout_s, SCENE_TIMEOUT_S))
@@ -159,9 +161,15 @@ def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOp
         return executor(adapter, case, options, timed)
     limit = min(options.timeout_s, HANG_PROBE_S)
     outcome = executor(adapter, case, replace(options, timeout_s=limit), False)
-    if outcome.status is Status.TIMEOUT:
-        return replace(outcome, reason=f"{outcome.reason} (declared known hang: {hang})")
-    return outcome
+    if outcome.status is not Status.TIMEOUT:
+        return outcome
+    reason = f"{outcome.reason} (declared known hang: {hang})"
+    every = frozenset(quantities_of(case.kind_enum))
+    hanging = adapter.hanging_quantities(case) & every
+    if not hanging or hanging == every:
+        return replace(outcome, reason=reason)
+    rest = executor(adapter, case, options, False, hanging)
+    return replace(rest, hung=hanging, hang_reason=reason)
 
 
 SCENE_TIMEOUT_S = 300.0

@@ -40,8 +40,9 @@ _CONTEXT = mp.get_context("forkserver")
 _CONTEXT.set_forkserver_preload(["crosscheck.run.execute"])
 _START_LOCK = threading.Lock()
 
-Task = tuple[type[Adapter], AnyCase | None, RunOptions, bool]
-"""What a worker is sent: a case to run (and whether to time it), or ``None`` to warm up."""
+Task = tuple[type[Adapter], AnyCase | None, RunOptions, bool, frozenset[str]]
+"""What a worker is sent: a case to run (whether to time it, the quantities to skip), or
+``None`` to warm up."""
 
 STARTUP_TIMEOUT_S = 120.0
 """Time a new worker may take to start and load its engine; not charged to any case."""
@@ -65,7 +66,7 @@ def _serve(conn: Connection) -> None:
     adapters: dict[type[Adapter], Adapter] = {}
     while True:
         try:
-            cls, case, options, timed = conn.recv()
+            cls, case, options, timed, skip = conn.recv()
         except (EOFError, OSError):
             return
         adapter = adapters.setdefault(cls, cls())
@@ -73,7 +74,7 @@ def _serve(conn: Connection) -> None:
             adapter.available()
             conn.send(None)
             continue
-        conn.send(execute(adapter, case, options, timed))
+        conn.send(execute(adapter, case, options, timed, skip))
 
 
 @contextlib.contextmanager
@@ -150,16 +151,18 @@ class WorkerPool:
         self._workers: dict[str, _Worker] = {}
 
     def execute(self, adapter: Adapter, case: AnyCase, options: RunOptions,
-                timed: bool = False) -> Outcome:
-        """Run ``case`` on ``adapter`` in the adapter's worker, within the time limit."""
+                timed: bool = False, skip: frozenset[str] = frozenset()) -> Outcome:
+        """Run ``case`` on ``adapter`` (without the quantities in ``skip``) in the adapter's
+        worker, within the time limit."""
         worker = self._workers.get(adapter.name)
         if worker is None or not worker.alive():
             worker = self._workers[adapter.name] = _Worker()
-            started = worker.call((type(adapter), None, options, False), STARTUP_TIMEOUT_S)
+            started = worker.call((type(adapter), None, options, False, frozenset()),
+                                  STARTUP_TIMEOUT_S)
             if started is not None:  # the worker could not even start: that case's outcome
                 del self._workers[adapter.name]
                 return started
-        outcome = worker.call((type(adapter), case, options, timed), options.timeout_s)
+        outcome = worker.call((type(adapter), case, options, timed, skip), options.timeout_s)
         assert outcome is not None
         if outcome.status in (Status.CRASH, Status.TIMEOUT):
             worker.kill()

@@ -24,9 +24,11 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 from fractions import Fraction
 from typing import Any, cast
 
+from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
@@ -60,7 +62,7 @@ def _truth(key: tuple[Any, ...]) -> Observation:
         return Observation.undefined(QUANTITIES, f"no reference: {exc}")
     positions, velocities = state.positions_float(), state.velocities_float()
     masses = [m for _, _, m, _ in bodies]
-    return observation(positions, velocities, masses)
+    return replace(observation(positions, velocities, masses), events=len(state.events))
 
 
 def observation(positions: Sequence[Vec], velocities: Sequence[Vec],
@@ -119,17 +121,62 @@ def tolerance(case: SceneCase, quantity: str, default: float) -> float:
     return chosen if chosen is not None else default
 
 
-def judge(case: SceneCase, quantity: str, value: Value, want: Value,
-          default_tol: float) -> tuple[Status, float, float, str, str]:
+_UNITS = {"positions": "mean radii", "velocities": "of the largest initial speed",
+          "momentum": "of sum m|v|", "energy": "of the initial kinetic energy"}
+
+
+def lag_bound(case: SceneCase, impacts: int) -> float:
+    """How far (relative, as the errors) resolving each impact up to one step late can go.
+
+    Each of the ``impacts`` of the exact run, and the end, may be seen a step
+    late: at most the top speed x dt each, in units of the mean radius.
+    """
+    scale = _scales(case)
+    top = max((norm(b.velocity) for b in case.bodies), default=0.0)
+    return (impacts + 1) * top * (case.dt or DEFAULT_DT) / scale["positions"]
+
+
+def damping_bound(case: SceneCase, conventions: Conventions) -> float:
+    """How much the engine's declared damping ``c`` can change a speed over the run.
+
+    The drag measured for PyBullet is ``dv/dt = -c (1 + |v|) v``: at most a
+    fraction ``1 - exp(-c (1 + v_top) T)`` of any speed over a run of ``T`` s.
+    """
+    top = max((norm(b.velocity) for b in case.bodies), default=0.0)
+    return -math.expm1(-conventions.damping * (1.0 + top) * float(simulated_time(case)))
+
+
+def _category(case: SceneCase, conventions: Conventions, quantity: str, err: float,
+              impacts: int | None) -> tuple[str, str]:
+    steps = f"{case.step_count} steps of dt = {case.dt or DEFAULT_DT:.3g} s"
+    damp = damping_bound(case, conventions)
+    if quantity in ("momentum", "energy") and conventions.damping > 0:
+        return Category.CONVENTION, (
+            f"{quantity} off by {err:.3g} {_UNITS[quantity]}: the engine damps velocities "
+            f"(declared {conventions.damping:g} per s, up to {damp:.3g} of a speed over the run)")
+    if impacts is not None and quantity in ("positions", "velocities"):
+        lag = lag_bound(case, impacts)
+        if err <= lag:
+            return Category.TIMESTEP, (
+                f"{quantity} off by {err:.3g} {_UNITS[quantity]}, within the {lag:.3g} that "
+                f"resolving each of the {impacts} impacts up to one step late allows ({steps})")
+        if conventions.damping > 0 and err <= lag + damp * (1.0 + lag):
+            return Category.CONVENTION, (
+                f"{quantity} off by {err:.3g} {_UNITS[quantity]}, within the step lag {lag:.3g} "
+                f"plus the declared damping ({conventions.damping:g} per s: up to {damp:.3g})")
+    return Category.ERROR, (f"{quantity} off by {err:.3g} {_UNITS[quantity]} after {steps}; "
+                            "neither the step lag nor a declared convention explains it")
+
+
+def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value, want: Value,
+          truth: Observation, default_tol: float) -> tuple[Status, float, float, str, str]:
     """Status, relative error, tolerance, category and reason of one scene quantity."""
     tol = tolerance(case, quantity, default_tol)
     if isinstance(value, Undefined):
-        return Status.DISAGREE, math.inf, tol, Category.ERROR, f"engine gave undefined ({value})"
+        return (Status.DISAGREE, math.inf, tol, Category.ERROR,
+                f"engine gave undefined ({value.reason}) where the reference is defined")
     err = relative_error(case, quantity, value, want)
     if err <= tol:
         return Status.AGREE, err, tol, "", ""
-    what = {"positions": "mean radii", "velocities": "of the largest initial speed",
-            "momentum": "of sum m|v|", "energy": "of the initial kinetic energy"}[quantity]
-    return (Status.DISAGREE, err, tol, Category.ERROR,
-            f"{quantity} off by {err:.3g} {what} after {case.step_count} steps of dt = "
-            f"{case.dt or DEFAULT_DT:.3g}")
+    category, reason = _category(case, conventions, quantity, err, truth.events)
+    return Status.DISAGREE, err, tol, category, reason
