@@ -7,6 +7,7 @@ rule (a tilt its margin allows, a value it cannot resolve), never copied from an
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pandas as pd
 
@@ -14,8 +15,9 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Category, Observation, Status, Undefined
+from crosscheck.core.schema import CASE_ADAPTER, SceneCase
 from crosscheck.report.mirror import asymmetries
-from crosscheck.truth import oracle
+from crosscheck.truth import oracle, scenes
 from crosscheck.truth.score import judge
 from tests.conftest import ROOT, aabb, sphere
 
@@ -105,3 +107,42 @@ def test_agree_is_as_right_as_float64_allows() -> None:
     assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.TOLERANCE)
 
 
+
+
+def _scene(dt: float) -> SceneCase:
+    case = CASE_ADAPTER.validate_python({
+        "id": "s", "description": "head on", "kind": "sphere_scene", "dim": 2, "duration": 1.0,
+        "dt": dt, "bodies": [
+            {"center": [0.0, 0.0], "radius": 0.5, "mass": 1.0, "velocity": [1.0, 0.0]},
+            {"center": [2.0, 0.0], "radius": 0.5, "mass": 1.0, "velocity": [-1.0, 0.0]}]})
+    assert isinstance(case, SceneCase)
+    return case
+
+
+def _shifted(truth: Observation, dx: float, dv: float) -> Observation:
+    assert isinstance(truth.positions, tuple) and isinstance(truth.velocities, tuple)
+    return replace(truth, positions=tuple((p[0] + dx, p[1]) for p in truth.positions),
+                   velocities=tuple((v[0] + dv, v[1]) for v in truth.velocities), events=None)
+
+
+def test_scenes_get_categories_from_the_step_and_declared_damping() -> None:
+    case = _scene(0.01)
+    truth = scenes.truth(case)
+    assert truth.events == 1
+    lag = scenes.lag_bound(case, 1)  # 2 impacts' worth (1 + the end) x speed 1 x dt / r 0.5
+    assert math.isclose(lag, 0.04)
+    late = _shifted(truth, 0.5 * lag * 0.5, 0.0)  # positions off by half the lag (mean radii)
+    for quantity in ("positions",):
+        verdict = judge(case, Conventions(), quantity, late.get(quantity), truth, late)
+        assert verdict.category == Category.TIMESTEP and "one step late" in verdict.reason
+    far = _shifted(truth, 2.0 * lag * 0.5, 0.01)
+    assert judge(case, Conventions(), "positions", far.positions, truth, far).category == "error"
+    # velocities are excused by the lag only when the positions are within it too
+    assert judge(case, Conventions(), "velocities", far.velocities, truth, far).category == "error"
+    near = _shifted(truth, 0.0, 0.01)
+    assert judge(case, Conventions(), "velocities", near.velocities, truth,
+                 near).category == Category.TIMESTEP
+    drained = replace(truth, energy=0.9 * float(truth.energy or 0.0))
+    damped = judge(case, Conventions(damping=0.04), "energy", drained.energy, truth, drained)
+    assert damped.category == Category.CONVENTION and "damps" in damped.reason
+    assert judge(case, Conventions(), "energy", drained.energy, truth, drained).category == "error"

@@ -96,8 +96,9 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
         why = want.reason if isinstance(want, Undefined) else "no truth"
         return Verdict(Status.UNDEFINED, reason=f"no defined value: {why}")
     if isinstance(case, SceneCase):
-        status, err, tol, category, reason = scenes.judge(case, conventions, quantity, value,
-                                                          want, truth, DEFAULT_RTOL)
+        status, err, tol, category, reason = scenes.judge(
+            case, conventions, quantity, value, want, truth,
+            observation or Observation(), DEFAULT_RTOL)
         return Verdict(status, err, tol, category, reason)
     tol = bound(case, quantity, _gap(truth))
     if quantity == "normal" and isinstance(value, tuple) and not _is_unit(vec := cast(Vec, value)):
