@@ -12,7 +12,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from crosscheck.cli import bench, cases, engines, fuzz, repro, report, run, stability
+from crosscheck.cli import bench, cases, engines, fuzz, report, repro, run, stability
 
 FAMILIES = (run, report, cases, fuzz, repro, bench, stability, engines)
 """The command families, in the order ``crosscheck --help`` lists them."""

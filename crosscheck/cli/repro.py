@@ -30,6 +30,10 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.set_defaults(func=cmd_repro)
 
 
+SHADOWING = frozenset({"fcl", "pybullet", "pymunk", "numpy", "json", "math", "sys"})
+"""File stems a script may not have: Python would import the script itself for that module."""
+
+
 def targets(made: Sequence[Script], out: Path | None) -> list[Path]:
     """Where each of several scripts (or one with ``--out``) is written."""
     if out is not None and len(made) == 1:
@@ -49,7 +53,13 @@ def cmd_repro(args: argparse.Namespace) -> int:
     if len(made) == 1 and args.out is None:
         sys.stdout.write(made[0].text)
         return 0
-    for script, path in zip(made, targets(made, args.out), strict=True):
+    paths = targets(made, args.out)
+    shadowing = [p for p in paths if p.stem in SHADOWING]
+    if shadowing:
+        fail(f"{shadowing[0]}: a script named after a module it imports would import itself; "
+             "choose another name")
+        return 2
+    for script, path in zip(made, paths, strict=True):
         try:
             path.write_text(script.text, encoding="utf-8")
         except OSError as exc:

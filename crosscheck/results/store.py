@@ -17,6 +17,7 @@ Running writes these; reporting only reads them, through :func:`read_run`.
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import json
 import os
 from collections.abc import Iterable
@@ -199,6 +200,32 @@ def read_run(directory: Path) -> StoredRun:
     """Everything a report, compare, stability study or resume needs from a run folder."""
     info = read_run_info(directory)
     return StoredRun(directory, info, read_results(directory), read_cases(directory))
+
+
+def repro_name(case_id: str, engine: str) -> str:
+    """The file name (without ``.py``) of the repro script of ``case_id`` on ``engine``.
+
+    Safe on every file system and in a URL path: lowercase letters, digits, '.',
+    '-', '~' and the one '_' that joins the case and the engine.  Any other
+    character (of the case id, e.g. a sweep's '=', ',', '+' or '_', or of the engine)
+    becomes '~' and its UTF-8 bytes in hex, so different pairs never share a name.
+    A name over 200 characters is cut to 182 and ends in '__' and a hash of the pair
+    (two '_' more: it cannot be the name of a shorter pair).
+
+    >>> repro_name("sphere-gap.gap=0.001,offset=1e+15", "pybullet-default")
+    'sphere-gap.gap~3d0.001~2coffset~3d1e~2b15_pybullet-default'
+    """
+    safe = frozenset("abcdefghijklmnopqrstuvwxyz0123456789.-")
+
+    def escaped(text: str) -> str:
+        return "".join(c if c in safe else "".join(f"~{b:02x}" for b in c.encode())
+                       for c in text)
+
+    name = f"{escaped(case_id)}_{escaped(engine)}"
+    if len(name) > 200:
+        digest = hashlib.sha256(f"{case_id}\n{engine}".encode()).hexdigest()[:16]
+        name = f"{name[:182]}__{digest}"
+    return name
 
 
 def write_csv(frame: pd.DataFrame, directory: Path) -> Path:
