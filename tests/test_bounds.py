@@ -8,43 +8,50 @@ import math
 import pytest
 
 from crosscheck.cases.load import load_paths
-from crosscheck.core.model import Kind, Undefined, quantities_of
+from crosscheck.core.contract import Conventions
+from crosscheck.core.model import Kind, Status, quantities_of
 from crosscheck.core.schema import AabbCase, PairCase, SceneCase
 from crosscheck.studies.fuzzgen import generate
 from crosscheck.truth import oracle
-from crosscheck.truth.bounds import U, bound, error_of
+from crosscheck.truth.bounds import U, bound
+from crosscheck.truth.score import judge
 from tests.conftest import ROOT, aabb, sphere
 
 SUITE = [c for c in load_paths([ROOT / "cases"]).cases
          if not isinstance(c, SceneCase) and not c.bad_input]
+TEXTBOOK = Conventions()
 FUZZED = [g.case for kind in (Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
           for g in generate(kind, 1500, 7)]
 
 
+UNDERFLOW = {"aabb-3d-subnormal-gap", "aabb-3d-subnormal-gap.swapped"}
+"""The textbook squares a subnormal gap to 0 and divides by it: its normal is [inf, nan, nan].
+float64 allows the right answer (the gap is on one axis), so that row is an ``error`` of
+the formula, not of the bound; the test keeps it in view instead of hiding it."""
+
+
 def _misses(cases: list[PairCase]) -> list[str]:
-    """Every quantity where the float64 textbook answer is beyond the bound, but hit flips
-    at touching (|true gap| within the distance bound)."""
+    """Every quantity the float64 textbook formula does not agree on, as judged, but verdicts
+    that flip at touching (|true gap| within the distance bound)."""
     out = []
     for case in cases:
         truth, f64 = oracle.truth(case), oracle.textbook(case, "f64")
         gap = truth.distance if isinstance(truth.distance, float) else math.nan
         for quantity in quantities_of(case.kind_enum):
-            want, got = truth.get(quantity), f64.get(quantity)
-            if isinstance(want, Undefined) or isinstance(got, Undefined) or want is None:
+            verdict = judge(case, TEXTBOOK, quantity, f64.get(quantity), truth)
+            if verdict.status is not Status.DISAGREE:
                 continue
-            assert got is not None
-            err = error_of(quantity, got, want)
             if quantity == "hit" and abs(gap) <= bound(case, "distance"):
                 continue  # the verdict at touching: decided by rounding, as the README says
-            limit = bound(case, quantity, gap)
-            if not err <= limit:
-                out.append(f"{case.id} {quantity}: error {err:.3g} > {limit:.3g}")
+            out.append(f"{case.id} {quantity}: {verdict.reason}")
     return out
 
 
 def test_the_float64_formula_agrees_on_the_whole_suite() -> None:
     assert len(SUITE) > 600
-    assert _misses(SUITE) == []
+    misses = _misses(SUITE)
+    assert sorted(m.split()[0] for m in misses) == sorted(UNDERFLOW)
+    assert all("not a unit vector" in m for m in misses)
 
 
 def test_the_float64_formula_agrees_on_random_cases_near_failure_boundaries() -> None:

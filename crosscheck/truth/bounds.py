@@ -16,7 +16,8 @@ scene.  A case may set its own tolerance instead.
 - **normal** ``K_ANGLE * u`` radians, plus, for separated boxes, the tilt
   ``K_LENGTH * u * M / |gap|`` that the rounding of the gaps gives a normal
   taken across the gap; for overlapping boxes whose least overlap float64
-  cannot single out, any direction (pi).
+  cannot single out, any direction (pi), and an answer of "no direction"
+  (a tie) agrees too.
 - **v1, v2** ``K_VELOCITY * u * (|va| + |vb|)``: the line of centres (a
   normalised difference), two dot products and coefficients with factors up to
   ``1 + e <= 2``.

@@ -260,11 +260,11 @@ def _undefined_explained(case: PairCase, allowed: Allowance) -> str:
     return ""
 
 
-def _tolerance(case: PairCase, quantity: str, value: Value, err: float, truth: Observation,
-               allowed: Allowance) -> str:
+def _tolerance(case: PairCase, conv: Conventions, quantity: str, value: Value, err: float,
+               truth: Observation, allowed: Allowance) -> str:
     gap = _gap(truth)
-    if isinstance(value, Undefined):
-        why = _undefined_explained(case, allowed)
+    if isinstance(value, Undefined):  # positions blur within the engine's length allowance
+        why = _undefined_explained(case, allowance(case, conv, "distance"))
         return f"the engine gives no value ({value.reason}): {why}" if why else ""
     if quantity in ("hit", "normal") and abs(gap) < allowed.total:
         return f"|gap| {abs(gap):.3g} within the engine's {allowed}"
@@ -296,7 +296,7 @@ def categorize(case: PairCase, conv: Conventions, quantity: str, value: Value, e
             return stepped
         at_contact = stepped.error_at_contact if stepped is not None else math.nan
     allowed = allowance(case, conv, quantity)
-    why = _tolerance(case, quantity, value, err, truth, allowed)
+    why = _tolerance(case, conv, quantity, value, err, truth, allowed)
     if why:
         return Explained(Category.TOLERANCE, why, at_contact)
     shown = "undefined" if isinstance(value, Undefined) else f"error {err:.3g}"
