@@ -69,7 +69,7 @@ Contact's normal and depth are uninitialised memory.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -191,6 +191,10 @@ class Fcl(Adapter):
         except ImportError as exc:
             return str(exc)
         return None
+
+    def binding_call(self) -> Callable[[], object]:
+        """An identity ``fcl.Transform()``: one C++ object made through the Cython binding."""
+        return engine().Transform  # type: ignore[no-any-return]
 
     def unsupported(self, case: AnyCase) -> str | None:
         if isinstance(case, ResponseCase):

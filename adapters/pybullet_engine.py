@@ -128,7 +128,7 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from importlib import metadata
 from typing import Any, ClassVar
@@ -404,6 +404,11 @@ class PyBulletTuned(Adapter):
         except ImportError as exc:
             return f"pybullet not importable: {exc}"
         return None
+
+    def binding_call(self) -> Callable[[], object]:
+        """``getNumBodies`` on the variant's detection client: one call into the C API."""
+        bt, cid = engine(), client(self.name, self.world)
+        return lambda: bt.getNumBodies(physicsClientId=cid)
 
     def prepare(self, case: AnyCase) -> Any:
         if isinstance(case, SceneCase):

@@ -105,6 +105,7 @@ suite has no finite negative 2-D radius, and the notes say so.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -291,6 +292,13 @@ class PymunkTuned(Adapter):
         if not __debug__:
             return "pymunk signals 'no contact' with an assert, which python -O strips"
         return None
+
+    def binding_call(self) -> Callable[[], object]:
+        """``Shape.cache_bb()`` of one static circle: one call through pymunk's cffi binding."""
+        import pymunk
+
+        circle = pymunk.Circle(pymunk.Body(body_type=pymunk.Body.STATIC), 1.0)
+        return circle.cache_bb
 
     def unsupported(self, case: AnyCase) -> str | None:
         if case.dim != 2:

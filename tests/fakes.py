@@ -171,3 +171,30 @@ class HangsOnDistanceRestRaises(HangsOnDistance):
 
     def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
         raise RuntimeError("no verdict either")
+
+
+class BusyLoop(_Fake):
+    """Right answers at a known cost: a busy loop of ``ITERATIONS`` additions per query.
+
+    The answer is computed once in ``prepare``, so the query's cost is the loop alone.
+    """
+
+    name: ClassVar[str] = "fake-busy"
+    ITERATIONS: ClassVar[int] = 20_000
+
+    def prepare(self, case: AnyCase) -> Any:
+        return oracle.truth(case)
+
+    def query(self, prepared: Any) -> Observation:
+        total = 0
+        for i in range(self.ITERATIONS):
+            total += i
+        assert total >= 0
+        result: Observation = prepared
+        return result
+
+
+class BusyLoopTwice(BusyLoop):
+    """The same engine, twice as slow: for ``compare`` to catch (same name as BusyLoop)."""
+
+    ITERATIONS: ClassVar[int] = 2 * BusyLoop.ITERATIONS

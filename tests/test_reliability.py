@@ -63,7 +63,7 @@ def wait_for_rows(path: Path, rows: int = 1) -> None:
 def test_concurrent_cli_run_is_refused_with_a_clear_error(tmp_path: Path) -> None:
     out = tmp_path / "run"
     args = [*CLI, "run", str(ROOT / "cases" / "sphere.toml"), "--engine", "reference",
-            "--min-sample", "0.01", "--time-per-group", "0", "--jobs", "1", "--out", str(out)]
+            "--min-sample", "0.01", "--timing-cases", "1000", "--jobs", "1", "--out", str(out)]
     first = subprocess.Popen(args, env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         wait_for_rows(out / "results.jsonl")

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict
+from collections.abc import Iterable
+from dataclasses import asdict, replace
 from html.parser import HTMLParser
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -16,11 +18,12 @@ from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.report import charts, style, tables
+from crosscheck.report import charts, speed, style, tables
 from crosscheck.report import render as report
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore, read_results
-from crosscheck.run.runner import run
+from crosscheck.results.timings import FILE, TimingRecord
+from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import sphere
 
@@ -74,11 +77,15 @@ def records() -> list[Record]:
     return rows
 
 
-def write_run(directory: Path, rows: list[Record], settings: str = "default") -> Path:
+def write_run(directory: Path, rows: list[Record], settings: str = "default",
+              timing: dict[str, Any] | None = None,
+              timings: Iterable[TimingRecord] = ()) -> Path:
+    """A run folder: results, run.json (with ``timing``), cases and ``timings.jsonl``."""
     store = ResultsStore(directory)
     store.append(rows)
-    store.write_run_info(info_of(settings))
+    store.write_run_info(info_of(settings, timing))
     store.close()
+    (directory / FILE).write_text("".join(t.to_json() + "\n" for t in timings))
     cases = [stored_case(r.case_id, r.kind, r.source) for r in rows
              if r.engine == "fast" and r.quantity in ("hit", "v1")]
     (directory / "cases.jsonl").write_text("".join(json.dumps(c) + "\n" for c in cases))
@@ -91,15 +98,65 @@ def rendered(tmp_path: Path) -> str:
     return report.render(directory)["report"].read_text(encoding="utf-8")
 
 
-def info_of(settings: str = "default") -> RunInfo:
-    """The run.json of the fake runs here: five fake engines, timed."""
+def info_of(settings: str = "default", timing: dict[str, Any] | None = None) -> RunInfo:
+    """The run.json of the fake runs here: six fake engines, timed (``timing``: run.json's
+    timing record, None as in a run without a timing phase)."""
     return RunInfo(
         run_id="test", command="test", started="", finished="", cases_run=7,
         options=RunOptions(quick=False, min_sample_s=0.001, samples=3),
-        machine={"packages": {}},
+        machine={"packages": {}}, timing=timing,
         engines=tuple({"name": name, "engine": "fake", "version": "0", "settings": settings,
                        "conventions": asdict(Conventions()), "capabilities": []}
-                      for name in ("fast", "exact", "untimed", "skipper", "crashy")))
+                      for name in ("fast", "exact", "untimed", "skipper", "crashy", "noisy")))
+
+
+NOISY = {("s1", "fast"), ("s1", "noisy"), ("s2", "noisy"), ("s4", "noisy")}
+"""The unstable timings of :func:`timed`: fast 1 of 5, noisy 3 of 5 (mostly unstable)."""
+
+
+def timed(rows: list[Record]) -> tuple[list[Record], list[TimingRecord]]:
+    """The rows with their timing columns filled as the timing phase fills them, and the
+    timing record of every timed case x engine: five samples around its query_s, spread
+    2% of it, or 70% for the pairs in NOISY (unstable)."""
+    made: dict[tuple[str, str], TimingRecord] = {}
+    for r in rows:
+        if not math.isnan(r.query_s) and (r.case_id, r.engine) not in made:
+            noisy = (r.case_id, r.engine) in NOISY
+            factors = (0.5, 0.8, 1.0, 1.5, 2.0) if noisy else (0.98, 0.99, 1.0, 1.01, 1.02)
+            values = tuple(r.query_s * f for f in factors)
+            made[r.case_id, r.engine] = TimingRecord(r.case_id, r.engine, r.kind, "call", 100,
+                                                     2e-8, values)
+    filled = [replace(r, query_iqr_s=t.spread.iqr, unstable=t.spread.unstable)
+              if (t := made.get((r.case_id, r.engine))) else r for r in rows]
+    return filled, list(made.values())
+
+
+def stick(median: float) -> dict[str, Any]:
+    """A stored yardstick measurement: median, quartiles (IQR 2% of it) and its samples."""
+    return {"median_s": median, "q1_s": 0.99 * median, "q3_s": 1.01 * median,
+            "values": [0.99 * median, median, 1.01 * median]}
+
+
+def timing_info(python_end: float = 1.25e-3) -> dict[str, Any]:
+    """run.json's timing record: the yardstick's Python loop ends ``python_end`` s from 1 ms."""
+    return {
+        "method": "30 cases per engine x kind drawn at random (seed 0); 5 samples each",
+        "sampled": 17, "pinned": "engine worker on core 1, harness on core 0",
+        "yardstick": {"start": {"numpy": stick(2e-3), "python": stick(1e-3)},
+                      "end": {"numpy": stick(2.04e-3), "python": stick(python_end)}},
+        "binding": {"fast": stick(1e-7), "exact": stick(5e-7), "noisy": stick(1e-6),
+                    "untimed": {"none": "no cheap call"}}}
+
+
+def timed_records() -> tuple[list[Record], list[TimingRecord]]:
+    """records() plus a noisy engine, with their timing records."""
+    noisy = [r for c, *_ in FAST for r in detection(c, "noisy", 1e-3, 8e-6)]
+    return timed(records() + noisy)
+
+
+def timed_run(directory: Path, timing: dict[str, Any] | None = None) -> Path:
+    rows, timings = timed_records()
+    return write_run(directory, rows, timing=timing or timing_info(), timings=timings)
 
 
 def stored_case(case_id: str, kind: str, source: str) -> dict[str, Any]:
@@ -277,15 +334,123 @@ def test_script_in_text_is_escaped_everywhere_including_hover(rendered: str) -> 
 
 
 def test_chart_from_a_real_run_of_fakes(tmp_path: Path) -> None:
-    store = ResultsStore(tmp_path / "run")
     cases = [sphere(0.0, 2.0 + i, id=f"apart-{i}") for i in range(3)]
-    run(cases, [fakes.AlwaysRight(), fakes.OffByOne()], store,
-        RunOptions(quick=False, min_sample_s=0.001, samples=3))
-    store.close()
-    frame = read_results(tmp_path / "run")
+    engines = [fakes.AlwaysRight(), fakes.OffByOne()]
+    options = RunOptions(min_sample_s=0.001, samples=5, isolate=False)
+    folder = tmp_path / "run"
+    launch(ResultsStore(folder), cases, engines, options,
+           new_info(folder, "test", options, engines, cases))
+    frame = read_results(folder)
     points = by_engine(chart_of(frame, "sphere"))
     for engine, error in (("fake-right", 0.0), ("fake-off", 1.0)):
         times = frame[frame["engine"] == engine].drop_duplicates("case_id")["query_s"]
         assert points[engine].query_s == times.median() > 0
+        assert points[engine].time.q1 <= points[engine].query_s <= points[engine].time.q3
         assert points[engine].median == error
     assert chart_of(frame, "sphere").y(points["fake-right"].median) == style.ZERO_FLOOR
+    section = part(report.render(folder)["report"].read_text(encoding="utf-8"),
+                   '<h2 id="timing">', "<h2")
+    assert 'id="yardstick"' in section and 'id="binding"' in section
+
+
+TIMED = pd.DataFrame([r.row() for r in timed_records()[0]])
+
+
+@pytest.fixture
+def timed_html(tmp_path: Path) -> str:
+    return report.render(timed_run(tmp_path / "timed"))["report"].read_text(encoding="utf-8")
+
+
+def timed_chart() -> charts.SpeedChart:
+    return charts.speed_chart(TIMED, "sphere", info_of(timing=timing_info()), {})
+
+
+def part(html: str, start: str, end: str) -> str:
+    return html.split(start)[1].split(end)[0]
+
+
+def test_every_speed_point_has_a_horizontal_iqr_whisker_and_its_vertical_one() -> None:
+    fig = charts.figure(timed_chart(), list(dict.fromkeys(TIMED["engine"])))
+    points = {t.legendgroup: t for t in fig.data if t.type == "scatter" and t.error_x.array}
+    assert set(points) == {"fast", "exact", "noisy"}
+    for engine, trace in points.items():
+        rows = TIMED[(TIMED["engine"] == engine) & (TIMED["kind"] == "sphere")]
+        q1, median, q3 = np.percentile(rows.drop_duplicates("case_id")["query_s"], [25, 50, 75])
+        assert trace.x[0] == pytest.approx(median) and trace.error_x.symmetric is False
+        assert trace.error_x.array[0] == pytest.approx(q3 - median)
+        assert trace.error_x.arrayminus[0] == pytest.approx(median - q1)
+        assert len(trace.error_y.array) == 1  # the error whisker up to the 95th percentile
+    assert points["fast"].error_x.array[0] > 0  # fast's five cases differ in speed
+
+
+def test_unstable_share_in_hover_and_caption(timed_html: str) -> None:
+    fast = by_engine(timed_chart())["fast"]
+    assert (fast.unstable, fast.timed) == (1, 5)
+    assert "1 of 5 timings unstable (IQR &gt; 10% of median)" in charts.hover(
+        fast, timed_chart().measure)
+    sphere_part = part(timed_html, 'id="speed-sphere-section"', "<h3")
+    assert "4 of 15 timings unstable (IQR &gt;\n10% of median)" in sphere_part
+    assert "0 of 2 timings unstable" in part(timed_html, '"speed-sphere_response-section"', "<h2")
+
+
+def test_mostly_unstable_engine_is_hollow_and_labelled(timed_html: str) -> None:
+    chart = timed_chart()
+    points = by_engine(chart)
+    assert points["noisy"].mostly_unstable and not points["fast"].mostly_unstable
+    fig = charts.figure(chart, ["fast", "exact", "untimed", "skipper", "crashy", "noisy"])
+    named = {t.name: t.marker.symbol for t in fig.data if t.showlegend is not False}
+    assert named["noisy (timing unstable)"].endswith("-open") and "noisy" not in named
+    assert not named["fast"].endswith("-open")
+    table = part(timed_html, 'id="speed-sphere-times"', "</table>")
+    assert "noisy <b>(timing unstable)</b>" in table and "fast <b>" not in table
+
+
+def test_caption_says_times_are_per_call_through_python_bindings_with_overhead(
+        timed_html: str) -> None:
+    assert "Times are per-call costs through each\nengine's Python binding" in timed_html
+    assert "formula such as <code>reference</code> pays\nthe interpreter" in timed_html
+    points = by_engine(timed_chart())
+    assert points["fast"].binding_share == pytest.approx(1e-7 / 3e-6)
+    hover = charts.hover(points["fast"], timed_chart().measure)
+    assert "binding call (cheapest call into it): 100 ns (IQR 2 ns), 3% of the median" in hover
+    assert "binding call: none: no cheap call" in charts.hover(points["untimed"],
+                                                               timed_chart().measure)
+    table = part(timed_html, 'id="speed-sphere-times"', "</table>")
+    assert "<td>fast</td>" in table and "100 ns (IQR 2 ns)" in table and "3 µs" in table
+
+
+def test_timing_section_method_sample_yardstick_drift_and_warning(timed_html: str) -> None:
+    assert timed_html.index("Speed against error") < timed_html.index('<h2 id="timing">')
+    assert timed_html.index('<h2 id="timing">') < timed_html.index("<h2>Disagreements")
+    section = part(timed_html, '<h2 id="timing">', "<h2")
+    assert timing_info()["method"] in section and "17 case &times; engine pairs" in section
+    assert "holds 17, of which 4 unstable" in section and "harness on core 0" in section
+    assert "Warning: the machine's speed\nchanged during timing (python drifted +25%)" in section
+    yardstick = part(section, 'id="yardstick"', "</table>")
+    assert "1.020" in yardstick and "1.250" in yardstick  # numpy and python, end / start
+    assert "1 ms (IQR 20 µs)" in yardstick and "1.25 ms (IQR 25 µs)" in yardstick
+    binding = part(section, 'id="binding"', "</table>")
+    assert "<td>fast</td><td class=\"num\">100 ns (IQR 2 ns)</td>" in binding
+    assert f"{100 * 1e-7 / 3e-6:.1f}%" in binding and "none: no cheap call" in binding
+    calm = speed.timing_context(info_of(timing=timing_info(python_end=1.05e-3)), TIMED,
+                                ["sphere"], pd.DataFrame(columns=["unstable"]))
+    assert calm["drifted"] == [] and calm["yardstick"][1]["ratio"] == pytest.approx(1.05)
+
+
+def test_timing_section_is_one_line_without_timing(rendered: str) -> None:
+    section = part(rendered, '<h2 id="timing">', "<h2").split("</h2>")[1].strip()
+    assert section.count("<p") == 1 and "\n" not in section and "<table" not in section
+    assert "Timing was not recorded for this run" in section
+    quick = replace(info_of(), options=RunOptions(quick=True))
+    assert speed.timing_context(quick, FRAME, ["sphere"], pd.DataFrame()) == {
+        "off": "Timing was off for this run (--quick): no case was timed."}
+
+
+def test_summary_shows_the_iqr_over_cases_beside_the_median(timed_html: str) -> None:
+    table = tables.summary(TIMED).set_index(["engine", "kind"])
+    fast = TIMED[(TIMED["engine"] == "fast") & (TIMED["kind"] == "sphere")]
+    q1, q3 = np.percentile(fast.drop_duplicates("case_id")["query_s"], [25, 75])
+    assert table.loc[("fast", "sphere"), "iqr_query_s"] == pytest.approx(q3 - q1)
+    assert table.loc[("noisy", "sphere"), ["timed", "unstable"]].tolist() == [5, 3]
+    summary_html = part(timed_html, 'id="summary"', "</table>")
+    assert "IQR over cases (s)" in summary_html and f"{q3 - q1:.2g}" in summary_html

@@ -75,7 +75,7 @@ def test_a_format_1_run_renders_and_resumes_as_format_2(old_run: Path) -> None:
 def test_an_unknown_format_is_a_clear_error(old_run: Path) -> None:
     info = json.loads((old_run / "run.json").read_text())
     (old_run / "run.json").write_text(json.dumps(info | {"format_version": 99}))
-    with pytest.raises(StoreError, match="format 99; this harness reads formats 1, 2"):
+    with pytest.raises(StoreError, match="format 99; this harness reads formats 1, 2, 3"):
         read_run(old_run)
     (old_run / "run.json").unlink()
     with pytest.raises(StoreError, match="does not exist"):

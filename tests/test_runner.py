@@ -13,7 +13,9 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.store import ResultsStore, read_cases, read_results
 from crosscheck.run.execute import Outcome
-from crosscheck.run.runner import run, score_case, timed_sample
+from crosscheck.run.launch import launch, new_info
+from crosscheck.run.runner import score_case
+from crosscheck.run.timing_phase import timing_sample
 from crosscheck.truth import oracle
 from tests import fakes
 from tests.conftest import response, sphere
@@ -23,11 +25,14 @@ CASES: list[AnyCase] = [sphere(0.0, 2.0, id="apart"), sphere(0.0, 1.0, id="touch
                         response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [-1.0, 0.0], id="resp")]
 
 
-def run_fakes(tmp_path: Path, *engines: Adapter, quick: bool = True) -> pd.DataFrame:
-    store = ResultsStore(tmp_path / "run")
-    run(CASES, list(engines), store, RunOptions(quick=quick, min_sample_s=0.001, samples=3))
-    store.close()
-    return read_results(tmp_path / "run")
+def run_fakes(tmp_path: Path, *engines: Adapter, quick: bool = True,
+              timing_cases: int = 30) -> pd.DataFrame:
+    """A run of CASES on ``engines`` through launch (verdicts, then the timing phase)."""
+    folder = tmp_path / "run"
+    options = RunOptions(quick=quick, min_sample_s=0.001, samples=3, timing_cases=timing_cases)
+    launch(ResultsStore(folder), CASES, list(engines), options,
+           new_info(folder, "test", options, list(engines), CASES))
+    return read_results(folder)
 
 
 def statuses(frame: pd.DataFrame, engine: str) -> dict[tuple[str, str], str]:
@@ -121,27 +126,31 @@ def test_a_response_right_only_where_the_engine_met_the_contact_is_timestep() ->
     assert v1.category == Category.ERROR and math.isnan(v1.error_at_contact)
 
 
-def test_timing_sample_is_per_file_kind_and_dim_without_twins_or_bad_input() -> None:
-    cases = [sphere(0.0, 2.0 + i, id=f"s{i}") for i in range(5)]
-    cases = [c.model_copy(update={"source": "cases/a.toml"}) for c in cases]
-    twin = cases[0].model_copy(update={"id": "s0.swapped", "tags": ("swapped",)})
+def test_the_timing_sample_is_seeded_per_engine_and_kind_without_twins_bad_input_or_failures(
+        ) -> None:
+    cases = [sphere(0.0, 2.0 + i, id=f"s{i}") for i in range(40)]
+    twin = cases[0].model_copy(update={"id": "s0.swapped", "twin_of": "s0"})
     bad = cases[1].model_copy(update={"id": "bad", "tags": ("bad-input",)})
-    other = cases[2].model_copy(update={"id": "o", "source": "cases/b.toml"})
-    options = RunOptions(time_per_group=2)
-    assert timed_sample([twin, bad, *cases, other], options) == {"s0", "s1", "o"}
-    assert timed_sample(cases, RunOptions(quick=True, time_per_group=2)) == frozenset()
-    every = RunOptions(time_per_group=0)
-    assert timed_sample([twin, *cases], every) == {twin.id, *options_ids(cases)}
+    failed = cases[2].model_copy(update={"id": "failed"})
+    suite = [twin, bad, failed, *cases]
+    engine = fakes.AlwaysRight()
+    frame = pd.DataFrame([{"case_id": c.id, "engine": engine.name, "kind": c.kind,
+                           "status": "crash" if c is failed else "agree", "query_s": math.nan}
+                          for c in suite])
+    options = RunOptions(timing_cases=30)
+    chosen = [c.id for c, _ in timing_sample(suite, [engine], frame, options)]
+    assert len(chosen) == 30 and not {"s0.swapped", "bad", "failed"} & set(chosen)
+    assert chosen == [c.id for c in suite if c.id in chosen]  # in suite order
+    again = [c.id for c, _ in timing_sample(suite, [engine], frame, options)]
+    other = timing_sample(suite, [engine], frame, RunOptions(timing_cases=30, timing_seed=1))
+    assert again == chosen and [c.id for c, _ in other] != chosen
 
 
 def test_untimed_cases_have_no_timing(tmp_path: Path) -> None:
-    store = ResultsStore(tmp_path / "run")
-    cases = [sphere(0.0, 2.0 + i, id=f"s{i}") for i in range(4)]
-    run(cases, [fakes.AlwaysRight()], store,
-        RunOptions(min_sample_s=0.001, samples=3, time_per_group=1))
-    store.close()
-    frame = read_results(tmp_path / "run").drop_duplicates("case_id")
-    assert list(frame["loops"] > 0) == [True, False, False, False]
+    frame = run_fakes(tmp_path, fakes.AlwaysRight(), quick=False, timing_cases=1)
+    timed = frame.drop_duplicates("case_id").groupby("kind")["loops"].apply(
+        lambda s: int((s > 0).sum()))
+    assert timed.to_dict() == {"sphere": 1, "sphere_response": 1}
 
 
 def options_ids(cases: list[AnyCase]) -> set[str]:

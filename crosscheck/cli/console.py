@@ -52,6 +52,19 @@ def progress_bar(total: int, label: str = "case x engine") -> Iterator[Callable[
         yield lambda n: bar.update(task, advance=n)
 
 
+@contextlib.contextmanager
+def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
+    """Transient progress bars on stderr, one per phase of a run (verdicts, timing)."""
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+               TimeElapsedColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=err, transient=True) as bar:
+        def start(name: str, total: int) -> Callable[[int], None]:
+            label = {"verdicts": "case x engine", "timing": "timing (one at a time)"}
+            task = bar.add_task(label.get(name, name), total=total)
+            return lambda n: bar.update(task, advance=n)
+        yield start
+
+
 def print_summary(directory: Path) -> None:
     """Print the engine x kind counts from the run's summary.csv (written by the report)."""
     table = pd.read_csv(directory / "summary.csv", keep_default_na=False)

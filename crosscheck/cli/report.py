@@ -7,6 +7,7 @@ from pathlib import Path
 
 from crosscheck.cli.console import err, fail, say
 from crosscheck.report.compare import compare
+from crosscheck.report.compare_timing import ALPHA, MIN_EFFECT
 from crosscheck.report.render import markdown_summary, render
 from crosscheck.results.store import StoreError, read_results
 
@@ -30,12 +31,15 @@ def cmd_compare(args: argparse.Namespace) -> int:
     except (OSError, StoreError) as exc:
         fail(f"cannot compare: {exc}")
         return 2
-    for difference in result.machine_differences:
-        err.print(f"warning: the runs come from different machines: {difference}; timing "
-                  "changes below may be the machines', not the engines'",
-                  markup=False, highlight=False)
-    say(f"{result.verdict_changes} verdict changes, {result.timing_changes} timing changes "
-        f"beyond the noise; see {target / 'compare.html'}")
+    for difference in result.differences:
+        err.print(f"warning: {difference}", markup=False, highlight=False)
+    counts = result.timing_counts
+    yardstick = "after the yardstick" if result.normalised else "not normalised"
+    say(f"{result.verdict_changes} verdict changes among the {result.shared_rows} shared rows "
+        f"({len(result.added_cases)} added, {len(result.removed_cases)} removed); timing: "
+        f"{counts['slower']} slower, {counts['faster']} faster, {counts['unknown']} unknown "
+        f"of {result.timing_pairs} pairs (p < {ALPHA:g} and beyond x{MIN_EFFECT:g}, "
+        f"{yardstick}); see {target / 'compare.html'}")
     return 0
 
 

@@ -12,14 +12,14 @@ from pathlib import Path
 
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import engines as engine_choice
-from crosscheck.cli.console import err, fail, out, print_summary, progress_bar, report_case_errors
+from crosscheck.cli.console import err, fail, out, phase_bars, print_summary, report_case_errors
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.report.render import render
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore, StoreError, read_run
-from crosscheck.run.launch import launch, new_info, pending
+from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.repro import write_run_scripts
 
 
@@ -36,8 +36,8 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
            options: RunOptions, info: RunInfo) -> int:
     """Run what is left with a progress bar, then render and summarise; the exit code."""
     try:
-        with progress_bar(pending(cases, engines, store)) as advance:
-            launch(store, cases, engines, options, info, progress=advance)
+        with phase_bars() as phases:
+            launch(store, cases, engines, options, info, phases=phases)
     except KeyboardInterrupt:
         err.print(f"interrupted; finished rows are kept. Resume with: "
                   f"crosscheck run --resume {store.directory}", markup=False, highlight=False)
@@ -61,10 +61,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     except StoreError as exc:
         fail(str(exc))
         return 2
-    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample, timeout_s=args.timeout,
-                         time_per_group=args.time_per_group,
-                         isolate=not args.no_isolation, jobs=args.jobs or os.cpu_count() or 1,
-                         scheduler=args.scheduler)
+    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample, samples=args.samples,
+                         timeout_s=args.timeout, timing_cases=args.timing_cases,
+                         timing_seed=args.timing_seed, scene_repeats=args.scene_repeats,
+                         pin=not args.no_pin, isolate=not args.no_isolation,
+                         jobs=args.jobs or os.cpu_count() or 1, scheduler=args.scheduler)
     info = new_info(directory, shlex.join(["crosscheck", *sys.argv[1:]]), options, engines,
                     loaded.cases, loaded.files, [e.message for e in loaded.errors])
     code = finish(store, loaded.cases, engines, options, info)
@@ -88,14 +89,26 @@ def resume(directory: Path) -> int:
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``run``."""
+    defaults = RunOptions()
     p = sub.add_parser("run", help="run cases on engines and write a report")
     p.add_argument("paths", nargs="*", type=Path, help="case files or folders (default: cases/)")
     p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
     p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
-    p.add_argument("--quick", action="store_true", help="skip timing")
-    p.add_argument("--min-sample", type=float, default=0.01, help="seconds per timing sample")
-    p.add_argument("--time-per-group", type=int, default=3, metavar="K",
-                   help="time the first K cases of each case file x kind x dim (0: all)")
+    p.add_argument("--quick", action="store_true",
+                   help="no timing phase; scenes over 1,000 steps skipped")
+    p.add_argument("--timing-cases", type=int, default=defaults.timing_cases, metavar="N",
+                   help="cases timed per engine x kind, drawn at random (0: no timing phase; "
+                        f"default {defaults.timing_cases})")
+    p.add_argument("--timing-seed", type=int, default=defaults.timing_seed,
+                   help="seed of the timing sample")
+    p.add_argument("--samples", type=int, default=defaults.samples,
+                   help=f"timing samples kept per case (default {defaults.samples})")
+    p.add_argument("--min-sample", type=float, default=defaults.min_sample_s,
+                   help=f"seconds per timing sample (default {defaults.min_sample_s:g})")
+    p.add_argument("--scene-repeats", type=int, default=defaults.scene_repeats,
+                   help=f"runs of each timed scene (default {defaults.scene_repeats})")
+    p.add_argument("--no-pin", action="store_true",
+                   help="do not pin the timed engine and the harness to separate cores")
     p.add_argument("--timeout", type=float, default=3.0,
                    help="seconds allowed per case x engine before it is marked timeout")
     p.add_argument("--jobs", type=int, default=0,

@@ -16,6 +16,7 @@ timed; ``query`` does only the measured work.  An adapter declares:
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any, ClassVar
 
@@ -179,6 +180,14 @@ class Adapter(ABC):
         every quantity of the case skipped.
         """
         return self.query(prepared)
+
+    def binding_call(self) -> Callable[[], object] | None:
+        """The cheapest call into the engine's Python binding (None: no binding, pure Python).
+
+        The timing phase times it beside every query, so the report can show how
+        much of an engine's per-call time is crossing into the engine at all.
+        """
+        return None
 
     @abstractmethod
     def prepare(self, case: AnyCase) -> Any:

@@ -16,26 +16,33 @@ from typing import Any
 class RunOptions:
     """How a run runs, the same for every case (the run's options, recorded in run.json).
 
-    ``quick`` is the run's ``--quick``: no timing at all, and scenes over
-    ``crosscheck.run.runner.QUICK_SCENE_STEPS`` steps skipped; whether one
-    case is timed is decided per case by the runner (see ``timed`` of
-    ``crosscheck.run.execute.execute``), never by changing these options.  ``min_sample_s`` and
-    ``samples``: the timing loop; ``timeout_s`` limits one case x engine
-    (prepare, query and timing) in its worker; ``isolate`` False runs engines
-    in this process (no crash safety); ``time_per_group`` times only the first
-    that many cases of each case file x kind x dim (0: every case), never
-    swapped twins or bad input; ``jobs`` is the number of cases run at once;
-    ``scheduler`` a Dask scheduler address to run cases on instead (see
+    ``quick`` is the run's ``--quick``: no timing phase, and scenes over
+    ``crosscheck.run.runner.QUICK_SCENE_STEPS`` steps skipped.  ``timeout_s``
+    limits one case x engine (prepare, query and timing) in its worker;
+    ``isolate`` False runs engines in this process (no crash safety); ``jobs``
+    is the number of cases run at once in the verdict pass; ``scheduler`` a
+    Dask scheduler address to run cases on instead (see
     ``crosscheck.run.distributed``).
+
+    The timing phase (``crosscheck.run.timing_phase``) follows the verdict
+    pass, one case at a time: ``timing_cases`` cases per engine x kind (0: no
+    timing phase), drawn at random with ``timing_seed`` across every case
+    family; each timed with ``samples`` kept samples of at least
+    ``min_sample_s`` seconds after a warm-up, scenes run ``scene_repeats``
+    times; ``pin`` pins the engine's worker and this process to different
+    cores where the OS allows it.
     """
 
     quick: bool = False
-    min_sample_s: float = 0.02
-    samples: int = 5
+    min_sample_s: float = 0.0025
+    samples: int = 20
     timeout_s: float = 5.0
     isolate: bool = True
     jobs: int = 1
-    time_per_group: int = 3
+    timing_cases: int = 30
+    timing_seed: int = 0
+    scene_repeats: int = 10
+    pin: bool = True
     scheduler: str | None = None
 
     def to_json(self) -> dict[str, Any]:

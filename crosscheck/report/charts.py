@@ -1,14 +1,18 @@
 """Speed against error: one log-log chart per kind, one point per engine variant.
 
 For each kind, a point is one engine: x is its median time per query over the
-cases of that kind it timed (``query_s``, one value per case x engine), y the
-median error over the cases it was scored on (``agree`` or ``disagree``).  The
-error is the distance error for the detection kinds and, for responses, the
-worse of the ``v1`` and ``v2`` errors of each case; ``hit`` errors are 0 or 1,
-so the verdicts go to a side panel (share of wrong verdicts) instead.  A
-whisker runs from the median up to the 95th percentile (nearest rank) and a
-cross marks the largest error.  A log axis has no 0 and no infinity: exact
-answers are drawn at a labelled floor, infinite errors at a labelled ceiling.
+cases of that kind it timed (``query_s``, one value per case x engine: the
+median of its samples), with a horizontal whisker over the interquartile range
+of those per-case times; y the median error over the cases it was scored on
+(``agree`` or ``disagree``).  The error is the distance error for the detection
+kinds and, for responses, the worse of the ``v1`` and ``v2`` errors of each
+case; ``hit`` errors are 0 or 1, so the verdicts go to a side panel (share of
+wrong verdicts) instead.  A vertical whisker runs from the median up to the
+95th percentile (nearest rank) and a cross marks the largest error.  An engine
+whose timings are mostly unstable (more than half of its timed cases, see
+:mod:`crosscheck.report.speed`) is drawn hollow and named so in the legend,
+never as a precise point.  A log axis has no 0 and no infinity: exact answers
+are drawn at a labelled floor, infinite errors at a labelled ceiling.
 
 Every text that reaches plotly (engine names and settings, case ids and
 descriptions) is HTML-escaped first: plotly renders its labels as HTML.
@@ -30,6 +34,15 @@ from plotly.subplots import make_subplots
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
+from crosscheck.report.speed import (
+    UNSTABLE_SPREAD,
+    Spread,
+    binding,
+    binding_note,
+    case_times,
+    seconds,
+    with_iqr,
+)
 from crosscheck.report.style import COLOURS, PLOT_CONFIG, SYMBOLS, ZERO_FLOOR, plotly_template
 from crosscheck.results.runinfo import RunInfo
 
@@ -64,8 +77,14 @@ class Point:
     about: str
     """The engine, its version and its settings (from run.json)."""
     cases: int
-    timed: int
-    query_s: float
+    time: Spread
+    """Per-case query times over the timed cases: median (x), quartiles (whisker), count."""
+    unstable: int
+    """Timed cases whose own samples spread more than UNSTABLE_SPREAD of their median."""
+    binding: Spread | None
+    """The cheapest call into the engine's Python binding (None: not measured)."""
+    binding_note: str
+    """Why there is no binding overhead ('' when there is one)."""
     scored: int
     zeros: int
     median: float
@@ -76,6 +95,26 @@ class Point:
     wrong: int
     verdicts: int
     failed: int
+
+    @property
+    def timed(self) -> int:
+        return self.time.n
+
+    @property
+    def query_s(self) -> float:
+        return self.time.median
+
+    @property
+    def mostly_unstable(self) -> bool:
+        """More than half of the timed cases unstable: no precise point for this engine."""
+        return self.unstable > self.timed / 2
+
+    @property
+    def binding_share(self) -> float | None:
+        """The binding call's share of the median query time (None: unknown)."""
+        if self.binding is None or not self.query_s > 0:
+            return None
+        return self.binding.median / self.query_s
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,6 +139,11 @@ class SpeedChart:
     @property
     def not_scored(self) -> list[Point]:
         return [p for p in self.points if not p.scored]
+
+    @property
+    def timings(self) -> tuple[int, int]:
+        """Unstable and all timed cases of the plotted engines."""
+        return sum(p.unstable for p in self.plotted), sum(p.timed for p in self.plotted)
 
     def y(self, value: float) -> float:
         """Where an error is drawn: 0 at the floor, infinity at the ceiling."""
@@ -139,12 +183,13 @@ def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
     scored = rows[rows["status"].isin(SCORED)]
     errors = scored[scored["quantity"].isin(measure.errors)].groupby("case_id")["error"].max()
     verdicts = scored[scored["quantity"].isin(measure.verdicts)]
-    times = rows.drop_duplicates(["case_id", "engine"])["query_s"].dropna()
+    time, unstable = case_times(rows)
     median, p95, top = error_stats(errors)
     return Point(
         engine=engine, about=_about(engine, info), cases=rows["case_id"].nunique(),
-        timed=len(times), query_s=float(times.median()) if len(times) else math.nan,
-        scored=len(errors), zeros=int((errors == 0).sum()), median=median, p95=p95, max=top,
+        time=time, unstable=unstable, binding=binding(info, engine),
+        binding_note=binding_note(info, engine), scored=len(errors),
+        zeros=int((errors == 0).sum()), median=median, p95=p95, max=top,
         worst=_worst(errors, cases), verdicts=verdicts["case_id"].nunique(),
         wrong=verdicts.loc[verdicts["status"] == "disagree", "case_id"].nunique(),
         failed=rows.loc[rows["status"].isin(FAILED), "case_id"].nunique())
@@ -187,11 +232,27 @@ def _share(part: int, whole: int) -> str:
     return f"{part} of {whole} ({part / whole:.0%})" if whole else "none"
 
 
+def _binding_line(p: Point) -> str:
+    if p.binding is None:
+        return f"binding call: {html.escape(p.binding_note)}"
+    share = f", {p.binding_share:.0%} of the median query" if p.binding_share else ""
+    return f"binding call (cheapest call into it): {with_iqr(p.binding)}{share}"
+
+
+def _timing_lines(p: Point) -> list[str]:
+    flag = " <b>(timing unstable)</b>" if p.mostly_unstable else ""
+    return [
+        f"median query per call: {seconds(p.query_s)}, IQR over cases "
+        f"{seconds(p.time.q1)} to {seconds(p.time.q3)} (timed on {p.timed} of {p.cases} cases)",
+        f"{p.unstable} of {p.timed} timings unstable (IQR &gt; {UNSTABLE_SPREAD:.0%} of median)"
+        f"{flag}",
+        _binding_line(p)]
+
+
 def hover(p: Point, measure: Measure) -> str:
     """The hover text of a point (escaped HTML)."""
     return "<br>".join([
-        f"<b>{html.escape(p.engine)}</b>", _esc(p.about),
-        f"median query: {seconds(p.query_s)} (timed on {p.timed} of {p.cases} cases)",
+        f"<b>{html.escape(p.engine)}</b>", _esc(p.about), *_timing_lines(p),
         f"error: median {p.median:.3g}, 95th percentile {p.p95:.3g}, max {p.max:.3g}",
         f"scored cases: {p.scored} ({p.zeros} exactly 0)",
         f"{html.escape(measure.verdict_label)}: {_share(p.wrong, p.verdicts)}",
@@ -203,14 +264,29 @@ def _style(index: int) -> dict[str, Any]:
     return {"color": COLOURS[index % len(COLOURS)], "symbol": SYMBOLS[index % len(SYMBOLS)]}
 
 
+def _marker(p: Point, style: dict[str, Any]) -> dict[str, Any]:
+    """A filled marker, or a hollow one when the engine's timings are mostly unstable."""
+    if p.mostly_unstable:
+        return {"size": 13, "color": style["color"], "symbol": f"{style['symbol']}-open",
+                "line": {"width": 2, "color": style["color"]}}
+    return {"size": 13, "line": {"width": 1, "color": "#333"}, **style}
+
+
+def _legend_name(p: Point) -> str:
+    return html.escape(p.engine) + (" (timing unstable)" if p.mostly_unstable else "")
+
+
 def _add_point(fig: go.Figure, chart: SpeedChart, p: Point, style: dict[str, Any]) -> None:
     y = chart.y(p.median)
     fig.add_trace(go.Scatter(
-        x=[p.query_s], y=[y], mode="markers", name=html.escape(p.engine),
+        x=[p.query_s], y=[y], mode="markers", name=_legend_name(p),
         legendgroup=html.escape(p.engine), hovertext=[hover(p, chart.measure)], hoverinfo="text",
-        marker={"size": 13, "line": {"width": 1, "color": "#333"}, **style},
+        marker=_marker(p, style),
         error_y={"type": "data", "symmetric": False, "array": [chart.y(p.p95) - y],
                  "arrayminus": [0.0], "color": style["color"], "thickness": 2, "width": 7},
+        error_x={"type": "data", "symmetric": False, "array": [p.time.q3 - p.time.median],
+                 "arrayminus": [p.time.median - p.time.q1], "color": style["color"],
+                 "thickness": 1.5, "width": 5},
     ), row=1, col=1)
     fig.add_trace(go.Scatter(
         x=[p.query_s], y=[chart.y(p.max)], mode="markers", showlegend=False,
@@ -257,23 +333,18 @@ def _error_axis(fig: go.Figure, chart: SpeedChart) -> None:
 
 
 def _time_axis(fig: go.Figure, chart: SpeedChart) -> None:
-    """Log time axis spanning at least a decade, so small differences do not look large."""
-    logs = [math.log10(p.query_s) for p in chart.plotted]
+    """Log time axis spanning at least a decade and every whisker, so small differences do not
+    look large."""
+    logs = [math.log10(t) for p in chart.plotted for t in (p.time.q1, p.time.q3) if t > 0]
+    logs = logs or [math.log10(p.query_s) for p in chart.plotted]
     middle, half = (min(logs) + max(logs)) / 2, max(0.5, (max(logs) - min(logs)) / 2 + 0.15)
     low, high = middle - half, middle + half
     ticks = [m * 10.0**k for k in range(math.floor(low), math.ceil(high) + 1) for m in (1, 2, 5)]
     ticks = [t for t in ticks if low <= math.log10(t) <= high]
     fig.update_xaxes(type="log", range=[low, high], tickvals=ticks,
                      ticktext=[seconds(t) for t in ticks], row=1, col=1,
-                     title_text="median time per query")
-
-
-def seconds(value: float) -> str:
-    """A duration with an SI prefix: 2e-05 -> '20 µs'."""
-    for scale, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs"), (1e-9, "ns")):
-        if value >= scale * 0.9995:
-            return f"{value / scale:.3g} {unit}"
-    return f"{value:.3g} s"
+                     title_text="median time per call through the Python binding "
+                                "(whisker: IQR over cases)")
 
 
 def figure(chart: SpeedChart, order: list[str]) -> go.Figure:
@@ -292,7 +363,8 @@ def figure(chart: SpeedChart, order: list[str]) -> go.Figure:
     _time_axis(fig, chart)
     fig.update_layout(template=plotly_template(), height=480, hoverlabel={"align": "left"},
                       margin={"t": 40, "b": 40, "l": 40, "r": 20},
-                      legend={"title_text": "engine (cross: max error)"})
+                      legend={"title_text": "engine (cross: max error;<br>"
+                                            "hollow: timing unstable)"})
     return fig
 
 

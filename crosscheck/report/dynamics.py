@@ -54,12 +54,25 @@ def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> 
         "variant": engine + (f" (iterations {iterations})" if iterations else ""),
         "dt": dt, "iterations": iterations, "steps": steps, "status": str(pos.status),
         "simulated_s": steps * dt, "wall_s": wall,
+        "rtf_spread": _rtf_spread(steps * dt, wall, float(pos.query_iqr_s)),
         "rtf": steps * dt / wall if wall > 0 else math.nan,
         "position_error": float(pos.error),
         "velocity_error": _error(by_q.get("velocities")),
         "momentum_error": _error(by_q.get("momentum")),
         "energy_change": _energy_change(energy, case),
     }
+
+
+def _rtf_spread(simulated: float, wall: float, iqr: float) -> str:
+    """The real-time factor over the wall time's interquartile range ('' for one run).
+
+    >>> _rtf_spread(1.0, 0.01, 0.002)
+    '90.9-111'
+    """
+    if not (iqr > 0 and wall > iqr / 2):
+        return ""
+    low, high = simulated / (wall + iqr / 2), simulated / (wall - iqr / 2)
+    return f"{low:.3g}-{high:.3g}"
 
 
 def _error(row: Any) -> float:

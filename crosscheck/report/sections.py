@@ -22,11 +22,12 @@ import pandas as pd
 from markupsafe import Markup
 
 from crosscheck.core.schema import AnyCase
-from crosscheck.report import charts, dynamics, stability
+from crosscheck.report import charts, dynamics, speed, stability
 from crosscheck.report.mirror import asymmetries
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import StoredRun, repro_name
+from crosscheck.results.timings import read_timings
 
 Context = dict[str, Any]
 
@@ -44,6 +45,15 @@ class RunView:
     def order(self) -> list[str]:
         """The engines in run order: each keeps its colour and marker on every chart."""
         return [str(e) for e in dict.fromkeys(self.frame["engine"])]
+
+    @functools.cached_property
+    def timings(self) -> pd.DataFrame:
+        """Every kept timing sample of the run (``timings.jsonl``; empty when none)."""
+        return read_timings(self.stored.directory)
+
+    @functools.cached_property
+    def speed_charts(self) -> list[charts.SpeedChart]:
+        return charts.speed_charts(self.frame, self.info, self.cases)
 
     @functools.cached_property
     def summary(self) -> pd.DataFrame:
@@ -83,13 +93,20 @@ def _matrix(view: RunView) -> Context:
 
 
 def _summary(view: RunView) -> Context:
-    return {"summary": view.summary.to_dict("records"), "statuses": STATUSES}
+    return {"summary": view.summary.to_dict("records"), "statuses": STATUSES,
+            "threshold": speed.UNSTABLE_SPREAD}
 
 
 def _speed(view: RunView) -> Context:
-    made = charts.speed_charts(view.frame, view.info, view.cases)
     return {"speed": [{"data": chart, "html": Markup(charts.figure_html(chart, view.order))
-                       if chart.plotted else None} for chart in made]}
+                       if chart.plotted else None} for chart in view.speed_charts],
+            "seconds": speed.seconds, "with_iqr": speed.with_iqr,
+            "threshold": speed.UNSTABLE_SPREAD}
+
+
+def _timing(view: RunView) -> Context:
+    kinds = [chart.kind for chart in view.speed_charts]
+    return {"timing": speed.timing_context(view.info, view.frame, kinds, view.timings)}
 
 
 def _dynamics(view: RunView) -> Context | None:
@@ -166,6 +183,7 @@ SECTIONS: list[Section] = [
     Section("engine x kind", 30, "_summary.html.j2", _summary),
     Section("speed against error", 40, "_speed.html.j2", _speed,
             lambda c: any(chart["html"] for chart in c["speed"])),
+    Section("timing", 45, "_timing.html.j2", _timing),
     Section("dynamics", 50, "_dynamics.html.j2", _dynamics, _has("dynamics")),
     Section("stability", 60, "_stability.html.j2", _stability, _has("stability")),
     Section("disagreements", 70, "_disagreements.html.j2", _disagreements),

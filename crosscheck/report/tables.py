@@ -17,8 +17,22 @@ STATUSES = [str(s) for s in Status]
 FAILURES = Status.members("failed")
 
 
+def _times(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x kind: the median of the per-case query times, their IQR over the timed
+    cases, and how many cases were timed and how many of those timings are unstable."""
+    per_case = frame.drop_duplicates(["engine", "case_id"])
+    per_case = per_case.assign(_unstable=per_case["unstable"].isin([True])
+                               & per_case["query_s"].notna())
+    groups = per_case.groupby(["engine", "kind"])
+    return pd.DataFrame({
+        "median_query_s": groups["query_s"].median(),
+        "iqr_query_s": groups["query_s"].quantile(0.75) - groups["query_s"].quantile(0.25),
+        "timed": groups["query_s"].count(), "unstable": groups["_unstable"].sum()})
+
+
 def summary(frame: pd.DataFrame) -> pd.DataFrame:
-    """Per engine x kind: counts of each status, median and max error, median query time."""
+    """Per engine x kind: counts of each status, median and max error, median query time with
+    its IQR over the timed cases, timed and unstable cases."""
     if frame.empty:
         return pd.DataFrame(columns=["engine", "kind", *STATUSES])
     counts = pd.crosstab([frame["engine"], frame["kind"]], frame["status"])
@@ -26,9 +40,7 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
     scored = frame[frame["status"].isin(Status.members("scored"))]
     errors = scored.groupby(["engine", "kind"])["error"].agg(["median", "max"])
     errors.columns = ["median_error", "max_error"]
-    per_case = frame.drop_duplicates(["engine", "case_id"])
-    times = per_case.groupby(["engine", "kind"])["query_s"].median().rename("median_query_s")
-    out = counts.join(errors).join(times).reset_index()
+    out = counts.join(errors).join(_times(frame)).reset_index()
     order = {name: i for i, name in enumerate(dict.fromkeys(frame["engine"]))}
     return out.sort_values(["engine", "kind"], key=lambda s: s.map(order).fillna(s.rank()))
 

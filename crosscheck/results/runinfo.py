@@ -6,6 +6,11 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
 - **1** (up to the layered architecture): a free dict built by hand in three
   places; ``options`` held ``timed_ids`` (the timing sample, always ``null``
   when written), ``resumed`` was present only after a resume.
+- **3**: a timing phase after the verdicts: every sample in ``timings.jsonl``,
+  the results rows' timing columns filled from it, and ``timing`` here (the
+  sampling method, pinning, the machine yardstick at the start and the end,
+  each engine's binding overhead).  Options ``timing_cases``, ``timing_seed``,
+  ``scene_repeats`` and ``pin`` replace ``time_per_group``.
 - **2**: the typed :class:`RunInfo`; ``options`` are :class:`RunOptions`
   without ``timed_ids`` (which cases are timed is the runner's per-case
   choice, not an option), and ``resumed`` is always a list.  Every results
@@ -33,7 +38,7 @@ from typing import Any
 
 from crosscheck.core.options import RunOptions
 
-FORMAT_VERSION = 2
+FORMAT_VERSION = 3
 """The version of run.json (and of the files beside it) that this harness writes."""
 
 
@@ -64,6 +69,11 @@ class RunInfo:
     case_errors: tuple[str, ...] = ()
     resumed: tuple[str, ...] = field(default=())
     """When the run was resumed, oldest first."""
+    timing: dict[str, Any] | None = None
+    """The timing phase (format 3; None: no timing phase): ``method`` (in words), ``sampled``
+    (pairs timed), ``pinned``, ``yardstick`` (``start`` and ``end``: per workload, the
+    median, quartiles and samples), ``binding`` (per engine: the cheapest call into its
+    binding, or why there is none)."""
 
     @property
     def engine_names(self) -> list[str]:
@@ -85,7 +95,7 @@ class RunInfo:
                 "resumed": list(self.resumed), "options": self.options.to_json(),
                 "machine": self.machine, "engines": list(self.engines),
                 "case_files": list(self.case_files), "cases_run": self.cases_run,
-                "case_errors": list(self.case_errors)}
+                "case_errors": list(self.case_errors), "timing": self.timing}
 
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> RunInfo:
@@ -96,7 +106,7 @@ class RunInfo:
                    engines=tuple(data["engines"]), started=data["started"],
                    finished=data["finished"], case_files=tuple(data["case_files"]),
                    cases_run=int(data["cases_run"]), case_errors=tuple(data["case_errors"]),
-                   resumed=tuple(data["resumed"]))
+                   resumed=tuple(data["resumed"]), timing=data.get("timing"))
 
 
 def _update_to_2(data: dict[str, Any]) -> dict[str, Any]:
@@ -105,7 +115,12 @@ def _update_to_2(data: dict[str, Any]) -> dict[str, Any]:
             "format_version": 2}
 
 
-_UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {1: _update_to_2}
+def _update_to_3(data: dict[str, Any]) -> dict[str, Any]:
+    return {**data, "timing": None, "format_version": 3}
+
+
+_UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {1: _update_to_2,
+                                                                    2: _update_to_3}
 """Version N -> a function that turns a version-N run.json into version N + 1."""
 
 

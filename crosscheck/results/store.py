@@ -31,6 +31,8 @@ from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.results import legacy
 from crosscheck.results.runinfo import FormatError, RunInfo
+from crosscheck.results.timings import FILE as TIMINGS
+from crosscheck.results.timings import TimingRecord, read_timings
 
 
 class StoreError(RuntimeError):
@@ -57,6 +59,13 @@ class ResultsStore:
                              f"'crosscheck run --resume {directory}' or choose another --out")
         self.done: set[tuple[str, str]] = _keep_finished(results) if resume else set()
         self._results: IO[str] = results.open("a", encoding="utf-8")
+        if resume:  # drop a half-written last line, so that appends start on a line of their own
+            _replace_if_exists(directory / TIMINGS)
+        timings = read_timings(directory) if resume else None
+        self.timed: set[tuple[str, str]] = (
+            set(zip(timings["case_id"], timings["engine"], strict=True))
+            if timings is not None else set())
+        """The (case id, engine) pairs the timing phase has already measured."""
 
     def add_cases(self, cases: Iterable[AnyCase]) -> None:
         """Record the inputs of every case of the run, in suite order (replacing any)."""
@@ -67,6 +76,12 @@ class ResultsStore:
         """Append finished records in one write and flush them to disk."""
         self._results.write("".join(json.dumps(r.row()) + "\n" for r in records))
         self._results.flush()
+
+    def append_timing(self, record: TimingRecord) -> None:
+        """Append one case x engine's timing samples to ``timings.jsonl`` and flush."""
+        with (self.directory / TIMINGS).open("a", encoding="utf-8") as handle:
+            handle.write(record.to_json() + "\n")
+        self.timed.add((record.case_id, record.engine))
 
     def write_run_info(self, info: RunInfo) -> None:
         """Write ``run.json`` (replacing any previous one)."""
@@ -109,6 +124,11 @@ def _replace(path: Path, lines: list[str]) -> None:
     tmp = path.with_suffix(path.suffix + ".tmp")
     tmp.write_text("".join(line + "\n" for line in lines), encoding="utf-8")
     os.replace(tmp, path)
+
+
+def _replace_if_exists(path: Path) -> None:
+    if path.exists():
+        _replace(path, [json.dumps(row) for row in _parsed_lines(path)])
 
 
 def _parsed_lines(path: Path) -> list[dict[str, Any]]:
@@ -154,7 +174,24 @@ def read_results(directory: Path) -> pd.DataFrame:
                      for k, q in zip(frame["kind"], frame["quantity"], strict=True)],
     })
     order = keys.sort_values(["case", "engine", "quantity"], kind="stable").index
-    return frame.loc[order].reset_index(drop=True)
+    return _with_timings(frame.loc[order].reset_index(drop=True), read_timings(directory))
+
+
+def _with_timings(frame: pd.DataFrame, timings: pd.DataFrame) -> pd.DataFrame:
+    """The rows' timing columns filled from the timing phase's samples, where it timed them."""
+    if timings.empty:
+        return frame
+    timed = timings.set_index(["case_id", "engine"])
+    keys = pd.MultiIndex.from_frame(frame[["case_id", "engine"]])
+    found = keys.isin(timed.index)
+    if not found.any():
+        return frame
+    rows = timed.reindex(keys[found])
+    frame.loc[found, "query_s"] = rows["median_s"].to_numpy()
+    frame.loc[found, "query_iqr_s"] = rows["iqr_s"].to_numpy()
+    frame.loc[found, "loops"] = rows["loops"].to_numpy().astype("int64")
+    frame.loc[found, "unstable"] = rows["unstable"].to_numpy().astype(bool)
+    return frame
 
 
 def _engine_names(directory: Path) -> list[str]:

@@ -59,8 +59,11 @@ def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = 
         prepared = adapter.prepare(case)
         setup = time.perf_counter() - start
         observation = query()
-        if observation.wall_s is not None:  # a scene: its one long run is the measurement
-            timing: Timing | None = Timing(observation.wall_s, 0.0, 1, 1, 0.0, False)
+        if observation.wall_s is not None:  # a scene: its whole run is the measurement
+            walls = [observation.wall_s]
+            if timed:
+                walls += _scene_runs(adapter, case, options.scene_repeats - 1)
+            timing: Timing | None = Timing.of_runs(walls)
         else:
             timing = None if not timed else measure(
                 query, min_sample_s=options.min_sample_s, samples=options.samples)
@@ -72,6 +75,27 @@ def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = 
     finally:
         if prepared is not None:
             adapter.release(prepared)
+
+
+def _scene_runs(adapter: Adapter, case: AnyCase, repeats: int) -> list[float]:
+    """The stepping loop's wall time of ``repeats`` more runs of a scene, each built anew."""
+    walls = []
+    for _ in range(max(0, repeats)):
+        prepared = adapter.prepare(case)
+        try:
+            wall = adapter.query(prepared).wall_s
+        finally:
+            adapter.release(prepared)
+        walls.append(float("nan") if wall is None else wall)
+    return walls
+
+
+def probe_binding(adapter: Adapter, options: RunOptions) -> Timing | str:
+    """The cost of the cheapest call into the adapter's engine binding, or why there is none."""
+    call = adapter.binding_call()
+    if call is None:
+        return "no binding: the engine runs in Python"
+    return measure(call, min_sample_s=options.min_sample_s, samples=options.samples)
 
 
 _AVAILABLE: dict[int, tuple[Adapter, str | None]] = {}

@@ -23,7 +23,8 @@ separate step (``crosscheck.report``), in the manner of asv's run and publish.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 from crosscheck.core.contract import Adapter, engine_info
@@ -33,6 +34,7 @@ from crosscheck.results.runinfo import RunInfo, now
 from crosscheck.results.store import ResultsStore
 from crosscheck.run import environment
 from crosscheck.run.runner import Progress, run
+from crosscheck.run.timing_phase import time_phase
 
 
 def new_info(directory: Path, command: str, options: RunOptions, engines: Sequence[Adapter],
@@ -51,17 +53,32 @@ def pending(cases: Sequence[AnyCase], engines: Sequence[Adapter], store: Results
     return sum((c.id, a.name) not in store.done for c in cases for a in engines)
 
 
-def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
-           options: RunOptions, info: RunInfo, progress: Progress | None = None) -> RunInfo:
-    """Write ``info`` as run.json, run what is left, then mark it finished; the final info.
+Phases = Callable[[str, int], Callable[[int], None]]
+"""``phases(name, total)`` is called as a phase starts ("verdicts", "timing") and returns
+the function to call with the number of items each time some finish (a progress bar)."""
 
-    The store is closed in every case.  An interruption (Ctrl-C) propagates
-    after the store is closed: every finished row is on disk, run.json says
-    the run did not finish, and ``crosscheck run --resume`` completes it.
+
+def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
+           options: RunOptions, info: RunInfo, progress: Progress | None = None,
+           phases: Phases | None = None) -> RunInfo:
+    """Write ``info`` as run.json, run what is left, time the sample, then mark it finished.
+
+    The verdict pass runs every case x engine pair not yet done (``progress``, or
+    the ``"verdicts"`` phase, counts them); unless the run is ``quick`` or its
+    ``timing_cases`` is 0, the timing phase then measures a sample in quiet
+    (:mod:`crosscheck.run.timing_phase`).  The store is closed in every case.  An
+    interruption (Ctrl-C) propagates after the store is closed: every finished
+    row and sample is on disk, run.json says the run did not finish, and
+    ``crosscheck run --resume`` completes it.
     """
     try:
         store.write_run_info(info)
+        if progress is None and phases is not None:
+            progress = phases("verdicts", pending(cases, engines, store))
         run(cases, engines, store, options, progress)
+        if not options.quick and options.timing_cases > 0:
+            start = (lambda total: phases("timing", total)) if phases else None
+            info = replace(info, timing=time_phase(store, cases, engines, options, start))
         info = info.finish()
         store.write_run_info(info)
     finally:

@@ -12,10 +12,8 @@ from __future__ import annotations
 import json
 import math
 import threading
-from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import Any
 
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
@@ -73,10 +71,11 @@ Pairs = set[tuple[str, str]] | frozenset[tuple[str, str]]
 
 
 def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
-             options: RunOptions, done: Pairs = frozenset(), timed: bool = False) -> list[Record]:
+             options: RunOptions, done: Pairs = frozenset()) -> list[Record]:
     """Every record of one case: the truth once, then each adapter not already done.
 
-    ``timed``: whether this case's query is timed (the runner's sampling decision).
+    This is the verdict pass: nothing is timed here but a scene's one run (the
+    timing phase, :mod:`crosscheck.run.timing_phase`, measures afterwards in quiet).
     Quantities a declared hang kept from answering (``Outcome.hung``) are ``timeout``
     rows with the hang's reason; the others are scored as usual.
     """
@@ -85,7 +84,7 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
     records: list[Record] = []
     for adapter in adapters:
         if (case.id, adapter.name) not in done:
-            outcome = skipped or _execute(executor, adapter, case, options, timed)
+            outcome = skipped or _execute(executor, adapter, case, options)
             scored = score_case(case, adapter, outcome, truth)
             if outcome.hung:
                 stuck = Outcome(None, Status.TIMEOUT, outcome.hang_reason)
@@ -112,27 +111,23 @@ def _instance(cls: type[Adapter]) -> Adapter:
 class CaseJob:
     """``run_case`` of one ``(case, done pairs)`` item on ``adapters``: picklable.
 
-    ``timed_ids`` are the cases whose queries are timed.  Locally the job holds
-    the adapter instances; pickled (to a Dask worker) it sends only their
-    classes, instantiated once per worker process there.
+    Locally the job holds the adapter instances; pickled (to a Dask worker) it
+    sends only their classes, instantiated once per worker process there.
     """
 
     adapters: tuple[Adapter, ...]
     options: RunOptions
-    timed_ids: frozenset[str] = frozenset()
 
     def __call__(self, item: tuple[AnyCase, Pairs], executor: Executor) -> list[Record]:
         case, done = item
-        return run_case(case, self.adapters, executor, self.options, done,
-                        case.id in self.timed_ids)
+        return run_case(case, self.adapters, executor, self.options, done)
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return _case_job, (tuple(type(a) for a in self.adapters), self.options, self.timed_ids)
+        return _case_job, (tuple(type(a) for a in self.adapters), self.options)
 
 
-def _case_job(classes: Sequence[type[Adapter]], options: RunOptions,
-              timed_ids: frozenset[str]) -> CaseJob:
-    return CaseJob(tuple(_instance(cls) for cls in classes), options, timed_ids)
+def _case_job(classes: Sequence[type[Adapter]], options: RunOptions) -> CaseJob:
+    return CaseJob(tuple(_instance(cls) for cls in classes), options)
 
 
 QUICK_SCENE_STEPS = 1000
@@ -146,8 +141,7 @@ def _quick_skip(case: AnyCase) -> Outcome | None:
     return None
 
 
-def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOptions,
-             timed: bool) -> Outcome:
+def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
     """Execute, probing a declared known hang under HANG_PROBE_S and saying so.
 
     The full query is probed first (a fixed engine answers it).  If the probe times out
@@ -158,7 +152,7 @@ def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOp
     if isinstance(case, SceneCase):  # stepping takes seconds, not microseconds
         options = replace(options, timeout_s=max(options.timeout_s, SCENE_TIMEOUT_S))
     if hang is None:
-        return executor(adapter, case, options, timed)
+        return executor(adapter, case, options)
     limit = min(options.timeout_s, HANG_PROBE_S)
     outcome = executor(adapter, case, replace(options, timeout_s=limit), False)
     if outcome.status is not Status.TIMEOUT:
@@ -176,30 +170,6 @@ SCENE_TIMEOUT_S = 300.0
 """Time limit for one scene x engine (the run's --timeout if larger)."""
 
 
-def timed_sample(cases: Sequence[AnyCase], options: RunOptions) -> frozenset[str]:
-    """The ids of the cases whose queries are timed: none under ``--quick``; else the first
-    ``options.time_per_group`` cases of each case file x kind x dim, in suite order
-    (every case when it is 0).
-
-    Swapped twins (the same work as their original) and bad-input cases
-    (timing a failure says nothing) are never timed.
-    """
-    if options.quick:
-        return frozenset()
-    if not options.time_per_group:
-        return frozenset(case.id for case in cases)
-    per_group = options.time_per_group
-    counts: Counter[tuple[str, str, int]] = Counter()
-    chosen = []
-    for case in cases:
-        key = (Path(case.source).stem, case.kind, case.dim)
-        if ("swapped" not in case.tags and not case.bad_input and counts[key] < per_group
-                and not isinstance(case, SceneCase)):  # a scene times its own one run
-            counts[key] += 1
-            chosen.append(case.id)
-    return frozenset(chosen)
-
-
 def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
         options: RunOptions | None = None, progress: Progress | None = None) -> int:
     """Run every case on every adapter, appending records to ``store``; return the count.
@@ -212,7 +182,6 @@ def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsSto
     (:mod:`crosscheck.run.distributed`).
     """
     options = options or RunOptions()
-    timed_ids = timed_sample(cases, options)
     store.add_cases(cases)
     todo = [c for c in cases if any((c.id, a.name) not in store.done for a in adapters)]
     done: dict[str, set[tuple[str, str]]] = {}
@@ -222,7 +191,7 @@ def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsSto
     count = 0
     lanes: Lanes = DaskLanes(options) if options.scheduler else LocalLanes(options)
     with lanes:
-        for records in lanes.map(CaseJob(tuple(adapters), options, timed_ids), items):
+        for records in lanes.map(CaseJob(tuple(adapters), options), items):
             store.append(records)
             count += len(records)
             if progress:

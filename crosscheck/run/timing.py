@@ -1,38 +1,52 @@
-"""Calibrated timing loops, in the manner of pyperf.
+"""Calibrated timing loops, in the manner of pyperf, keeping every sample.
 
 The loop count is calibrated until one sample lasts at least ``min_sample_s``;
-warm-up samples are discarded; the median and interquartile range of the
-per-call times of the kept samples are reported.  The cost of the loop itself
-(an empty call, measured the same way) is subtracted and reported.  A
-measurement whose IQR exceeds ``UNSTABLE_SPREAD`` of its median is flagged
-unstable.
+warm-up samples are discarded; every kept sample (the per-call time, net of
+the loop's own cost, measured the same way on an empty call) is returned, with
+the median and quartiles of :func:`crosscheck.results.timings.spread`.  A
+measurement whose IQR exceeds 10% of its median is flagged unstable.
 
 >>> t = measure(lambda: sum(range(10)), min_sample_s=0.001, samples=3)
->>> t.loops >= 1 and t.median_s > 0
+>>> t.loops >= 1 and t.median_s > 0 and len(t.values) == 3
 True
 """
 
 from __future__ import annotations
 
+import gc
 import statistics
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-UNSTABLE_SPREAD = 0.10
-"""IQR / median above which a measurement is flagged unstable."""
+from crosscheck.results.timings import spread
 
 
 @dataclass(frozen=True, slots=True)
 class Timing:
-    """Per-call time of one function, net of the loop's own cost."""
+    """Every kept sample of one measurement (seconds per call, or per scene run)."""
 
-    median_s: float
-    iqr_s: float
+    values: tuple[float, ...]
     loops: int
-    samples: int
     overhead_s: float
-    unstable: bool
+    unit: str = "call"
+
+    @property
+    def median_s(self) -> float:
+        return spread(self.values).median
+
+    @property
+    def iqr_s(self) -> float:
+        return spread(self.values).iqr if len(self.values) > 1 else float("nan")
+
+    @property
+    def unstable(self) -> bool:
+        return len(self.values) > 1 and spread(self.values).unstable
+
+    @classmethod
+    def of_runs(cls, walls: Sequence[float]) -> Timing:
+        """The timing of whole runs (a scene stepped ``len(walls)`` times)."""
+        return cls(tuple(walls), 1, 0.0, "scene")
 
 
 def _sample(fn: Callable[[], object], loops: int) -> float:
@@ -59,22 +73,22 @@ def _nothing() -> None:
     return None
 
 
-def _quartiles(xs: list[float]) -> tuple[float, float, float]:
-    if len(xs) < 2:
-        return xs[0], xs[0], xs[0]
-    q1, q2, q3 = statistics.quantiles(xs, n=4, method="inclusive")
-    return q1, q2, q3
-
-
-def measure(fn: Callable[[], object], *, min_sample_s: float = 0.02, samples: int = 5,
+def measure(fn: Callable[[], object], *, min_sample_s: float = 0.0025, samples: int = 20,
             warmups: int = 1) -> Timing:
-    """Time ``fn``: calibrate, warm up, keep ``samples`` samples, subtract loop overhead."""
-    loops = calibrate(fn, min_sample_s)
-    for _ in range(warmups):
-        _sample(fn, loops)
-    kept = [_sample(fn, loops) for _ in range(samples)]
-    overhead = statistics.median(_sample(_nothing, loops) for _ in range(3))
-    net = [max(0.0, x - overhead) for x in kept]
-    q1, median, q3 = _quartiles(net)
-    unstable = median <= 0 or (q3 - q1) > UNSTABLE_SPREAD * median
-    return Timing(median, q3 - q1, loops, samples, overhead, unstable)
+    """Time ``fn``: calibrate, warm up, keep ``samples`` samples, subtract loop overhead.
+
+    The garbage collector is off while it measures, as :mod:`timeit` does: a collection
+    landing in one sample and not in another is noise, not the engine's cost.
+    """
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        loops = calibrate(fn, min_sample_s)
+        for _ in range(warmups):
+            _sample(fn, loops)
+        kept = [_sample(fn, loops) for _ in range(samples)]
+        overhead = statistics.median(_sample(_nothing, loops) for _ in range(3))
+    finally:
+        if collecting:
+            gc.enable()
+    return Timing(tuple(max(0.0, x - overhead) for x in kept), loops, overhead)

@@ -28,21 +28,23 @@ from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, as_completed, wait
 from multiprocessing.connection import Connection
 from multiprocessing.process import BaseProcess
-from typing import TypeVar
+from typing import Any, TypeVar
 
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.run.execute import Executor, Outcome, execute
+from crosscheck.run.execute import Executor, Outcome, execute, probe_binding
+from crosscheck.run.timing import Timing
 
 _CONTEXT = mp.get_context("forkserver")
 _CONTEXT.set_forkserver_preload(["crosscheck.run.execute"])
 _START_LOCK = threading.Lock()
 
-Task = tuple[type[Adapter], AnyCase | None, RunOptions, bool, frozenset[str]]
-"""What a worker is sent: a case to run (whether to time it, the quantities to skip), or
-``None`` to warm up."""
+BINDING = "binding"
+Task = tuple[type[Adapter], AnyCase | str | None, RunOptions, bool, frozenset[str]]
+"""What a worker is sent: a case to run (whether to time it, the quantities to skip),
+``None`` to warm up, or :data:`BINDING` to time the cheapest call into the engine."""
 
 STARTUP_TIMEOUT_S = 120.0
 """Time a new worker may take to start and load its engine; not charged to any case."""
@@ -73,8 +75,10 @@ def _serve(conn: Connection) -> None:
         if case is None:  # warm-up: import the engine and connect, outside any case's time
             adapter.available()
             conn.send(None)
-            continue
-        conn.send(execute(adapter, case, options, timed, skip))
+        elif isinstance(case, str):
+            conn.send(probe_binding(adapter, options))
+        else:
+            conn.send(execute(adapter, case, options, timed, skip))
 
 
 @contextlib.contextmanager
@@ -115,14 +119,13 @@ class _Worker:
             self.process.start()
         child.close()
 
-    def call(self, task: Task, timeout_s: float) -> Outcome | None:
+    def call(self, task: Task, timeout_s: float) -> Any:
         try:
             self.conn.send(task)
             if not self.conn.poll(timeout_s):
                 self.kill()
                 return Outcome(None, Status.TIMEOUT, f"no answer within {timeout_s:g} s")
-            outcome: Outcome | None = self.conn.recv()
-            return outcome
+            return self.conn.recv()
         except (EOFError, OSError, BrokenPipeError):
             self.process.join(timeout=2)
             return Outcome(None, Status.CRASH, _death(self.process.exitcode))
@@ -143,27 +146,62 @@ class _Worker:
             self.kill()
 
 
-class WorkerPool:
-    """One worker per adapter, restarted after a crash or timeout."""
+def pin(pid: int, cpu: int | None) -> bool:
+    """Pin process ``pid`` (0: this one) to ``cpu`` where the OS allows it; whether it did."""
+    if cpu is None or not hasattr(os, "sched_setaffinity"):
+        return False
+    try:
+        os.sched_setaffinity(pid, {cpu})
+    except OSError:
+        return False
+    return True
 
-    def __init__(self, options: RunOptions) -> None:
+
+class WorkerPool:
+    """One worker per adapter, restarted after a crash or timeout (pinned to ``cpu`` if given)."""
+
+    def __init__(self, options: RunOptions, cpu: int | None = None) -> None:
         self.options = options
+        self.cpu = cpu
         self._workers: dict[str, _Worker] = {}
+
+    def _worker(self, adapter: Adapter, options: RunOptions) -> _Worker | Outcome:
+        """The adapter's live worker, started (and warmed up) if need be; or why it cannot."""
+        worker = self._workers.get(adapter.name)
+        if worker is None or not worker.alive():
+            worker = self._workers[adapter.name] = _Worker()
+            pin(worker.process.pid or 0, self.cpu)
+            started = worker.call((type(adapter), None, options, False, frozenset()),
+                                  STARTUP_TIMEOUT_S)
+            if started is not None:  # the worker could not even start: that case's outcome
+                del self._workers[adapter.name]
+                assert isinstance(started, Outcome)
+                return started
+        return worker
+
+    def binding(self, adapter: Adapter, options: RunOptions) -> Timing | str:
+        """The cost of the cheapest call into the adapter's engine, measured in its worker."""
+        worker = self._worker(adapter, options)
+        if isinstance(worker, Outcome):
+            return worker.reason
+        answer = worker.call((type(adapter), BINDING, options, True, frozenset()),
+                             options.timeout_s)
+        if isinstance(answer, Outcome):  # it hung or died
+            worker.kill()
+            del self._workers[adapter.name]
+            return answer.reason
+        assert isinstance(answer, Timing | str)
+        return answer
 
     def execute(self, adapter: Adapter, case: AnyCase, options: RunOptions,
                 timed: bool = False, skip: frozenset[str] = frozenset()) -> Outcome:
         """Run ``case`` on ``adapter`` (without the quantities in ``skip``) in the adapter's
         worker, within the time limit."""
-        worker = self._workers.get(adapter.name)
-        if worker is None or not worker.alive():
-            worker = self._workers[adapter.name] = _Worker()
-            started = worker.call((type(adapter), None, options, False, frozenset()),
-                                  STARTUP_TIMEOUT_S)
-            if started is not None:  # the worker could not even start: that case's outcome
-                del self._workers[adapter.name]
-                return started
+        worker = self._worker(adapter, options)
+        if isinstance(worker, Outcome):
+            return worker
         outcome = worker.call((type(adapter), case, options, timed, skip), options.timeout_s)
-        assert outcome is not None
+        assert isinstance(outcome, Outcome)
         if outcome.status in (Status.CRASH, Status.TIMEOUT):
             worker.kill()
             del self._workers[adapter.name]

@@ -1,0 +1,249 @@
+"""Timing changes between two runs, judged on their stored samples (``timings.jsonl``).
+
+Two runs of identical code on a shared machine differ per case x engine
+(load, clock and cache state drift between runs while the samples of one run
+sit close together, and the yardstick drifts too), so a test on the samples
+alone finds "significant" changes in a third of pairs or more.  A pair is judged ``slower`` or
+``faster`` only when both hold:
+
+- B's samples, divided by the ratio of the two runs' machine yardsticks
+  (:func:`yardstick_ratio`), differ from A's by a two-sided Mann-Whitney U
+  test at p < :data:`ALPHA`;
+- the ratio of the medians (B normalised / A) is beyond :data:`MIN_EFFECT`
+  either way;
+- the two interquartile ranges do not overlap: a burst of load that shifts a
+  few samples of one run moves its median, not its whole distribution.
+
+Otherwise the pair is ``same``.  A pair with fewer than ``MIN_SAMPLES``
+samples in either run, timed in one run only, or from a run that stored no
+samples is ``unknown``: never a change, only counted.
+
+>>> ystick = {"yardstick": {"start": {"numpy": {"median_s": 1.0}, "python": {"median_s": 4.0}},
+...                         "end": {"numpy": {"median_s": 3.0}, "python": {"median_s": 4.0}}}}
+>>> yardstick(ystick)
+{'numpy': 2.0, 'python': 4.0}
+>>> yardstick_ratio(yardstick(ystick), {"numpy": 4.0, "python": 8.0})
+2.0
+>>> a, b = [1.0] * 5 + [1.1] * 5, [2.0] * 5 + [2.2] * 5
+>>> judged(a, b, 1.0)["verdict"], judged(a, b, 1.0)["ratio"]
+('slower', 2.0)
+>>> judged(a, b, 2.0)["verdict"]
+'same'
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+import pandas as pd
+from scipy.stats import mannwhitneyu
+
+from crosscheck.results.store import StoredRun
+from crosscheck.results.timings import FILE, MIN_SAMPLES, UNSTABLE_SPREAD, read_timings
+
+ALPHA = 0.001
+"""Significance level of the two-sided Mann-Whitney U test of A's samples against B's."""
+MIN_EFFECT = 1.25
+"""Smallest ratio of the normalised medians, either way, that counts as a change (x1.25).
+
+Measured on this shared 2-core VM: two back-to-back full ``crosscheck run``
+of identical code (688 timed pairs each, 568 compared; the timing phase one
+pair at a time, pinned): the ratio of medians had a median of 0.996, a
+standard deviation of 3.5% and a maximum of x1.46 (one pair); at p < 0.001
+and beyond x1.25, 0 pairs were flagged (x1.1: 1).  The yardstick of the
+second run drifted by x1.24 between its start and its end, so it was not
+used (see :func:`normalisation`); had it been, every pair would have moved
+by x0.87.  Measured earlier with other work loading the machine, ratios
+reached x1.75 in bursts: a noisy machine needs a larger effect, and the
+yardstick warnings say when."""
+VERDICTS = ("slower", "faster", "same", "unknown")
+OLD_FORMAT = "no samples stored (format < 3)"
+COLUMNS = ["case_id", "engine", "n_a", "n_b", "median_a_s", "median_b_s", "ratio", "p_value",
+           "verdict", "reason"]
+
+
+@dataclass(frozen=True)
+class RunTimings:
+    """What one run stored of its timing."""
+
+    samples: dict[tuple[str, str], tuple[str, list[float]]]
+    """Per (case id, engine): the unit and every kept sample (seconds)."""
+    timed: set[tuple[str, str]]
+    """Every pair the run timed (from its samples, or from its results' ``query_s``)."""
+    yardstick: dict[str, float]
+    doubt: str | None
+    """Why the run's yardstick is an unsteady ruler (None: steady, or none)."""
+    missing: str | None
+    """Why the run has no samples at all (None: it has ``timings.jsonl``)."""
+
+
+def run_timings(run: StoredRun) -> RunTimings:
+    """The stored samples, timed pairs and yardstick of ``run``."""
+    frame = read_timings(run.directory)
+    samples = {(str(case), str(engine)): (str(unit), [float(v) for v in values])
+               for case, engine, unit, values in zip(frame["case_id"], frame["engine"],
+                                                     frame["unit"], frame["values"], strict=True)}
+    results = run.results.dropna(subset=["query_s"])
+    timed = set(samples) | set(zip(results["case_id"], results["engine"], strict=True))
+    missing = None
+    if not (run.directory / FILE).exists():
+        missing = OLD_FORMAT if _format(run) < 3 else "no samples stored (no timing phase)"
+    return RunTimings(samples, timed, yardstick(run.info.timing),
+                      yardstick_doubt(run.info.timing), missing)
+
+
+def _format(run: StoredRun) -> int:
+    raw = json.loads((run.directory / "run.json").read_text(encoding="utf-8"))
+    return int(raw.get("format_version", 0))
+
+
+def _measurements(timing: dict[str, Any] | None) -> dict[str, list[dict[str, Any]]]:
+    """Per yardstick workload, its measurements (start, end) with a positive median."""
+    out: dict[str, list[dict[str, Any]]] = {}
+    for end in ((timing or {}).get("yardstick") or {}).values():
+        for workload, stats in (end or {}).items():
+            if float(stats.get("median_s", math.nan)) > 0:
+                out.setdefault(workload, []).append(stats)
+    return out
+
+
+def yardstick(timing: dict[str, Any] | None) -> dict[str, float]:
+    """Per workload, the median of the yardstick's start and end medians ({}: none stored)."""
+    return {workload: float(np.median([float(s["median_s"]) for s in stats]))
+            for workload, stats in _measurements(timing).items()}
+
+
+def yardstick_doubt(timing: dict[str, Any] | None) -> str | None:
+    """Why a run's yardstick is an unsteady ruler (None: steady): a workload's start and end
+    medians differ, or one measurement's IQR exceeds ``UNSTABLE_SPREAD``, of its median.
+
+    >>> steady = {"median_s": 1.0, "q1_s": 0.99, "q3_s": 1.01}
+    >>> yardstick_doubt({"yardstick": {"start": {"python": steady}, "end": {"python": steady}}})
+    >>> yardstick_doubt({"yardstick": {"start": {"python": steady},
+    ...                                "end": {"python": steady | {"median_s": 1.5}}}})
+    'python x1.50 from start to end'
+    """
+    doubts = []
+    for workload, stats in _measurements(timing).items():
+        medians = [float(s["median_s"]) for s in stats]
+        if max(medians) > (1 + UNSTABLE_SPREAD) * min(medians):
+            doubts.append(f"{workload} x{max(medians) / min(medians):.2f} from start to end")
+        spreads = [(float(s.get("q3_s", math.nan)) - float(s.get("q1_s", math.nan)))
+                   / float(s["median_s"]) for s in stats]
+        if any(x > UNSTABLE_SPREAD for x in spreads):
+            doubts.append(f"{workload} IQR {max(spreads):.0%} of its median")
+    return "; ".join(doubts) or None
+
+
+def yardstick_ratio(a: dict[str, float], b: dict[str, float]) -> float | None:
+    """B's yardstick time over A's: geometric mean over the workloads both ran (None: none)."""
+    shared = [w for w in a if w in b]
+    if not shared:
+        return None
+    return float(np.exp(np.mean([math.log(b[w] / a[w]) for w in shared])))
+
+
+def normalisation(a: RunTimings, b: RunTimings) -> tuple[float | None, str]:
+    """The factor B's samples are divided by (None: not normalised), and how it was found.
+
+    A yardstick that moved during its own run (:func:`yardstick_doubt`) measures
+    the moment, not the run: it is not used, and the note says why.
+    """
+    doubts = [f"{name}: {run.doubt}" for name, run in (("A", a), ("B", b)) if run.doubt]
+    if doubts:
+        return None, ("yardstick not used, it was unsteady (" + "; ".join(doubts) +
+                      "): timings not normalised")
+    ratio = yardstick_ratio(a.yardstick, b.yardstick)
+    if ratio is None:
+        lacking = " and ".join(name for name, run in (("A", a), ("B", b)) if not run.yardstick)
+        where = f"no yardstick in {lacking}" if lacking else "no yardstick workload in common"
+        return None, f"{where}: timings not normalised (machine drift counts as change)"
+    workloads = ", ".join(sorted(set(a.yardstick) & set(b.yardstick)))
+    return ratio, (f"B's samples divided by the yardstick ratio B/A = {ratio:.3f} "
+                   f"(geometric mean over {workloads})")
+
+
+def p_value(a: npt.ArrayLike, b: npt.ArrayLike) -> float:
+    """Two-sided Mann-Whitney U p-value of ``a`` against ``b``."""
+    return float(mannwhitneyu(a, b, alternative="two-sided").pvalue)
+
+
+def judged(a: Sequence[float], b: Sequence[float], scale: float) -> dict[str, Any]:
+    """The test of A's samples against B's divided by ``scale``: ratio, p-value, verdict, reason."""
+    xa, xb = np.asarray(a, dtype=float), np.asarray(b, dtype=float) / scale
+    median_a, median_b = float(np.median(xa)), float(np.median(xb))
+    if not (median_a > 0 and median_b > 0):
+        return {"verdict": "unknown", "reason": "a median at or below 0 s (below the timing "
+                                                "loop's resolution)"}
+    ratio, p = median_b / median_a, p_value(xa, xb)
+    size = max(ratio, 1 / ratio)
+    qa, qb = np.percentile(xa, [25, 75]), np.percentile(xb, [25, 75])
+    apart = qb[0] > qa[1] if ratio > 1 else qb[1] < qa[0]
+    verdict = ("same" if p >= ALPHA or size <= MIN_EFFECT or not apart
+               else "slower" if ratio > 1 else "faster")
+    why = (f"p = {p:.2g} >= {ALPHA:g}" if p >= ALPHA
+           else f"x{size:.2f} within x{MIN_EFFECT:g}" if size <= MIN_EFFECT
+           else "the interquartile ranges overlap" if not apart
+           else f"p = {p:.2g}, x{size:.2f}, interquartile ranges apart")
+    return {"ratio": ratio, "p_value": p, "verdict": verdict, "reason": why}
+
+
+def _pair(key: tuple[str, str], a: RunTimings, b: RunTimings,
+          scale: float | None) -> dict[str, Any]:
+    sa, sb = a.samples.get(key), b.samples.get(key)
+    row: dict[str, Any] = {
+        "case_id": key[0], "engine": key[1], "n_a": len(sa[1]) if sa else 0,
+        "n_b": len(sb[1]) if sb else 0, "median_a_s": float(np.median(sa[1])) if sa else math.nan,
+        "median_b_s": float(np.median(sb[1])) if sb else math.nan, "ratio": math.nan,
+        "p_value": math.nan, "verdict": "unknown"}
+    if a.missing or b.missing:
+        return row | {"reason": a.missing if a.missing == OLD_FORMAT or not b.missing
+                      else b.missing}
+    if sa is None or sb is None:
+        return row | {"reason": f"timed in {'B' if sa is None else 'A'} only"}
+    if min(len(sa[1]), len(sb[1])) < MIN_SAMPLES:
+        return row | {"reason": f"fewer than {MIN_SAMPLES} samples"}
+    if sa[0] != sb[0]:
+        return row | {"reason": f"units differ ({sa[0]} vs {sb[0]})"}
+    return row | judged(sa[1], sb[1], 1.0 if scale is None else scale)
+
+
+def timing_changes(a: RunTimings, b: RunTimings, cases: set[str], engines: set[str],
+                   scale: float | None = None) -> pd.DataFrame:
+    """One row per pair timed in either run among the shared ``cases`` x ``engines``.
+
+    B's samples are divided by ``scale`` (the yardstick ratio; None: not normalised).
+    Ordered changes first (largest first), then ``same``, then ``unknown``.
+    """
+    keys = sorted(k for k in a.timed | b.timed if k[0] in cases and k[1] in engines)
+    frame = pd.DataFrame([_pair(k, a, b, scale) for k in keys], columns=COLUMNS)
+    rank = frame["verdict"].map({v: i for i, v in enumerate(VERDICTS)})
+    size = -np.abs(np.log(frame["ratio"].to_numpy(dtype=float)))
+    order = pd.DataFrame({"rank": rank, "size": np.nan_to_num(size)}).sort_values(
+        ["rank", "size"], kind="stable").index
+    return frame.loc[order].reset_index(drop=True)
+
+
+def engine_summary(changes: pd.DataFrame, engines: Sequence[str],
+                   scale: float | None = None) -> pd.DataFrame:
+    """Per engine (in ``engines`` order): pairs, verdict counts, geomean of the judged ratios
+    (and of the raw ones, before the yardstick ``scale``)."""
+    rows = []
+    for engine in engines:
+        group = changes[changes["engine"] == engine]
+        if group.empty:
+            continue
+        ratios = group.loc[group["verdict"] != "unknown", "ratio"].astype(float)
+        counts = group["verdict"].value_counts()
+        geomean = float(np.exp(np.log(ratios).mean())) if len(ratios) else math.nan
+        rows.append({"engine": engine, "pairs": len(group),
+                     **{v: int(counts.get(v, 0)) for v in VERDICTS}, "geomean_ratio": geomean,
+                     "geomean_raw": geomean * (scale or 1.0)})
+    return pd.DataFrame(rows, columns=["engine", "pairs", *VERDICTS, "geomean_ratio",
+                                       "geomean_raw"])

@@ -1,0 +1,116 @@
+"""The timing samples of a run (``timings.jsonl``) and their spread: what speed figures stand on.
+
+The timing phase of a run (:mod:`crosscheck.run.timing_phase`) appends one
+:class:`TimingRecord` per timed case x engine: every kept sample, not only a
+median, so that a report can show the spread and ``compare`` can test whether
+two runs differ.  A sample is the time of one call (net of the timing loop's
+own cost, ``unit = "call"``) or of one whole scene run (``unit = "scene"``).
+
+>>> s = spread([1.0, 1.1, 0.9, 1.0, 1.05])
+>>> (s.median, round(s.iqr, 3), s.n, s.unstable)
+(1.0, 0.05, 5, False)
+>>> spread([1.0, 2.0, 1.0, 2.0]).unstable
+True
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+UNSTABLE_SPREAD = 0.10
+"""A measurement whose interquartile range exceeds this share of its median is unstable."""
+MIN_SAMPLES = 10
+"""Fewer kept samples than this: too few to judge a spread or a change ("unknown")."""
+FILE = "timings.jsonl"
+
+
+@dataclass(frozen=True, slots=True)
+class Spread:
+    """Median and quartiles of a set of timing samples (seconds)."""
+
+    median: float
+    q1: float
+    q3: float
+    n: int
+
+    @property
+    def iqr(self) -> float:
+        return self.q3 - self.q1
+
+    @property
+    def unstable(self) -> bool:
+        """IQR above :data:`UNSTABLE_SPREAD` of the median (or no positive median)."""
+        return not self.median > 0 or self.iqr > UNSTABLE_SPREAD * self.median
+
+
+def spread(values: Sequence[float]) -> Spread:
+    """The median and quartiles (numpy's linear interpolation) of ``values``; NaN if none."""
+    if not len(values):
+        return Spread(math.nan, math.nan, math.nan, 0)
+    q1, median, q3 = (float(x) for x in np.percentile(np.asarray(values, dtype=float),
+                                                      [25, 50, 75]))
+    return Spread(median, q1, q3, len(values))
+
+
+@dataclass(frozen=True, slots=True)
+class TimingRecord:
+    """Every kept timing sample of one case x engine."""
+
+    case_id: str
+    engine: str
+    kind: str
+    unit: str
+    """``"call"``: seconds per query call; ``"scene"``: seconds per whole stepped scene run."""
+    loops: int
+    """Calls per sample (1 for scenes)."""
+    overhead_s: float
+    """The timing loop's own cost per call, already subtracted from every sample."""
+    values: tuple[float, ...] = field(default=())
+
+    @property
+    def spread(self) -> Spread:
+        return spread(self.values)
+
+    def to_json(self) -> str:
+        return json.dumps(asdict(self) | {"values": list(self.values)})
+
+
+COLUMNS = ["case_id", "engine", "kind", "unit", "loops", "overhead_s", "n", "median_s",
+           "q1_s", "q3_s", "iqr_s", "unstable", "values"]
+
+
+def read_timings(directory: Path) -> pd.DataFrame:
+    """The timing records of a run, one row per case x engine, with their spread."""
+    path = directory / FILE
+    rows: list[dict[str, Any]] = []
+    if path.exists():
+        for line in path.read_text(encoding="utf-8").splitlines():
+            try:
+                data = json.loads(line)
+            except json.JSONDecodeError:
+                continue  # a half-written last line of a killed run
+            s = spread(data["values"])
+            rows.append(data | {"n": s.n, "median_s": s.median, "q1_s": s.q1, "q3_s": s.q3,
+                                "iqr_s": s.iqr, "unstable": s.unstable})
+    frame = pd.DataFrame(rows, columns=COLUMNS)
+    return frame.drop_duplicates(["case_id", "engine"], keep="last").reset_index(drop=True)
+
+
+def drift(timing: dict[str, Any]) -> dict[str, float]:
+    """End / start median of each yardstick workload (1.0: the machine kept its speed).
+
+    >>> drift({"yardstick": {"start": {"numpy": {"median_s": 2.0}},
+    ...                      "end": {"numpy": {"median_s": 2.2}}}})
+    {'numpy': 1.1}
+    """
+    start, end = timing["yardstick"]["start"], timing["yardstick"]["end"]
+    return {name: round(end[name]["median_s"] / start[name]["median_s"], 12)
+            if start[name]["median_s"] > 0 else math.nan for name in start}
