@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -48,6 +49,9 @@ def test_new_case_appends_a_valid_block(tmp_path: Path, monkeypatch: pytest.Monk
         case_id = f"new-{kind}-{dim}".replace("_", "-")
         assert main(["new-case", "--kind", kind, "--dim", str(dim), "--id", case_id,
                      "--file", str(target)]) == 0
+    assert main(["validate", str(target)]) == 1  # the template's TODO descriptions
+    text = target.read_text().replace("TODO: say what this case probes", "two unit bodies")
+    target.write_text(text)
     assert main(["validate", str(target)]) == 0
     assert main(["new-case", "--kind", "aabb", "--dim", "2", "--id", "new-aabb-2",
                  "--file", str(target)]) == 2
@@ -143,3 +147,21 @@ def test_new_case_with_geometry_writes_the_finished_case(tmp_path: Path) -> None
     assert main(["new-case", "--kind", "aabb", "--dim", "3", "--id", "bad-box",
                  "--file", str(target), "--a-half", "1,-1,1"]) == 2
     assert "bad-box" not in target.read_text()
+
+
+def test_a_run_says_what_it_runs_progresses_in_plain_lines_and_says_when_it_is_done(
+        small_suite: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "out"
+    assert main(["run", str(small_suite), "--engine", "reference", "--out", str(out),
+                 "--timing-cases", "2", "--samples", "3", "--min-sample", "0.0005"]) == 0
+    printed = capsys.readouterr().out.replace("\n", " ")
+    assert f"x 1 engines (reference) -> {out}" in printed
+    assert "case x engine: " in printed and "(100%," in printed  # not a terminal: plain lines
+    assert "timing (one at a time): " in printed and "finished in " in printed
+
+
+def test_version(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as done:
+        main(["--version"])
+    assert done.value.code == 0
+    assert re.fullmatch(r"crosscheck \S+ \(results format 3\)\n", capsys.readouterr().out)

@@ -184,6 +184,9 @@ def _pydantic_problem(err: Any) -> tuple[str, str]:
 def semantic_problems(case: AnyCase) -> list[tuple[str, str]]:
     """Rules beyond the schema: vector lengths always; value rules unless bad-input."""
     problems = list(_length_problems(case))
+    if case.description.lstrip().upper().startswith("TODO"):
+        problems.append(("description", "still the template's TODO: say in a few words what "
+                                        "this case probes"))
     if not case.bad_input:
         problems += list(_value_problems(case))
     if not problems:

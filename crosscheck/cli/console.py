@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import contextlib
+import math
+import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
@@ -52,15 +54,37 @@ def progress_bar(total: int, label: str = "case x engine") -> Iterator[Callable[
         yield lambda n: bar.update(task, advance=n)
 
 
+PHASES = {"verdicts": "case x engine", "timing": "timing (one at a time)"}
+
+
+class PlainProgress:
+    """Progress as plain lines, for a log or a pipe: one at the start, then every tenth."""
+
+    def __init__(self, label: str, total: int, clock: Callable[[], float] = time.monotonic):
+        self.label, self.total, self.done, self.clock = label, total, 0, clock
+        self.started, self.next = clock(), 0.1
+        say(f"{label}: {total} to go")
+
+    def __call__(self, n: int) -> None:
+        self.done += n
+        if self.total and self.done / self.total >= self.next:
+            self.next = math.floor(10 * self.done / self.total) / 10 + 0.1
+            say(f"{self.label}: {self.done}/{self.total} "
+                f"({100 * self.done / self.total:.0f}%, {self.clock() - self.started:.0f} s)")
+
+
 @contextlib.contextmanager
 def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
-    """Transient progress bars on stderr, one per phase of a run (verdicts, timing)."""
+    """Progress per phase of a run (verdicts, timing): transient bars on a terminal, plain
+    lines every tenth of the way when stderr is a log or a pipe."""
+    if not err.is_terminal:
+        yield lambda name, total: PlainProgress(PHASES.get(name, name), total)
+        return
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                TimeElapsedColumn(), TimeRemainingColumn())
     with Progress(*columns, console=err, transient=True) as bar:
         def start(name: str, total: int) -> Callable[[int], None]:
-            label = {"verdicts": "case x engine", "timing": "timing (one at a time)"}
-            task = bar.add_task(label.get(name, name), total=total)
+            task = bar.add_task(PHASES.get(name, name), total=total)
             return lambda n: bar.update(task, advance=n)
         yield start
 

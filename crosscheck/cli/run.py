@@ -6,13 +6,22 @@ import argparse
 import os
 import shlex
 import sys
+import time
 from collections.abc import Sequence
 from datetime import UTC, datetime
 from pathlib import Path
 
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import engines as engine_choice
-from crosscheck.cli.console import err, fail, out, phase_bars, print_summary, report_case_errors
+from crosscheck.cli.console import (
+    err,
+    fail,
+    out,
+    phase_bars,
+    print_summary,
+    report_case_errors,
+    say,
+)
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
@@ -35,6 +44,9 @@ def run_dir(base: Path, prefix: str = "") -> Path:
 def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
            options: RunOptions, info: RunInfo) -> int:
     """Run what is left with a progress bar, then render and summarise; the exit code."""
+    started = time.monotonic()
+    say(f"running {len(cases)} cases x {len(engines)} engines "
+        f"({', '.join(a.name for a in engines)}) -> {store.directory}")
     try:
         with phase_bars() as phases:
             launch(store, cases, engines, options, info, phases=phases)
@@ -46,6 +58,7 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     paths = render(store.directory)
     print_summary(store.directory)
     out.print(f"report: {paths['report']}", markup=False, highlight=False)
+    say(f"finished in {time.monotonic() - started:.0f} s")
     return 0
 
 

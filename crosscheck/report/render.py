@@ -12,6 +12,7 @@ from pathlib import Path
 
 from markupsafe import Markup
 
+from crosscheck.report.parquet import write_parquet
 from crosscheck.report.sections import SECTIONS, RunView
 from crosscheck.report.style import plotly_js, templates
 from crosscheck.report.tables import markdown_summary
@@ -33,9 +34,11 @@ def render_html(view: RunView) -> str:
 
 
 def render(directory: Path) -> dict[str, Path]:
-    """Write results, summary, disagreements and asymmetries CSV files and report.html."""
+    """Write results (CSV and typed Parquet), summary, disagreements and asymmetries CSV
+    files and report.html."""
     view = RunView(read_run(directory))
-    paths = {"results": write_csv(view.frame, directory)}
+    paths = {"results": write_csv(view.frame, directory),
+             "parquet": write_parquet(view.frame, directory)}
     for name, table in (("summary", view.summary), ("disagreements", view.disagreements),
                         ("asymmetries", view.asymmetries)):
         paths[name] = directory / f"{name}.csv"

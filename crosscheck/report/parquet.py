@@ -1,0 +1,73 @@
+"""``results.parquet``: the results table with typed columns, for pandas users.
+
+``results.csv`` keeps every value as JSON text, exact but to be parsed.
+The Parquet file holds the same rows with the values already typed, so
+``pd.read_parquet`` needs no parsing:
+
+- ``value_bool`` / ``truth_bool``: a verdict (``hit``);
+- ``value_float`` / ``truth_float``: a number (``distance``, ``energy``);
+- ``value_vector`` / ``truth_vector``: a vector (``normal``, ``v1``, ``v2``,
+  ``momentum``), as a list of float64;
+- scene positions and velocities (a vector per body) stay as JSON text in
+  ``value`` and ``truth``.
+
+A missing or undefined value is null in the typed columns; the row's
+``status`` and ``reason`` say why.  Timing columns (``query_s`` and the rest)
+describe the case x engine, so they repeat on each of its quantity rows.
+
+>>> typed('[0.6, 0.8]'), typed('true'), typed('undefined'), typed('1e-09')
+(('vector', [0.6, 0.8]), ('bool', True), (None, None), ('float', 1e-09))
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+KINDS = ("bool", "float", "vector")
+
+
+def typed(text: object) -> tuple[str | None, Any]:
+    """The type and value of one JSON text cell (``(None, None)``: none, or not typable)."""
+    if not isinstance(text, str) or text in ("", "undefined"):
+        return None, None
+    value = json.loads(text)
+    if isinstance(value, bool):
+        return "bool", value
+    if isinstance(value, int | float):
+        return "float", float(value)
+    if isinstance(value, list) and all(isinstance(x, int | float) for x in value):
+        return "vector", [float(x) for x in value]
+    return None, None
+
+
+def _columns(cells: pd.Series, prefix: str) -> dict[str, list[Any]]:
+    out: dict[str, list[Any]] = {f"{prefix}_{kind}": [] for kind in KINDS}
+    for cell in cells:
+        kind, value = typed(cell)
+        for name in KINDS:
+            out[f"{prefix}_{name}"].append(value if kind == name else None)
+    return out
+
+
+def typed_frame(frame: pd.DataFrame) -> pd.DataFrame:
+    """The results with typed value and truth columns added beside the JSON text."""
+    out = frame.copy()
+    for prefix in ("value", "truth"):
+        columns = _columns(frame[prefix], prefix)
+        out[f"{prefix}_bool"] = pd.Series(columns[f"{prefix}_bool"], dtype="boolean")
+        out[f"{prefix}_float"] = pd.Series(columns[f"{prefix}_float"], dtype="Float64")
+        out[f"{prefix}_vector"] = columns[f"{prefix}_vector"]
+    return out
+
+
+def write_parquet(frame: pd.DataFrame, directory: Path) -> Path:
+    """Write ``results.parquet`` (pyarrow) from a results DataFrame."""
+    path = directory / "results.parquet"
+    typed_frame(frame).to_parquet(path, index=False, engine="pyarrow")
+    return path
+
+
