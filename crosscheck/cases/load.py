@@ -15,7 +15,7 @@ field and the reason; a bad block never stops the good ones from loading.
 ... ''')
 >>> result = load_paths([p])
 >>> print(result.errors[0].message.replace(str(p), "c.toml"))  # doctest: +ELLIPSIS
-c.toml: case 's1': field a.radius: must be >= 0, got -1.0 (tag the case 'bad-input' ...)
+c.toml:6: case 's1': field a.radius: must be >= 0, got -1.0 (tag the case 'bad-input' ...)
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import itertools
 import math
 import tomllib
 from collections.abc import Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -32,6 +32,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from crosscheck.cases.expand import SweepError, expand, with_swaps
+from crosscheck.cases.messages import plain
 from crosscheck.core.schema import (
     CASE_ADAPTER,
     LOADER_FIELDS,
@@ -54,12 +55,15 @@ class CaseError:
     case_id: str
     field: str
     reason: str
+    line: int = 0
+    """The line in the file (0: not known, e.g. a sweep point made by expansion)."""
 
     @property
     def message(self) -> str:
         case = f"case {self.case_id}: " if self.case_id != "-" else ""
         where = f"field {self.field}: " if self.field else ""
-        return f"{self.file}: {case}{where}{self.reason}"
+        at = f"{self.file}:{self.line}" if self.line else self.file
+        return f"{at}: {case}{where}{self.reason}"
 
     def __str__(self) -> str:
         return self.message
@@ -128,7 +132,8 @@ def load_file(path: Path) -> tuple[list[AnyCase], list[CaseError]]:
     """Parse one TOML file and validate each ``[[case]]`` block on its own."""
     name = str(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        text = path.read_text(encoding="utf-8")
+        data = tomllib.loads(text)
     except (OSError, UnicodeDecodeError) as exc:
         return [], [CaseError(name, "-", "", f"cannot read file: {exc}")]
     except tomllib.TOMLDecodeError as exc:
@@ -139,12 +144,38 @@ def load_file(path: Path) -> tuple[list[AnyCase], list[CaseError]]:
     if not isinstance(blocks, list) or not blocks:
         return [], [*errors, CaseError(name, "-", "case", "no [[case]] blocks in file")]
     cases: list[AnyCase] = []
+    lines = text.splitlines()
+    starts = [i for i, line in enumerate(lines) if line.strip().replace(" ", "") == "[[case]]"]
     for index, block in enumerate(blocks):
+        span = _span(starts, index, len(lines))
         case, block_errors = _validate_block(name, index, block)
+        block_errors = [replace(e, line=_line(lines, span, e.field)) for e in block_errors]
         errors.extend(block_errors)
         if case is not None and not block_errors:
             cases.append(case)
     return cases, errors
+
+
+def _span(starts: list[int], index: int, end: int) -> tuple[int, int]:
+    """The 0-based line range of the ``index``-th ``[[case]]`` block."""
+    if index >= len(starts):
+        return (0, 0)
+    return (starts[index], starts[index + 1] if index + 1 < len(starts) else end)
+
+
+def _line(lines: list[str], span: tuple[int, int], field: str) -> int:
+    """The 1-based line of ``field``'s top-level key within the block (else its header)."""
+    key = field.split(".")[0].split("[")[0]
+    first, last = span
+    for i in range(first, last):
+        if key and lines[i].split("=")[0].strip() == key:
+            return i + 1
+    return first + 1 if last > first else 0
+
+
+def _problem(name: str, label: str, err: dict[str, Any]) -> CaseError:
+    reason, where = plain(err)
+    return CaseError(name, label, where, reason)
 
 
 def _label(index: int, block: object) -> str:
@@ -164,21 +195,8 @@ def _validate_block(name: str, index: int, block: Any) -> tuple[AnyCase | None, 
     try:
         case = CASE_ADAPTER.validate_python(block)
     except ValidationError as exc:
-        return None, [CaseError(name, label, *_pydantic_problem(err)) for err in exc.errors()]
+        return None, [_problem(name, label, dict(err)) for err in exc.errors()]
     return case, [CaseError(name, label, f, r) for f, r in semantic_problems(case)]
-
-
-def _pydantic_problem(err: Any) -> tuple[str, str]:
-    loc = list(err["loc"])
-    if err["type"] in ("union_tag_invalid", "union_tag_not_found"):
-        return "kind", err["msg"].replace("Input tag", "kind")
-    if loc and loc[0] in ("aabb", "sphere", "sphere_response"):
-        loc = loc[1:]
-    loc = [part for i, part in enumerate(loc) if i == 0 or part != loc[i - 1]]  # union tags
-    where = ".".join(str(part) for part in loc)
-    got = err.get("input")
-    shown = "" if err["type"] == "missing" or isinstance(got, dict) else f" (got {got!r})"
-    return where, f"{err['msg']}{shown}"
 
 
 def semantic_problems(case: AnyCase) -> list[tuple[str, str]]:

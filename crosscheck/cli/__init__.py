@@ -11,10 +11,12 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
+from importlib import metadata
 
-from crosscheck.cli import bench, cases, engines, fuzz, report, repro, run, stability
+from crosscheck.cli import advise, bench, cases, engines, fuzz, report, repro, run, stability
+from crosscheck.results.runinfo import FORMAT_VERSION
 
-FAMILIES = (run, report, cases, fuzz, repro, bench, stability, engines)
+FAMILIES = (run, report, cases, fuzz, repro, bench, stability, advise, engines)
 """The command families, in the order ``crosscheck --help`` lists them."""
 
 
@@ -24,10 +26,20 @@ def build_parser() -> argparse.ArgumentParser:
         prog="crosscheck",
         description="Collision Crosscheck: run, report, compare, validate, new-case, fuzz, "
                     "bench, stability, engines, schema.")
+    parser.add_argument("--version", action="version", version=version_line())
     sub = parser.add_subparsers(dest="command", required=True)
     for family in FAMILIES:
         family.register(sub)
     return parser
+
+
+def version_line() -> str:
+    """``crosscheck --version``: the harness, its results format and the engines it pins."""
+    try:
+        own = metadata.version("collision-crosscheck")
+    except metadata.PackageNotFoundError:
+        own = "(not installed)"
+    return f"crosscheck {own} (results format {FORMAT_VERSION})"
 
 
 def main(argv: Sequence[str] | None = None) -> int:
