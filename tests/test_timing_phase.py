@@ -7,6 +7,7 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from crosscheck.core.contract import Adapter
@@ -74,16 +75,20 @@ def test_timing_runs_in_the_engine_worker_or_in_process(tmp_path: Path, isolate:
 
 
 def test_compare_catches_a_twice_slower_engine_and_nothing_in_a_repeat(tmp_path: Path) -> None:
-    options = replace(OPTIONS, samples=15, timing_cases=12)
+    options = replace(OPTIONS, samples=20, min_sample_s=0.005, timing_cases=12)
     first = timed_run(tmp_path / "a", fakes.BusyLoop(), options)
-    again = timed_run(tmp_path / "b", fakes.BusyLoop(), options)
     slower = timed_run(tmp_path / "c", fakes.BusyLoopTwice(), options)
+    again = timed_run(tmp_path / "b", fakes.BusyLoop(), options)
     same = compare(first, again, tmp_path / "same")
-    assert same.timing_counts["slower"] == same.timing_counts["faster"] == 0
-    assert same.timing_counts["same"] == 12
+    # robust to one burst of load from elsewhere on a shared machine: at most one pair moves
+    assert same.timing_counts["slower"] + same.timing_counts["faster"] <= 1
+    assert same.timing_counts["same"] >= 11
     changed = compare(first, slower, tmp_path / "changed")
-    assert changed.timing_counts["slower"] >= 10  # a 2x effect, 15 paired samples a case
     assert changed.timing_counts["faster"] == 0
+    # a 2x effect on 20 samples a case: nearly every pair, even on a loaded machine
+    assert changed.timing_counts["slower"] >= 9
+    ratios = pd.read_csv(tmp_path / "changed" / "timing_changes.csv")["ratio"]
+    assert 1.6 < ratios.median() < 2.6
 
 
 def test_too_few_samples_are_unknown_never_changed(tmp_path: Path) -> None:

@@ -1,0 +1,216 @@
+"""The verdict block: which engine can I trust, and what breaks it.
+
+Per engine, one row: its share of agreeing rows per kind and overall, its speed
+rank per kind, and its failure modes.  A failure mode is the (status, category,
+reason pattern) of breaking rows (disagree, error, crash, timeout), where the
+reason pattern is the reason with every number replaced by ``#``: reasons that
+differ only in their numbers are one mode.
+
+The share of an engine on a kind is agree / (agree + breaking rows): skip rows
+(the engine cannot do it) and undefined rows (no defined value, whatever the
+engine did) count neither way, as in the engines x case groups matrix.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Collection
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from crosscheck.core.model import Status
+from crosscheck.report.tables import share_colour
+from crosscheck.results.store import repro_name
+
+KINDS = ("aabb", "sphere", "sphere_response", "sphere_scene")
+"""The kinds in their column order; a run's other kinds follow, in run order."""
+SHOWN = 3
+"""Failure modes shown per engine in the block (all of them are in the list below it)."""
+BREAKING = Status.members("breaking")
+JUDGED = ("agree", *BREAKING)
+DASH = "\u2013"
+
+_NUMBER = re.compile(
+    r"(?<![\w.])(?:[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:nan|inf)(?:inity)?)(?!\w)")
+
+
+def reason_pattern(reason: str) -> str:
+    """The reason with every number replaced by ``#`` (digits inside words stay).
+
+    >>> reason_pattern("error 1.2e-06 beyond the agree bound 3.5e-15 (size 4)")
+    'error # beyond the agree bound # (size #)'
+    >>> reason_pattern("error 4e-07 beyond the agree bound 0.0002 (size 10)")
+    'error # beyond the agree bound # (size #)'
+    >>> reason_pattern("|gap| -0.5 after 360 steps; v1 is nan, float32 gives inf")
+    '|gap| # after # steps; v1 is #, float32 gives #'
+    >>> reason_pattern("worker killed by SIGSEGV")
+    'worker killed by SIGSEGV'
+    """
+    return _NUMBER.sub("#", reason)
+
+
+def share_text(share: float | None) -> str:
+    """A share as a percentage that never rounds up to 100% (:data:`DASH`: nothing judged).
+
+    >>> share_text(1.0), share_text(0.9996), share_text(0.5), share_text(None) == DASH
+    ('100%', '99.9%', '50.0%', True)
+    """
+    if share is None:
+        return DASH
+    return "100%" if share >= 1 else f"{int(share * 1000) / 10:.1f}%"
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One engine on one kind: agreeing share and speed rank (``None``: nothing to show)."""
+
+    agree: int
+    judged: int
+    rank: int | None = None
+    ranked: int = 0
+    median_s: float | None = None
+
+    @property
+    def share(self) -> float | None:
+        return self.agree / self.judged if self.judged else None
+
+    @property
+    def text(self) -> str:
+        return share_text(self.share)
+
+    @property
+    def colour(self) -> str:
+        return share_colour(self.share)
+
+    @property
+    def speed(self) -> str:
+        return DASH if self.rank is None else f"{self.rank} of {self.ranked}"
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One failure mode of one engine: how many rows, one example case and its repro script."""
+
+    engine: str
+    status: str
+    category: str
+    pattern: str
+    count: int
+    example: str
+    repro: str
+    """``repro/<name>.py`` when the example's script is in the run folder, else ``""``."""
+
+    @property
+    def label(self) -> str:
+        return f"{self.status} / {self.category}" if self.category else self.status
+
+
+@dataclass(frozen=True)
+class EngineVerdict:
+    """One row of the block: an engine, its cells per kind, overall share and failure modes."""
+
+    engine: str
+    cells: list[Cell]
+    overall: Cell
+    modes: list[Mode] = field(default_factory=list)
+
+    @property
+    def top(self) -> list[Mode]:
+        return self.modes[:SHOWN]
+
+    @property
+    def breaking(self) -> int:
+        return sum(m.count for m in self.modes)
+
+
+def kinds_of(frame: pd.DataFrame) -> list[str]:
+    """The kinds of the run: those of :data:`KINDS` present, then any other, in run order."""
+    present = [str(k) for k in dict.fromkeys(frame["kind"])]
+    return [k for k in KINDS if k in present] + [k for k in present if k not in KINDS]
+
+
+def agreement(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x kind: ``agree`` and ``judged`` (agree + breaking) row counts."""
+    judged = frame[frame["status"].isin(JUDGED)]
+    agree = judged["status"].eq("agree").rename("agree")
+    counts = agree.groupby([judged["engine"], judged["kind"]]).agg(["sum", "count"])
+    return counts.rename(columns={"sum": "agree", "count": "judged"}).astype(int)
+
+
+def speed_ranks(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x kind with timings: median ``query_s`` of its timed cases, its rank among
+    the timed engines of the kind (1 = fastest; ties share the better rank) and how many."""
+    timed = frame[frame["query_s"].notna()].drop_duplicates(["engine", "kind", "case_id"])
+    medians = timed.groupby(["engine", "kind"])["query_s"].median().rename("median_s")
+    by_kind = medians.groupby(level="kind")
+    return pd.DataFrame({"median_s": medians, "rank": by_kind.rank(method="min"),
+                         "ranked": by_kind.transform("size")})
+
+
+def written_repros(directory: Path) -> set[str]:
+    """The names of the repro scripts in a run folder (``repro/*.py``)."""
+    folder = directory / "repro"
+    return {p.name for p in folder.glob("*.py")} if folder.is_dir() else set()
+
+
+def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mode]:
+    """Every failure mode of every engine, most rows first (ties: in the order first seen).
+
+    The example of a mode is its first row whose repro script is in ``written``
+    (file names), else its first row.
+    """
+    bad = frame[frame["status"].isin(BREAKING)]
+    if bad.empty:
+        return []
+    names = [f"{repro_name(str(c), str(e))}.py" for c, e in zip(bad["case_id"], bad["engine"],
+                                                                strict=True)]
+    bad = bad.assign(_pattern=bad["reason"].fillna("").astype(str).map(reason_pattern),
+                     _category=bad["category"].fillna("").astype(str), _repro=names,
+                     _has=[n in written for n in names])
+    keys = ["engine", "status", "_category", "_pattern"]
+    counts = bad.groupby(keys, sort=False).size().rename("count")
+    firsts = bad.sort_values("_has", ascending=False, kind="stable").groupby(
+        keys, sort=False)[["case_id", "_repro", "_has"]].first()
+    modes = counts.to_frame().join(firsts).reset_index()
+    modes = modes.sort_values("count", ascending=False, kind="stable")
+    return [Mode(engine=str(r["engine"]), status=str(r["status"]), category=str(r["_category"]),
+                 pattern=str(r["_pattern"]), count=int(r["count"]), example=str(r["case_id"]),
+                 repro=f"repro/{r['_repro']}" if r["_has"] else "")
+            for r in modes.to_dict("records")]
+
+
+def cells(frame: pd.DataFrame) -> dict[tuple[str, str], Cell]:
+    """Per engine x kind with rows: its :class:`Cell` (counts from :func:`agreement`, speed
+    from :func:`speed_ranks`)."""
+    agreed, ranks = agreement(frame), speed_ranks(frame)
+    counts = {(str(e), str(k)): (int(a), int(j)) for (e, k), a, j in zip(
+        agreed.index, agreed["agree"], agreed["judged"], strict=True)}
+    timed = {(str(e), str(k)): (int(r), int(n), float(m)) for (e, k), r, n, m in zip(
+        ranks.index, ranks["rank"], ranks["ranked"], ranks["median_s"], strict=True)}
+    out = {}
+    for key in dict.fromkeys([*counts, *timed]):
+        agree, judged = counts.get(key, (0, 0))
+        out[key] = Cell(agree, judged, *timed[key]) if key in timed else Cell(agree, judged)
+    return out
+
+
+def verdicts(frame: pd.DataFrame, written: Collection[str] = ()) -> list[EngineVerdict]:
+    """One verdict per engine, best overall agreeing share first (nothing judged: last)."""
+    made, modes = cells(frame), failure_modes(frame, written)
+    rows = []
+    for engine in (str(e) for e in dict.fromkeys(frame["engine"])):
+        row = [made.get((engine, kind), Cell(0, 0)) for kind in kinds_of(frame)]
+        overall = Cell(sum(c.agree for c in row), sum(c.judged for c in row))
+        rows.append(EngineVerdict(engine, row, overall,
+                                  [m for m in modes if m.engine == engine]))
+    return sorted(rows, key=lambda v: 1.0 if v.overall.share is None else -v.overall.share)
+
+
+def verdict(frame: pd.DataFrame, directory: Path) -> dict[str, Any]:
+    """The verdict section's context for the run stored in ``directory``."""
+    rows = verdicts(frame, written_repros(directory))
+    return {"kinds": kinds_of(frame), "rows": rows, "shown": SHOWN,
+            "modes": [m for row in rows for m in row.modes]}
