@@ -8,11 +8,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pandas as pd
 import pytest
+from rich.console import Console
 
 import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
+from crosscheck.cli.console import summary_table
 from tests.conftest import ROOT
 from tests.test_cases import sphere_text
 
@@ -165,3 +168,28 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
         main(["--version"])
     assert done.value.code == 0
     assert re.fullmatch(r"crosscheck \S+ \(results format 3\)\n", capsys.readouterr().out)
+
+
+def test_the_summary_reads_whole_at_80_columns(small_suite: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert main(["run", str(small_suite), "--quick", "--out", str(out)]) == 0
+    console = Console(width=80, record=True)
+    summary = pd.read_csv(out / "summary.csv", keep_default_na=False)
+    console.print(summary_table(summary, "summary"))
+    text = console.export_text()
+    assert "…" not in text and max(len(line.rstrip()) for line in text.splitlines()) <= 80
+    for engine in set(summary["engine"]):
+        assert f"\n{engine} " in text or f"\n{engine}\n" in text
+
+
+def test_help_names_engines_defaults_and_examples(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    text = re.sub(r"-\s+", "-", " ".join(capsys.readouterr().out.split()))  # undo wrapping
+    assert "pybullet-default" in text and "default 30)" in text
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    assert "examples:" in capsys.readouterr().out
+    with pytest.raises(SystemExit) as refused:
+        main(["run", "--engine", "nosuch"])
+    assert refused.value.code == 2 and "invalid choice: 'nosuch'" in capsys.readouterr().err

@@ -20,12 +20,25 @@ FAMILIES = (run, report, cases, fuzz, repro, bench, stability, advise, engines)
 """The command families, in the order ``crosscheck --help`` lists them."""
 
 
+EXAMPLES = """examples:
+  crosscheck run                          the whole suite on every engine -> reports/<time>/
+  crosscheck run --quick --engine fcl     verdicts only, one engine
+  crosscheck run cases/sphere.toml --engine pybullet --engine pymunk
+  crosscheck report reports/<run>         re-render a stored run
+  crosscheck compare reports/<a> reports/<b>
+  crosscheck advise reports/<run> --dim 2 --kind sphere --tolerance 1e-6
+  crosscheck repro reports/<run> sphere-2d-gap-1e-3 --engine fcl
+  crosscheck validate cases/mine.toml
+  crosscheck engines --settings
+"""
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of every command."""
     parser = argparse.ArgumentParser(
-        prog="crosscheck",
-        description="Collision Crosscheck: run, report, compare, validate, new-case, fuzz, "
-                    "bench, stability, engines, schema.")
+        prog="crosscheck", formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Collision Crosscheck: collision engines scored against an exact oracle.",
+        epilog=EXAMPLES)
     parser.add_argument("--version", action="version", version=version_line())
     sub = parser.add_subparsers(dest="command", required=True)
     for family in FAMILIES:

@@ -9,6 +9,7 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 import pandas as pd
+from rich import box
 from rich.console import Console
 from rich.markup import escape
 from rich.progress import (
@@ -92,10 +93,22 @@ def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
 def print_summary(directory: Path) -> None:
     """Print the engine x kind counts from the run's summary.csv (written by the report)."""
     table = pd.read_csv(directory / "summary.csv", keep_default_na=False)
-    rich_table = Table(title=f"summary of {directory}")
-    columns: Sequence[str] = ("engine", "kind", *(str(s) for s in Status))
-    for column in columns:
-        rich_table.add_column(column, no_wrap=column in ("engine", "kind"))
-    for row in table.itertuples(index=False):
-        rich_table.add_row(*(str(getattr(row, c)) for c in columns))
-    out.print(rich_table)
+    out.print(summary_table(table, f"summary of {directory}"))
+
+
+def summary_table(table: pd.DataFrame, title: str) -> Table:
+    """Status counts per engine x kind, about 72 columns wide: an engine's name heads its
+    rows (never truncated), so the table reads whole in an 80-column terminal."""
+    statuses: Sequence[str] = tuple(str(s) for s in Status)
+    rich_table = Table(title=title, box=box.SIMPLE_HEAD, title_justify="left", show_edge=False,
+                       pad_edge=False, collapse_padding=True)
+    rich_table.add_column("engine / kind", no_wrap=True)
+    for status in statuses:
+        rich_table.add_column(status, justify="right", no_wrap=True)
+    for n, (engine, rows) in enumerate(table.groupby("engine", sort=False)):
+        if n:
+            rich_table.add_section()
+        rich_table.add_row(f"[bold]{escape(str(engine))}[/]", *([""] * len(statuses)))
+        for row in rows.itertuples(index=False):
+            rich_table.add_row(str(row.kind), *(str(getattr(row, s)) for s in statuses))
+    return rich_table

@@ -14,6 +14,11 @@ from crosscheck.core.contract import Adapter, engine_info
 UnknownEngine = adapters.UnknownEngine
 
 
+def names() -> list[str]:
+    """Every engine name the registry knows, in registry order."""
+    return adapters.names()
+
+
 def select(names: Sequence[str] | None) -> list[Adapter]:
     """The named engines, or every available one; raises UnknownEngine for a bad name."""
     if names:

@@ -24,7 +24,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--kind", required=True, choices=PAIR_KINDS)
     p.add_argument("--n", type=int, required=True, help="number of cases to generate")
     p.add_argument("--seed", type=int, required=True, help="seed >= 0; same seed, same cases")
-    p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
+    p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
+                   help=f"engine to run (repeatable; default: every available one): "
+                        f"{', '.join(engine_choice.names())}")
     p.add_argument("--out", type=Path, help="output folder (default: reports/fuzz-K-sS-nN/)")
     p.add_argument("--per-group", type=int, default=5, help="cases written per group (5)")
     p.add_argument("--jobs", type=int, default=0, help="cases run at once (default: cores)")
@@ -72,7 +74,7 @@ def print_groups(groups: Sequence[Group], limit: int = 30) -> None:
     for column in ("engine", "quantity", "status", "category", "family", "driver", "decade",
                    "findings", "written"):
         table.add_column(column, justify="right" if column in ("findings", "written")
-                         else "left")
+                         else "left", no_wrap=column == "engine")
     ranked = sorted(groups, key=lambda g: (-len(g.rows), g.slug))
     for g in ranked[:limit]:
         table.add_row(g.engine, g.quantity, g.status, g.category, g.family, g.driver,

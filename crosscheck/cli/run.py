@@ -105,7 +105,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     defaults = RunOptions()
     p = sub.add_parser("run", help="run cases on engines and write a report")
     p.add_argument("paths", nargs="*", type=Path, help="case files or folders (default: cases/)")
-    p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
+    p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
+                   help=f"engine to run (repeatable; default: every available one): "
+                        f"{', '.join(engine_choice.names())}")
     p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
     p.add_argument("--quick", action="store_true",
                    help="no timing phase; scenes over 1,000 steps skipped")

@@ -34,7 +34,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="a run to analyse (default: run cases/sweeps.toml first)")
     p.add_argument("--out", type=Path, help="without DIR: the run folder (default: "
                    "reports/stability-<timestamp>/); with DIR: where the CSVs go (default: DIR)")
-    p.add_argument("--engine", action="append", help="engine to run (repeatable; default: all)")
+    p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
+                   help=f"engine to run (repeatable; default: every available one): "
+                        f"{', '.join(engine_choice.names())}")
     p.set_defaults(func=cmd_stability)
 
 
