@@ -11,10 +11,12 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
 from crosscheck.report import dynamics
 from crosscheck.results.store import ResultsStore, read_cases, read_results
 from crosscheck.run.runner import QUICK_SCENE_STEPS, run
+from crosscheck.truth import scenes
+from tests.conftest import ROOT
 
 HEAD_ON = """
 [[case]]
@@ -106,3 +108,11 @@ def test_report_has_the_dynamics_section(tmp_path: Path) -> None:
     page = (out / "report.html").read_text()
     assert "Dynamics: accuracy against speed (2 scene runs)" in page  # --quick: 3000 steps skip
     assert 'id="dyn-head-on"' in page
+
+
+def test_no_suite_scene_has_an_impact_on_a_swept_step_boundary() -> None:
+    scenes_suite = [c for c in load_paths([ROOT / "cases" / "scenes.toml"]).cases
+                    if isinstance(c, SceneCase)]
+    assert len(scenes_suite) > 30
+    on_step = {c.id: scenes.aligned(c, scenes.truth(c).impacts or ()) for c in scenes_suite}
+    assert {case_id: times for case_id, times in on_step.items() if times} == {}

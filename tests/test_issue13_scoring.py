@@ -122,13 +122,13 @@ def _scene(dt: float) -> SceneCase:
 def _shifted(truth: Observation, dx: float, dv: float) -> Observation:
     assert isinstance(truth.positions, tuple) and isinstance(truth.velocities, tuple)
     return replace(truth, positions=tuple((p[0] + dx, p[1]) for p in truth.positions),
-                   velocities=tuple((v[0] + dv, v[1]) for v in truth.velocities), events=None)
+                   velocities=tuple((v[0] + dv, v[1]) for v in truth.velocities), impacts=None)
 
 
 def test_scenes_get_categories_from_the_step_and_declared_damping() -> None:
     case = _scene(0.01)
     truth = scenes.truth(case)
-    assert truth.events == 1
+    assert truth.impacts is not None and len(truth.impacts) == 1
     lag = scenes.lag_bound(case, 1)  # 2 impacts' worth (1 + the end) x speed 1 x dt / r 0.5
     assert math.isclose(lag, 0.04)
     late = _shifted(truth, 0.5 * lag * 0.5, 0.0)  # positions off by half the lag (mean radii)

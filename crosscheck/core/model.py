@@ -164,8 +164,8 @@ class Observation:
     energy: float | Undefined | None = None
     wall_s: float | None = None
     """Scenes: wall-clock seconds of the stepping loop alone (the scene's timing)."""
-    events: int | None = None
-    """Scenes (the exact reference only): how many impacts the exact run resolved."""
+    impacts: tuple[float, ...] | None = None
+    """Scenes (the exact reference only): the times of the impacts the exact run resolved."""
 
     def get(self, quantity: str) -> Value | None:
         """The value of ``quantity`` (one of :func:`quantities_of`), or None if absent."""
