@@ -14,7 +14,7 @@ from crosscheck.studies.bench import ROOT, measure, write
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    figures = measure(args.quick)
+    figures = measure(args.quick, progress=say)
     table = Table(title="crosscheck bench" + (" --quick" if args.quick else ""))
     for column in ("figure", "measured", "target", "met", "note"):
         table.add_column(column)

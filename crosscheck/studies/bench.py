@@ -324,13 +324,24 @@ def dask_figure(quick: bool) -> Figure:
                         f"{walls[0]:.1f} s, cluster {walls[1]:.1f} s"))
 
 
-def measure(quick: bool) -> list[Figure]:
-    """Every figure, in order."""
-    figures = batch_figures(1_000_000)  # the target is defined on 1M pairs; ~5 s
-    figures += overhead_figures(1_000 if quick else 5_000)
-    figures += pybullet_figures(10_000 if quick else 100_000)
-    figures += suite_figures(quick)
-    figures.append(dask_figure(quick))
+def measure(quick: bool, progress: Callable[[str], None] | None = None) -> list[Figure]:
+    """Every figure, in order; ``progress`` is told as each group starts and ends."""
+    steps: list[tuple[str, Callable[[], list[Figure]]]] = [
+        ("batch oracle, 1M pairs", lambda: batch_figures(1_000_000)),  # the target's size
+        ("harness overhead (fcl, pymunk)",
+         lambda: overhead_figures(1_000 if quick else 5_000)),
+        ("pybullet stream and memory", lambda: pybullet_figures(10_000 if quick else 100_000)),
+        ("suite time" + (" (--quick only)" if quick else ""), lambda: suite_figures(quick)),
+        ("Dask scale-out", lambda: [dask_figure(quick)])]
+    figures: list[Figure] = []
+    started = time.perf_counter()
+    for n, (label, step) in enumerate(steps, start=1):
+        if progress:
+            progress(f"bench {n}/{len(steps)}: {label} ...")
+        figures += step()
+        if progress:
+            progress(f"bench {n}/{len(steps)}: {label} done "
+                     f"({time.perf_counter() - started:.0f} s so far)")
     return figures
 
 
