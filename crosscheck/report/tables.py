@@ -30,17 +30,36 @@ def _times(frame: pd.DataFrame) -> pd.DataFrame:
         "timed": groups["query_s"].count(), "unstable": groups["_unstable"].sum()})
 
 
+ERROR_COLUMNS = {
+    "wrong_verdicts": ("hit",), "distance_error": ("distance",), "normal_angle": ("normal",),
+    "velocity_error": ("v1", "v2"), "position_error": ("positions",)}
+"""The summary's error columns: one measure each, never mixed (hit 0/1, lengths, radians,
+velocities and mean radii do not share a scale)."""
+
+
+def _errors(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per engine x kind: the share of wrong verdicts and the median error of each measure
+    over the scored rows (NaN, shown as "-", where nothing was measured)."""
+    scored = frame[frame["status"].isin(Status.members("scored"))]
+    keys = ["engine", "kind"]
+    out = pd.DataFrame(index=pd.MultiIndex.from_frame(frame[keys].drop_duplicates()))
+    for column, quantities in ERROR_COLUMNS.items():
+        rows = scored[scored["quantity"].isin(quantities)]
+        agg = rows.groupby(keys)["error"].mean() if column == "wrong_verdicts" else (
+            rows.groupby(keys)["error"].median())
+        out[column] = agg
+    return out
+
+
 def summary(frame: pd.DataFrame) -> pd.DataFrame:
-    """Per engine x kind: counts of each status, median and max error, median query time with
-    its IQR over the timed cases, timed and unstable cases."""
+    """Per engine x kind: counts of each status, the share of wrong verdicts and the median
+    error of each measure separately, the median query time with its IQR over the timed cases,
+    timed and unstable cases."""
     if frame.empty:
         return pd.DataFrame(columns=["engine", "kind", *STATUSES])
     counts = pd.crosstab([frame["engine"], frame["kind"]], frame["status"])
     counts = counts.reindex(columns=STATUSES, fill_value=0)
-    scored = frame[frame["status"].isin(Status.members("scored"))]
-    errors = scored.groupby(["engine", "kind"])["error"].agg(["median", "max"])
-    errors.columns = ["median_error", "max_error"]
-    out = counts.join(errors).join(_times(frame)).reset_index()
+    out = counts.join(_errors(frame)).join(_times(frame)).reset_index()
     order = {name: i for i, name in enumerate(dict.fromkeys(frame["engine"]))}
     return out.sort_values(["engine", "kind"], key=lambda s: s.map(order).fillna(s.rank()))
 
