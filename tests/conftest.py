@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import base64
+import gzip
+import json
+import re
 from pathlib import Path
 from typing import Any
 
@@ -48,3 +52,11 @@ def write_toml(tmp_path: Path) -> Any:
         path.write_text(text, encoding="utf-8")
         return path
     return write
+
+
+def embedded(html: str, script_id: str) -> Any:
+    """The JSON a report page carries packed (gzip + base64) in ``<script id=script_id>``."""
+    match = re.search(rf'<script type="application/octet-stream" id="{script_id}">([^<]*)'
+                      r"</script>", html)
+    assert match, f"no packed script {script_id!r} in the page"
+    return json.loads(gzip.decompress(base64.b64decode(match.group(1))).decode("utf-8"))

@@ -49,6 +49,7 @@ def test_report_renders_without_console_errors(run_dir: Path) -> None:
         page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
         page.goto((run_dir / "report.html").as_uri())
         page.wait_for_load_state("load")
+        page.evaluate("drawAllCharts()")  # charts draw lazily: near the viewport, or when idle
         page.screenshot(path=str(run_dir / "report.png"), full_page=True)
         tables = page.locator("table").count()
         charts = page.locator(".js-plotly-plot").count()
@@ -90,6 +91,7 @@ def test_speed_points_show_their_timing_whiskers(timed_dir: Path) -> None:
         page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
         page.goto((timed_dir / "report.html").as_uri())
         page.wait_for_load_state("load")
+        page.evaluate("drawAllCharts()")  # charts draw lazily: near the viewport, or when idle
         page.screenshot(path=str(timed_dir / "report.png"), full_page=True)
         bars = page.locator("#speed-sphere g.errorbar").count()
         across = page.locator("#speed-sphere g.errorbar path.xerror").count()
@@ -102,3 +104,107 @@ def test_speed_points_show_their_timing_whiskers(timed_dir: Path) -> None:
     assert across == 3 and upward == 3  # each point: its IQR across, its error whisker up
     assert "noisy (timing unstable)" in legend
     assert timing == 1
+
+
+def test_verdict_block_comes_first_and_fits_the_page(timed_dir: Path) -> None:
+    """The verdict block is the page's first section, lists each engine with its failure modes
+    (their row counts add up to the engine's breaking rows) and fits a 1,400 px viewport."""
+    import pandas as pd
+    from playwright.sync_api import sync_playwright
+
+    results = pd.read_csv(timed_dir / "results.csv", keep_default_na=False)
+    breaking = results[results["status"].isin(["disagree", "error", "crash", "timeout"])]
+    assert not breaking.empty  # the synthetic run has disagreements and crashes
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page.goto((timed_dir / "report.html").as_uri())
+        page.wait_for_load_state("load")
+        first = page.evaluate("document.querySelector('h2').closest('#verdict') !== null")
+        engines = page.locator("#verdict tr.verdict-engine td.engine").all_text_contents()
+        counts = page.locator("#verdict li.mode b.count").all_text_contents()
+        listed = page.evaluate("""Array.from(document.querySelectorAll(
+            '#verdict table.verdict-modes tbody tr')).map(r => [r.cells[0].textContent,
+            Number(r.cells[1].textContent)])""")
+        widths = page.evaluate("""[document.documentElement.scrollWidth,
+            document.getElementById('verdict').scrollWidth,
+            document.getElementById('verdict').getBoundingClientRect().right]""")
+        browser.close()
+    assert first, "the verdict block is not the first section"
+    assert sorted(engines) == sorted(set(results["engine"]))
+    assert counts and all(c.isdigit() and int(c) > 0 for c in counts)
+    for engine in set(results["engine"]):
+        expected = int((breaking["engine"] == engine).sum())
+        assert sum(n for e, n in listed if e == engine) == expected, engine
+    assert widths[0] <= 1400, f"the page overflows a 1,400 px viewport: {widths}"
+    assert widths[1] <= 1400 and widths[2] <= 1400
+
+
+REPORT_BUDGET = 3_000_000
+"""Bytes: the report of the full suite (~770 cases x 7 engines, ~15k rows) stays under this."""
+
+
+@pytest.fixture(scope="module")
+def suite_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A synthetic run of the full suite's size (770 cases x 7 engines x 3 quantities), rendered."""
+    if CHROMIUM is None:
+        if os.environ.get("CI"):
+            pytest.fail("chromium is required in CI for the browser test (make test installs it)")
+        pytest.skip("chromium not installed")
+    from dataclasses import replace
+
+    from crosscheck.report.render import render
+    from tests.test_report import detection, write_run
+
+    rows = []
+    for i in range(770):
+        source = ("cases/near_touching.toml", "cases/float_traps.toml", "cases/sphere.toml")[i % 3]
+        for j, engine in enumerate(("fast", "exact", "bullet", "fcl", "munk", "f32", "slow")):
+            for r in detection(f"s{i}", engine, (i * j % 11) * 1e-6, 1e-6 * (1 + j), source):
+                rows.append(replace(r, value=f"[{0.1 * i:.17g}, {1e-3 * j:.17g}, 0.0]",
+                                    truth="[0.0, 0.0, 0.0]",
+                                    reason=f"error {r.error:.3g} exceeds 8 u (1.8e-15) + 0"
+                                    if r.error else ""))
+    folder = write_run(tmp_path_factory.mktemp("browser-suite") / "run", rows)
+    render(folder)
+    return folder
+
+
+def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
+        suite_dir: Path) -> None:
+    from playwright.sync_api import sync_playwright
+
+    page_file = suite_dir / "report.html"
+    assert page_file.stat().st_size <= REPORT_BUDGET, page_file.stat().st_size
+    messages: list[str] = []
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
+        page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
+        page.goto(page_file.as_uri())
+        page.wait_for_selector("#results-table[data-ready]")
+        page.evaluate("drawAllCharts()")
+        charts = page.locator(".js-plotly-plot").count()
+        info = page.locator("#results-table_wrapper .dt-info, .dt-info").first
+        page.locator("#results-breaking").uncheck()
+        everything = info.inner_text()
+        page.locator("#results-table thead input").nth(1).fill("slow")  # the engine column
+        page.wait_for_timeout(300)
+        filtered = info.inner_text()
+        sticky = page.evaluate("getComputedStyle(document.querySelector('#results-table thead'))"
+                               ".position")
+        link = page.locator("#results-table tbody a[href^='#case-']").first
+        case = (link.get_attribute("href") or "")[len("#case-"):]
+        link.click()
+        page.wait_for_selector(f"#case-details details[id='case-{case}']")
+        opened = page.locator(f"#case-details details[id='case-{case}'] tbody tr").count()
+        in_view = page.evaluate(f"document.getElementById('case-{case}').getBoundingClientRect()"
+                                ".top < innerHeight")
+        browser.close()
+    assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
+    assert charts >= 1
+    assert "of 5,390 rows" in everything  # 770 cases x 7 engines
+    assert "of 770 rows (filtered from 5,390)" in filtered, filtered
+    assert sticky == "sticky"
+    assert opened == 7 * 3 and in_view  # every engine's hit, distance and normal

@@ -16,7 +16,7 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.cli.console import summary_table
-from tests.conftest import ROOT
+from tests.conftest import ROOT, embedded
 from tests.test_cases import sphere_text
 
 EVIL = "<script>alert('pwned')</script>"
@@ -78,8 +78,9 @@ def test_report_escapes_case_text(small_suite: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     main(["run", str(small_suite), "--quick", "--out", str(out), "--engine", "reference"])
     html = (out / "report.html").read_text()
-    assert EVIL not in html
-    assert "&lt;script&gt;" in html
+    assert EVIL not in html  # not as markup: the case text travels as data, packed
+    cases = embedded(html, "results-data")
+    assert EVIL in json.dumps(cases)  # and the page inserts it as text (tests/test_browser.py)
 
 
 def test_report_rerenders_without_running_engines(small_suite: Path, tmp_path: Path,

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import base64
+import gzip
 import json
 import math
+import re
 from collections.abc import Iterable
 from dataclasses import asdict, replace
 from html.parser import HTMLParser
@@ -307,16 +310,27 @@ class _Tags(HTMLParser):
                 self.fetching.append(f"{tag} {name}={url}")
 
 
+def packed_scripts(html: str) -> dict[str, str]:
+    """The page's packed payloads (gzip + base64 in octet-stream scripts), unpacked, by id."""
+    found = re.findall(r'<script type="application/octet-stream" id="([^"]+)">([^<]*)</script>',
+                       html)
+    return {name: gzip.decompress(base64.b64decode(text)).decode() for name, text in found}
+
+
 def test_report_is_self_contained_with_plotly_once(rendered: str) -> None:
-    bundle_head = style.plotly_js()[:300]
-    assert rendered.count(bundle_head) == 1
-    assert rendered.count("plotly.js v") == 1
+    payloads = packed_scripts(rendered)
+    assert payloads["plotly-js"] == style.plotly_js()  # inlined once, compressed
+    assert sum(p.count("plotly.js v") for p in payloads.values()) == 1
+    assert "plotly.js v" not in rendered  # not a second, uncompressed copy
+    assert len(rendered) < len(style.plotly_js()) / 2
     tags = _Tags()
     tags.feed(rendered)
     assert tags.fetching == []
     for kind in ("sphere", "sphere_response"):
         assert rendered.count(f'id="speed-{kind}"') == 1
-    assert rendered.index(bundle_head) < rendered.index("Plotly.newPlot")
+    # the charts' scripts wait for the page's loader: defined before any of them
+    assert rendered.index("window.whenPlotly =") < rendered.index("Plotly.newPlot")
+    assert rendered.count("whenPlotly(function () {") == rendered.count("Plotly.newPlot(")
 
 
 def test_script_in_text_is_escaped_everywhere_including_hover(rendered: str) -> None:
@@ -421,7 +435,7 @@ def test_caption_says_times_are_per_call_through_python_bindings_with_overhead(
 
 def test_timing_section_method_sample_yardstick_drift_and_warning(timed_html: str) -> None:
     assert timed_html.index("Speed against error") < timed_html.index('<h2 id="timing">')
-    assert timed_html.index('<h2 id="timing">') < timed_html.index("<h2>Disagreements")
+    assert timed_html.index('<h2 id="timing">') < timed_html.index('<h2 id="results">')
     section = part(timed_html, '<h2 id="timing">', "<h2")
     assert timing_info()["method"] in section and "17 case &times; engine pairs" in section
     assert "holds 17, of which 4 unstable" in section and "harness on core 0" in section
@@ -454,3 +468,33 @@ def test_summary_shows_the_iqr_over_cases_beside_the_median(timed_html: str) -> 
     assert table.loc[("noisy", "sphere"), ["timed", "unstable"]].tolist() == [5, 3]
     summary_html = part(timed_html, 'id="summary"', "</table>")
     assert "IQR over cases (s)" in summary_html and f"{q3 - q1:.2g}" in summary_html
+
+
+def test_results_table_has_one_row_per_case_and_engine_with_its_quantities(rendered: str) -> None:
+    data = json.loads(packed_scripts(rendered)["results-data"])
+    pairs = FRAME.drop_duplicates(["case_id", "engine"])
+    assert len(data["rows"]) == len(pairs)
+    assert data["quantities"] == list(dict.fromkeys(FRAME["quantity"]))
+    cases = {c["id"]: c for c in data["cases"]}
+    assert cases["s5"]["description"] == EVIL  # text: the page escapes it when it shows it
+    row = next(r for r in data["rows"] if cases_of(data, r) == "s5" and r["engine"] == "fast")
+    frame = FRAME[(FRAME["case_id"] == "s5") & (FRAME["engine"] == "fast")]
+    assert set(row["q"]) == set(frame["quantity"])
+    assert {q: v[0] for q, v in row["q"].items()} == dict(zip(frame["quantity"], frame["status"],
+                                                             strict=True))
+    assert 'id="results-table"' in rendered and 'id="case-details"' in rendered
+
+
+def cases_of(data: dict[str, Any], row: dict[str, Any]) -> str:
+    return str(data["cases"][row["case"]]["id"])
+
+
+def test_the_summary_keeps_each_error_measure_apart() -> None:
+    rows = [rec("s1", "fast", "hit", "disagree", 1.0), rec("s2", "fast", "hit", "agree", 0.0),
+            rec("s1", "fast", "distance", "disagree", 4e-3),
+            rec("s2", "fast", "distance", "agree", 2e-3),
+            rec("s1", "fast", "normal", "agree", 0.5)]
+    table = tables.summary(pd.DataFrame([r.row() for r in rows])).set_index("engine")
+    assert table.loc["fast", "wrong_verdicts"] == 0.5  # one of two verdicts wrong
+    assert table.loc["fast", "distance_error"] == 3e-3 and table.loc["fast", "normal_angle"] == 0.5
+    assert math.isnan(table.loc["fast", "velocity_error"])  # nothing measured: "-"

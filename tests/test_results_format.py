@@ -28,7 +28,7 @@ from crosscheck.results.runinfo import FORMAT_VERSION
 from crosscheck.results.store import ResultsStore, StoreError, read_run
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
-from tests.conftest import sphere
+from tests.conftest import embedded, sphere
 
 FORMAT1 = Path(__file__).parent / "data" / "format1-run"
 NEW_COLUMNS = ("origin", "coords", "twin_of", "error_at_contact")
@@ -67,7 +67,7 @@ def test_a_format_1_run_gets_its_coordinates_and_twin_links(old_run: Path) -> No
 
 def test_a_format_1_run_renders_and_resumes_as_format_2(old_run: Path) -> None:
     html = render(old_run)["report"].read_text(encoding="utf-8")
-    assert "Dynamics" in html and "tiny-gap.gap=0.1" in html
+    assert "Dynamics" in html and "tiny-gap.gap=0.1" in json.dumps(embedded(html, "results-data"))
     assert main(["run", "--resume", str(old_run)]) == 0  # nothing left to run: finish only
     assert json.loads((old_run / "run.json").read_text())["format_version"] == FORMAT_VERSION
 

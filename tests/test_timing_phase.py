@@ -80,9 +80,11 @@ def test_compare_catches_a_twice_slower_engine_and_nothing_in_a_repeat(tmp_path:
     slower = timed_run(tmp_path / "c", fakes.BusyLoopTwice(), options)
     again = timed_run(tmp_path / "b", fakes.BusyLoop(), options)
     same = compare(first, again, tmp_path / "same")
-    # robust to one burst of load from elsewhere on a shared machine: at most one pair moves
-    assert same.timing_counts["slower"] + same.timing_counts["faster"] <= 1
-    assert same.timing_counts["same"] >= 11
+    # Robust to bursts of load on a shared VM: one pair's whole 100 ms measurement can move
+    # by more than x1.25 between two runs seconds apart (seen: 2 of 12 in one suite run), so
+    # a repeat may move at most 2 pairs, against at least 9 for the 2x engine below.
+    assert same.timing_counts["slower"] + same.timing_counts["faster"] <= 2
+    assert same.timing_counts["same"] >= 10
     changed = compare(first, slower, tmp_path / "changed")
     assert changed.timing_counts["faster"] == 0
     # a 2x effect on 20 samples a case: nearly every pair, even on a loaded machine

@@ -43,7 +43,7 @@ from crosscheck.report.speed import (
     seconds,
     with_iqr,
 )
-from crosscheck.report.style import COLOURS, PLOT_CONFIG, SYMBOLS, ZERO_FLOOR, plotly_template
+from crosscheck.report.style import COLOURS, SYMBOLS, ZERO_FLOOR, plot_div, plotly_template
 from crosscheck.results.runinfo import RunInfo
 
 SCORED = Status.members("scored")
@@ -370,6 +370,4 @@ def figure(chart: SpeedChart, order: list[str]) -> go.Figure:
 
 def figure_html(chart: SpeedChart, order: list[str]) -> str:
     """The chart as a <div> with its script; plotly.js must be on the page once already."""
-    return str(figure(chart, order).to_html(
-        full_html=False, include_plotlyjs=False, div_id=f"speed-{chart.kind}",
-        config=PLOT_CONFIG))
+    return plot_div(figure(chart, order), f"speed-{chart.kind}")

@@ -14,7 +14,7 @@ from markupsafe import Markup
 
 from crosscheck.report.parquet import write_parquet
 from crosscheck.report.sections import SECTIONS, RunView
-from crosscheck.report.style import plotly_js, templates
+from crosscheck.report.style import packed_plotly_js, templates
 from crosscheck.report.tables import markdown_summary
 from crosscheck.results.store import read_run, write_csv
 
@@ -22,7 +22,8 @@ __all__ = ["markdown_summary", "render", "render_html"]
 
 
 def render_html(view: RunView) -> str:
-    """The self-contained HTML report (inline CSS and JS, plotly.js once, no network fetches)."""
+    """The self-contained HTML report (inline CSS and JS, plotly.js once, gzip-compressed and
+    base64-encoded, unpacked by the page itself; no network fetches)."""
     built = [(section, section.build(view)) for section in sorted(SECTIONS, key=lambda s: s.order)]
     shown = [(section, context) for section, context in built if context is not None]
     html = [Markup(templates().get_template(section.template).render(**context))
@@ -30,7 +31,7 @@ def render_html(view: RunView) -> str:
     plots = any(section.plots(context) for section, context in shown)
     return templates().get_template("report.html.j2").render(
         info=view.info, total=len(view.frame), sections=html,
-        plotly_js=Markup(plotly_js()) if plots else None)
+        plotly_js=packed_plotly_js() if plots else None)
 
 
 def render(directory: Path) -> dict[str, Path]:

@@ -7,13 +7,12 @@ out), the section's template renders it, and the page stacks the results.
 Adding a section is one builder, one template and one entry in the list.
 
 >>> [s.name for s in sorted(SECTIONS, key=lambda s: s.order)][:3]
-['case errors', 'engines x case groups', 'engine x kind']
+['verdict', 'case errors', 'engines x case groups']
 """
 
 from __future__ import annotations
 
 import functools
-import json
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -22,11 +21,11 @@ import pandas as pd
 from markupsafe import Markup
 
 from crosscheck.core.schema import AnyCase
-from crosscheck.report import charts, dynamics, speed, stability
+from crosscheck.report import charts, dynamics, speed, stability, table, verdict
 from crosscheck.report.mirror import asymmetries
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import StoredRun, repro_name
+from crosscheck.results.store import StoredRun
 from crosscheck.results.timings import read_timings
 
 Context = dict[str, Any]
@@ -84,6 +83,11 @@ class Section:
     """Whether the built section draws plotly charts (the page then inlines plotly.js once)."""
 
 
+def _verdict(view: RunView) -> Context | None:
+    """Per engine: agreeing shares, speed ranks and failure modes (None: an empty run)."""
+    return None if view.frame.empty else verdict.verdict(view.frame, view.stored.directory)
+
+
 def _errors(view: RunView) -> Context | None:
     return {"info": view.info} if view.info.case_errors else None
 
@@ -127,14 +131,9 @@ def _stability(view: RunView) -> Context | None:
 
 
 def _disagreements(view: RunView) -> Context:
-    """The rows, each with ``repro``: the link of its case x engine's script, if written."""
-    folder = view.stored.directory / "repro"
-    written = {p.name for p in folder.glob("*.py")} if folder.is_dir() else set()
-    rows = view.disagreements.to_dict("records")
-    for row in rows:
-        name = f"{repro_name(str(row['case_id']), str(row['engine']))}.py"
-        row["repro"] = f"repro/{name}" if name in written else ""
-    return {"disagreements": rows}
+    """The results table: every case x engine once, packed, with each row's repro link (if
+    written) and the case inputs the page's case details are built from."""
+    return table.results_table(view.frame, view.cases, view.stored.directory)
 
 
 def _symmetry(view: RunView) -> Context:
@@ -145,30 +144,9 @@ def _info(view: RunView) -> Context:
     return {"info": view.info}
 
 
-_INPUTS = {"a", "b", "restitution", "tolerance"}
-
-
-def case_details(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> list[dict[str, Any]]:
-    """Per case: its inputs and every engine's rows, for the collapsible case list."""
-    by_case: dict[str, list[dict[str, Any]]] = {}
-    columns = [str(c) for c in frame.columns]  # plain lists: ~3x faster than to_dict("records")
-    for row in zip(*(frame[c].tolist() for c in columns), strict=True):
-        record = dict(zip(columns, row, strict=True))
-        by_case.setdefault(str(record["case_id"]), []).append(record)
-    details = []
-    for case_id, rows in by_case.items():
-        case = cases.get(case_id)
-        details.append({
-            "id": case_id, "description": case.description if case else "",
-            "kind": case.kind if case else "", "dim": case.dim if case else "",
-            "tags": " ".join(case.tags) if case else "", "source": case.source if case else "",
-            "inputs": json.dumps(case.model_dump(include=_INPUTS) if case else {}),
-            "bad": any(r["status"] != "agree" for r in rows), "rows": rows})
-    return details
-
-
 def _cases(view: RunView) -> Context:
-    return {"cases": case_details(view.frame, view.cases)}
+    """The case details: built on demand by the page from the results table's data."""
+    return {"cases": int(view.frame["case_id"].nunique()) if len(view.frame) else 0}
 
 
 def _has(key: str) -> Callable[[Context], bool]:
@@ -178,6 +156,7 @@ def _has(key: str) -> Callable[[Context], bool]:
 
 
 SECTIONS: list[Section] = [
+    Section("verdict", 5, "_verdict.html.j2", _verdict),
     Section("case errors", 10, "_errors.html.j2", _errors),
     Section("engines x case groups", 20, "_matrix.html.j2", _matrix),
     Section("engine x kind", 30, "_summary.html.j2", _summary),

@@ -1,0 +1,131 @@
+"""The report's results table: every case x engine once, as compact JSON the page renders itself.
+
+One row per case x engine, with its quantities as columns (status, category, error and
+value of each), plus the case's inputs for the details the page builds on demand when a
+case link (``#case-<id>``) is followed.  A swapped twin (``twin_of``) whose statuses and
+categories equal its original's, quantity by quantity, is folded under the original (still
+in the data, for its details; not a row of its own); one that differs keeps its own row.
+
+The JSON is packed (gzip + base64, :func:`crosscheck.report.style.packed`): the page unpacks
+it with the browser's ``DecompressionStream`` and shows it with DataTables (from ``itables``).
+
+>>> frame = pd.DataFrame([
+...     {"case_id": "c", "engine": "e", "quantity": "hit", "value": "true", "truth": "true",
+...      "error": 0.0, "tolerance": 0.0, "status": "agree", "category": "", "reason": "",
+...      "query_s": 1e-6, "query_iqr_s": float("nan"), "twin_of": ""},
+...     {"case_id": "c.swapped", "engine": "e", "quantity": "hit", "value": "true",
+...      "truth": "true", "error": 0.0, "tolerance": 0.0, "status": "agree", "category": "",
+...      "reason": "", "query_s": 1e-6, "query_iqr_s": float("nan"), "twin_of": "c"}])
+>>> data = results_data(frame, {}, set())
+>>> [(r["case"], r["engine"], r["folded"], r["twins"]) for r in data["rows"]]
+[(0, 'e', False, [1]), (1, 'e', True, [])]
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Collection, Mapping
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from crosscheck.core.model import Status
+from crosscheck.core.schema import AnyCase
+from crosscheck.report.style import datatables, packed
+from crosscheck.report.tables import case_group
+from crosscheck.results.store import repro_name
+
+INPUTS = {"a", "b", "restitution", "tolerance"}
+"""The fields of a case shown as its inputs in its details."""
+SEVERITY = {str(s): s.severity for s in Status}
+"""Lower is worse: a row's status is the worst of its quantities'."""
+
+
+def _number(value: Any) -> float | None:
+    """A finite float, or None (JSON has no NaN: the page sorts None last)."""
+    number = float(value)
+    return number if math.isfinite(number) else None
+
+
+def written_repros(directory: Path) -> set[str]:
+    """The repro scripts a run wrote (``repro/<name>.py``), by file name."""
+    folder = directory / "repro"
+    return {p.name for p in folder.glob("*.py")} if folder.is_dir() else set()
+
+
+def _case(case_id: str, case: AnyCase | None, first: Mapping[str, Any]) -> dict[str, Any]:
+    return {"id": case_id, "description": case.description if case else "",
+            "kind": case.kind if case else str(first.get("kind", "")),
+            "dim": case.dim if case else first.get("dim", ""),
+            "tags": " ".join(case.tags) if case else str(first.get("tags", "")),
+            "source": case.source if case else str(first.get("source", "")),
+            "group": case_group(case.source if case else str(first.get("source", ""))),
+            "inputs": json.dumps(case.model_dump(include=INPUTS)) if case else "{}",
+            "twin_of": str(first.get("twin_of", "") or "")}
+
+
+def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
+                 repros: Collection[str]) -> dict[str, Any]:
+    """The table's data: ``quantities`` (in run order), ``cases`` (inputs, by index) and
+    ``rows`` (one per case x engine: worst status, largest error, repro link, query time and
+    per quantity ``[status, category, error, value, truth, tolerance, reason]``)."""
+    columns = [str(c) for c in frame.columns]
+    quantities = [str(q) for q in dict.fromkeys(frame["quantity"])] if len(frame) else []
+    index: dict[str, int] = {}
+    case_list: list[dict[str, Any]] = []
+    rows: dict[tuple[str, str], dict[str, Any]] = {}
+    for values in zip(*(frame[c].tolist() for c in columns), strict=True):
+        record = dict(zip(columns, values, strict=True))
+        case_id, engine = str(record["case_id"]), str(record["engine"])
+        if case_id not in index:
+            index[case_id] = len(case_list)
+            case_list.append(_case(case_id, cases.get(case_id), record))
+        row = rows.get((case_id, engine))
+        if row is None:
+            name = f"{repro_name(case_id, engine)}.py"
+            row = rows[(case_id, engine)] = {
+                "case": index[case_id], "engine": engine, "q": {},
+                "repro": f"repro/{name}" if name in repros else "",
+                "query_s": _number(record.get("query_s", math.nan)),
+                "query_iqr_s": _number(record.get("query_iqr_s", math.nan)),
+                "folded": False, "twins": []}
+        row["q"][str(record["quantity"])] = [
+            str(record["status"]), str(record["category"] or ""), _number(record["error"]),
+            str(record["value"]), str(record["truth"]),
+            _number(record.get("tolerance", math.nan)), str(record["reason"] or "")]
+    for row in rows.values():
+        statuses = [q[0] for q in row["q"].values()]
+        errors = [q[2] for q in row["q"].values() if q[2] is not None and q[0] in _SCORED]
+        row["status"] = min(statuses, key=lambda s: SEVERITY.get(s, 99)) if statuses else ""
+        row["error"] = max(errors) if errors else None
+    for (_, engine), row in rows.items():
+        original = rows.get((case_list[row["case"]]["twin_of"], engine))
+        if original is not None and _verdicts(original) == _verdicts(row):
+            row["folded"] = True
+            original["twins"].append(row["case"])
+    return {"quantities": quantities, "cases": case_list, "rows": list(rows.values())}
+
+
+_SCORED = {str(s) for s in Status.members("scored")}
+
+
+def _verdicts(row: Mapping[str, Any]) -> dict[str, tuple[str, str]]:
+    return {q: (v[0], v[1]) for q, v in row["q"].items()}
+
+
+def results_table(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
+                  directory: Path) -> dict[str, Any]:
+    """The section's context: the packed data, the packed DataTables bundle and CSS, and the
+    counts its heading shows."""
+    data = results_data(frame, cases, written_repros(directory))
+    dt_js, dt_css = datatables()
+    shown = sum(not row["folded"] for row in data["rows"])
+    breaking = {str(s) for s in Status.members("breaking")}
+    return {"packed": packed(json.dumps(data, separators=(",", ":"), allow_nan=False)),
+            "dt_js": dt_js, "dt_css": dt_css,
+            "rows": shown, "pairs": len(data["rows"]),
+            "breaking": sum(row["status"] in breaking and not row["folded"]
+                            for row in data["rows"]),
+            "quantities": data["quantities"], "cases": len(data["cases"])}
