@@ -452,7 +452,8 @@ def test_timing_section_method_sample_yardstick_drift_and_warning(timed_html: st
 
 
 def test_timing_section_is_one_line_without_timing(rendered: str) -> None:
-    section = part(rendered, '<h2 id="timing">', "<h2").split("</h2>")[1].strip()
+    section = part(rendered, '<h2 id="timing">', "<h2").split("</h2>")[1]
+    section = section.split("</section>")[0].strip()  # the page wraps each section
     assert section.count("<p") == 1 and "\n" not in section and "<table" not in section
     assert "Timing was not recorded for this run" in section
     quick = replace(info_of(), options=RunOptions(quick=True))
@@ -498,3 +499,21 @@ def test_the_summary_keeps_each_error_measure_apart() -> None:
     assert table.loc["fast", "wrong_verdicts"] == 0.5  # one of two verdicts wrong
     assert table.loc["fast", "distance_error"] == 3e-3 and table.loc["fast", "normal_angle"] == 0.5
     assert math.isnan(table.loc["fast", "velocity_error"])  # nothing measured: "-"
+
+
+def test_the_page_has_contents_and_says_when_a_run_is_incomplete(tmp_path: Path) -> None:
+    directory = tmp_path / "run"
+    cases = [sphere(0.0, 2.0, id="a"), sphere(0.0, 0.5, id="b")]
+    options, engines = RunOptions(quick=True, isolate=False), [fakes.AlwaysRight()]
+    launch(ResultsStore(directory), cases, engines, options,
+           new_info(directory, "test", options, engines, cases))
+    html = report.render(directory)["report"].read_text(encoding="utf-8")
+    for anchor in re.findall(r'<nav class="toc">.*?</nav>', html, re.S)[0].split('href="#')[1:]:
+        assert f'<section id="{anchor.split(chr(34))[0]}">' in html
+    assert "This run is incomplete" not in html
+    info = json.loads((directory / "run.json").read_text())
+    (directory / "run.json").write_text(json.dumps(info | {"finished": None}))
+    lines = (directory / "results.jsonl").read_text().splitlines()
+    (directory / "results.jsonl").write_text("\n".join(lines[:-3]) + "\n")  # a pair cut short
+    html = report.render(directory)["report"].read_text(encoding="utf-8")
+    assert "This run is incomplete" in html and "1 case &times; engine pairs" in html

@@ -26,11 +26,12 @@ def render_html(view: RunView) -> str:
     base64-encoded, unpacked by the page itself; no network fetches)."""
     built = [(section, section.build(view)) for section in sorted(SECTIONS, key=lambda s: s.order)]
     shown = [(section, context) for section, context in built if context is not None]
-    html = [Markup(templates().get_template(section.template).render(**context))
+    html = [{"id": section.anchor, "name": section.name,
+             "html": Markup(templates().get_template(section.template).render(**context))}
             for section, context in shown]
     plots = any(section.plots(context) for section, context in shown)
     return templates().get_template("report.html.j2").render(
-        info=view.info, total=len(view.frame), sections=html,
+        info=view.info, total=len(view.frame), sections=html, missing=view.missing,
         plotly_js=packed_plotly_js() if plots else None)
 
 

@@ -13,6 +13,7 @@ Adding a section is one builder, one template and one entry in the list.
 from __future__ import annotations
 
 import functools
+import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -39,6 +40,13 @@ class RunView:
         self.frame: pd.DataFrame = stored.results
         self.info: RunInfo = stored.info
         self.cases: Mapping[str, AnyCase] = stored.cases
+
+    @functools.cached_property
+    def missing(self) -> int:
+        """Case x engine pairs the run should hold but does not (a run stopped early)."""
+        engines = self.info.engine_names
+        done = set(zip(self.frame["case_id"], self.frame["engine"], strict=True))
+        return sum((case_id, e) not in done for case_id in self.cases for e in engines)
 
     @functools.cached_property
     def order(self) -> list[str]:
@@ -81,6 +89,15 @@ class Section:
     build: Callable[[RunView], Context | None]
     plots: Callable[[Context], bool] = _no_plots
     """Whether the built section draws plotly charts (the page then inlines plotly.js once)."""
+
+    @property
+    def anchor(self) -> str:
+        """The section's id in the page, for the table of contents.
+
+        >>> Section("A/B symmetry", 80, "t", _no_plots).anchor
+        'section-a-b-symmetry'
+        """
+        return "section-" + "-".join(re.findall(r"[a-z0-9]+", self.name.lower()))
 
 
 def _verdict(view: RunView) -> Context | None:
@@ -165,10 +182,10 @@ SECTIONS: list[Section] = [
     Section("timing", 45, "_timing.html.j2", _timing),
     Section("dynamics", 50, "_dynamics.html.j2", _dynamics, _has("dynamics")),
     Section("stability", 60, "_stability.html.j2", _stability, _has("stability")),
-    Section("disagreements", 70, "_disagreements.html.j2", _disagreements),
+    Section("results", 70, "_disagreements.html.j2", _disagreements),
     Section("A/B symmetry", 80, "_symmetry.html.j2", _symmetry),
     Section("engines and conventions", 90, "_engines.html.j2", _info),
-    Section("cases", 100, "_cases.html.j2", _cases),
+    Section("case details", 100, "_cases.html.j2", _cases),
     Section("environment", 110, "_environment.html.j2", _info),
 ]
 """Every section of the report page, with its place in the page."""
