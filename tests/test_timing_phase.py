@@ -75,20 +75,21 @@ def test_timing_runs_in_the_engine_worker_or_in_process(tmp_path: Path, isolate:
 
 
 def test_compare_catches_a_twice_slower_engine_and_nothing_in_a_repeat(tmp_path: Path) -> None:
-    options = replace(OPTIONS, samples=20, min_sample_s=0.005, timing_cases=12)
+    # in the engines' own worker, pinned apart from this test process, as a real run times
+    options = replace(OPTIONS, samples=20, min_sample_s=0.005, timing_cases=12, isolate=True)
     first = timed_run(tmp_path / "a", fakes.BusyLoop(), options)
     slower = timed_run(tmp_path / "c", fakes.BusyLoopTwice(), options)
     again = timed_run(tmp_path / "b", fakes.BusyLoop(), options)
     same = compare(first, again, tmp_path / "same")
     # Robust to bursts of load on a shared VM: one pair's whole 100 ms measurement can move
     # by more than x1.25 between two runs seconds apart (seen: 2 of 12 in one suite run), so
-    # a repeat may move at most 2 pairs, against at least 9 for the 2x engine below.
+    # a repeat may move at most 2 pairs, against at least 8 for the 2x engine below.
     assert same.timing_counts["slower"] + same.timing_counts["faster"] <= 2
     assert same.timing_counts["same"] >= 10
     changed = compare(first, slower, tmp_path / "changed")
     assert changed.timing_counts["faster"] == 0
     # a 2x effect on 20 samples a case: nearly every pair, even on a loaded machine
-    assert changed.timing_counts["slower"] >= 9
+    assert changed.timing_counts["slower"] >= 8
     ratios = pd.read_csv(tmp_path / "changed" / "timing_changes.csv")["ratio"]
     assert 1.6 < ratios.median() < 2.6
 
