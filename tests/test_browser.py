@@ -14,7 +14,12 @@ from pathlib import Path
 import pytest
 
 from crosscheck.cli import main
-from tests.conftest import ROOT
+from crosscheck.core.options import RunOptions
+from crosscheck.report.render import render
+from crosscheck.results.store import ResultsStore
+from crosscheck.run.launch import launch, new_info
+from tests.conftest import ROOT, sphere
+from tests.fakes import AlwaysRight, OffByOne
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -208,3 +213,43 @@ def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
     assert "of 770 rows (filtered from 5,390)" in filtered, filtered
     assert sticky == "sticky"
     assert opened == 7 * 3 and in_view  # every engine's hit, distance and normal
+
+
+@pytest.fixture(scope="module")
+def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A run of two fakes with known behaviour: one always right, one off by 1.0 in distance."""
+    if CHROMIUM is None:
+        if os.environ.get("CI"):
+            pytest.fail("chromium is required in CI for the browser test (make test installs it)")
+        pytest.skip("chromium not installed")
+    folder = tmp_path_factory.mktemp("advise") / "run"
+    cases = [sphere(0.0, 2.0 + i / 4, id=f"s{i}") for i in range(4)]
+    options, engines = RunOptions(quick=True, isolate=False), [AlwaysRight(), OffByOne()]
+    launch(ResultsStore(folder), cases, engines, options,
+           new_info(folder, "test", options, engines, cases))
+    render(folder)
+    return folder
+
+
+def test_the_advise_form_names_the_engines_that_pass_and_the_cases_that_rule_out(
+        fakes_dir: Path) -> None:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        errors: list[str] = []
+        page.on("pageerror", lambda e: errors.append(str(e)))
+        page.goto((fakes_dir / "report.html").as_uri())
+        page.locator("#advise-form input[name=tolerance]").fill("0.5")
+        page.locator("#advise-go").click()
+        page.wait_for_selector("#advise-out .advise-pass")
+        tight = page.locator("#advise-out").inner_text()
+        page.locator("#advise-form input[name=tolerance]").fill("2")
+        page.locator("#advise-go").click()
+        page.wait_for_function("!document.querySelector('#advise-out .advise-fail')")
+        loose = page.locator("#advise-out").inner_text()
+        browser.close()
+    assert errors == []
+    assert "cheapest first: fake-right" in tight and "fake-off: fails 4 of 4 cases" in tight
+    assert "fake-off" in loose.split("\n")[0] and "fake-right" in loose.split("\n")[0]

@@ -153,6 +153,12 @@ def _disagreements(view: RunView) -> Context:
     return table.results_table(view.frame, view.cases, view.stored.directory)
 
 
+def _advise(view: RunView) -> Context:
+    """The advise form: it works in the page, over the results table's packed data."""
+    kinds = [str(k) for k in dict.fromkeys(view.frame["kind"])] if len(view.frame) else []
+    return {"kinds": kinds, "run_id": view.info.run_id}
+
+
 def _symmetry(view: RunView) -> Context:
     return {"asymmetries": view.asymmetries.to_dict("records")}
 
@@ -183,6 +189,7 @@ SECTIONS: list[Section] = [
     Section("dynamics", 50, "_dynamics.html.j2", _dynamics, _has("dynamics")),
     Section("stability", 60, "_stability.html.j2", _stability, _has("stability")),
     Section("results", 70, "_disagreements.html.j2", _disagreements),
+    Section("which engine for my scene", 75, "_advise.html.j2", _advise),
     Section("A/B symmetry", 80, "_symmetry.html.j2", _symmetry),
     Section("engines and conventions", 90, "_engines.html.j2", _info),
     Section("case details", 100, "_cases.html.j2", _cases),
