@@ -7,11 +7,14 @@ Playwright.  Outside CI the test is skipped when chromium is missing; in CI
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from playwright.sync_api import Page, sync_playwright
 
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
@@ -27,12 +30,34 @@ ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
 EVIL = "<script>window.__pwned = true</script>"
 
 
-@pytest.fixture(scope="module")
-def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+def needs_chromium() -> None:
+    """Skip without chromium, but fail in CI, where make test installs it."""
     if CHROMIUM is None:
         if os.environ.get("CI"):
             pytest.fail("chromium is required in CI for the browser test (make test installs it)")
         pytest.skip("chromium not installed")
+
+
+@contextlib.contextmanager
+def opened(page_file: Path, messages: list[str] | None = None) -> Iterator[Page]:
+    """``page_file`` open in headless chromium at 1400 x 1000; console lines and page errors
+    go to ``messages`` (as ``"<type>: <text>"``)."""
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        page = browser.new_page(viewport={"width": 1400, "height": 1000})
+        if messages is not None:
+            page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
+            page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
+        page.goto(page_file.as_uri())
+        try:
+            yield page
+        finally:
+            browser.close()
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    needs_chromium()
     work = tmp_path_factory.mktemp("browser")
     cases = work / "cases.toml"
     text = (ROOT / "cases" / "sphere.toml").read_text()
@@ -44,15 +69,8 @@ def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_report_renders_without_console_errors(run_dir: Path) -> None:
-    from playwright.sync_api import sync_playwright
-
     messages: list[str] = []
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
-        page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
-        page.goto((run_dir / "report.html").as_uri())
+    with opened(run_dir / "report.html", messages) as page:
         page.wait_for_load_state("load")
         page.evaluate("drawAllCharts()")  # charts draw lazily: near the viewport, or when idle
         page.screenshot(path=str(run_dir / "report.png"), full_page=True)
@@ -61,7 +79,6 @@ def test_report_renders_without_console_errors(run_dir: Path) -> None:
         rows = page.locator("#summary tbody tr").count()
         pwned = page.evaluate("window.__pwned === true")
         requests = page.evaluate("performance.getEntriesByType('resource').map(e => e.name)")
-        browser.close()
     assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
     assert (run_dir / "report.png").stat().st_size > 10_000
     assert tables >= 4 and rows == 2  # reference and pymunk, one kind
@@ -73,10 +90,7 @@ def test_report_renders_without_console_errors(run_dir: Path) -> None:
 @pytest.fixture(scope="module")
 def timed_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A synthetic run folder with timings (timings.jsonl and run.json's timing), rendered."""
-    if CHROMIUM is None:
-        if os.environ.get("CI"):
-            pytest.fail("chromium is required in CI for the browser test (make test installs it)")
-        pytest.skip("chromium not installed")
+    needs_chromium()
     from crosscheck.report.render import render
     from tests.test_report import timed_run
 
@@ -86,15 +100,8 @@ def timed_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_speed_points_show_their_timing_whiskers(timed_dir: Path) -> None:
-    from playwright.sync_api import sync_playwright
-
     messages: list[str] = []
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
-        page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
-        page.goto((timed_dir / "report.html").as_uri())
+    with opened(timed_dir / "report.html", messages) as page:
         page.wait_for_load_state("load")
         page.evaluate("drawAllCharts()")  # charts draw lazily: near the viewport, or when idle
         page.screenshot(path=str(timed_dir / "report.png"), full_page=True)
@@ -103,7 +110,6 @@ def test_speed_points_show_their_timing_whiskers(timed_dir: Path) -> None:
         upward = page.locator("#speed-sphere g.errorbar path.yerror").count()
         legend = page.locator("#speed-sphere .legendtext").all_text_contents()
         timing = page.locator("#timing").count()
-        browser.close()
     assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
     assert bars >= 3  # fast, exact and noisy on the sphere chart
     assert across == 3 and upward == 3  # each point: its IQR across, its error whisker up
@@ -115,15 +121,10 @@ def test_verdict_block_comes_first_and_fits_the_page(timed_dir: Path) -> None:
     """The verdict block is the page's first section, lists each engine with its failure modes
     (their row counts add up to the engine's breaking rows) and fits a 1,400 px viewport."""
     import pandas as pd
-    from playwright.sync_api import sync_playwright
-
     results = pd.read_csv(timed_dir / "results.csv", keep_default_na=False)
     breaking = results[results["status"].isin(["disagree", "error", "crash", "timeout"])]
     assert not breaking.empty  # the synthetic run has disagreements and crashes
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        page.goto((timed_dir / "report.html").as_uri())
+    with opened(timed_dir / "report.html") as page:
         page.wait_for_load_state("load")
         first = page.evaluate("document.querySelector('h2').closest('#verdict') !== null")
         engines = page.locator("#verdict tr.verdict-engine td.engine").all_text_contents()
@@ -134,7 +135,6 @@ def test_verdict_block_comes_first_and_fits_the_page(timed_dir: Path) -> None:
         widths = page.evaluate("""[document.documentElement.scrollWidth,
             document.getElementById('verdict').scrollWidth,
             document.getElementById('verdict').getBoundingClientRect().right]""")
-        browser.close()
     assert first, "the verdict block is not the first section"
     assert sorted(engines) == sorted(set(results["engine"]))
     assert counts and all(c.isdigit() and int(c) > 0 for c in counts)
@@ -152,10 +152,7 @@ REPORT_BUDGET = 3_000_000
 @pytest.fixture(scope="module")
 def suite_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A synthetic run of the full suite's size (770 cases x 7 engines x 3 quantities), rendered."""
-    if CHROMIUM is None:
-        if os.environ.get("CI"):
-            pytest.fail("chromium is required in CI for the browser test (make test installs it)")
-        pytest.skip("chromium not installed")
+    needs_chromium()
     from dataclasses import replace
 
     from crosscheck.report.render import render
@@ -177,17 +174,10 @@ def suite_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
         suite_dir: Path) -> None:
-    from playwright.sync_api import sync_playwright
-
     page_file = suite_dir / "report.html"
     assert page_file.stat().st_size <= REPORT_BUDGET, page_file.stat().st_size
     messages: list[str] = []
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
-        page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
-        page.goto(page_file.as_uri())
+    with opened(page_file, messages) as page:
         page.wait_for_selector("#results-table[data-ready]")
         page.evaluate("drawAllCharts()")
         charts = page.locator(".js-plotly-plot").count()
@@ -203,25 +193,21 @@ def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
         case = (link.get_attribute("href") or "")[len("#case-"):]
         link.click()
         page.wait_for_selector(f"#case-details details[id='case-{case}']")
-        opened = page.locator(f"#case-details details[id='case-{case}'] tbody tr").count()
+        case_rows = page.locator(f"#case-details details[id='case-{case}'] tbody tr").count()
         in_view = page.evaluate(f"document.getElementById('case-{case}').getBoundingClientRect()"
                                 ".top < innerHeight")
-        browser.close()
     assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
     assert charts >= 1
     assert "of 5,390 rows" in everything  # 770 cases x 7 engines
     assert "of 770 rows (filtered from 5,390)" in filtered, filtered
     assert sticky == "sticky"
-    assert opened == 7 * 3 and in_view  # every engine's hit, distance and normal
+    assert case_rows == 7 * 3 and in_view  # every engine's hit, distance and normal
 
 
 @pytest.fixture(scope="module")
 def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A run of two fakes with known behaviour: one always right, one off by 1.0 in distance."""
-    if CHROMIUM is None:
-        if os.environ.get("CI"):
-            pytest.fail("chromium is required in CI for the browser test (make test installs it)")
-        pytest.skip("chromium not installed")
+    needs_chromium()
     folder = tmp_path_factory.mktemp("advise") / "run"
     cases = [sphere(0.0, 2.0 + i / 4, id=f"s{i}") for i in range(4)]
     options, engines = RunOptions(quick=True, isolate=False), [AlwaysRight(), OffByOne()]
@@ -233,14 +219,8 @@ def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def test_the_advise_form_names_the_engines_that_pass_and_the_cases_that_rule_out(
         fakes_dir: Path) -> None:
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        errors: list[str] = []
-        page.on("pageerror", lambda e: errors.append(str(e)))
-        page.goto((fakes_dir / "report.html").as_uri())
+    messages: list[str] = []
+    with opened(fakes_dir / "report.html", messages) as page:
         page.locator("#advise-form input[name=tolerance]").fill("0.5")
         page.locator("#advise-go").click()
         page.wait_for_selector("#advise-out .advise-pass")
@@ -249,7 +229,6 @@ def test_the_advise_form_names_the_engines_that_pass_and_the_cases_that_rule_out
         page.locator("#advise-go").click()
         page.wait_for_function("!document.querySelector('#advise-out .advise-fail')")
         loose = page.locator("#advise-out").inner_text()
-        browser.close()
-    assert errors == []
+    assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
     assert "cheapest first: fake-right" in tight and "fake-off: fails 4 of 4 cases" in tight
     assert "fake-off" in loose.split("\n")[0] and "fake-right" in loose.split("\n")[0]
