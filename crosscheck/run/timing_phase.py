@@ -36,12 +36,12 @@ from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.results.timings import TimingRecord, spread
 from crosscheck.run.execute import Outcome, execute, probe_binding
+from crosscheck.run.runner import SCENE_TIMEOUT_S
 from crosscheck.run.timing import Timing, measure
 from crosscheck.run.worker import WorkerPool, pin
 
 SCENE_LIMIT_S = 0.2
 """Scenes whose one run in the verdict pass took longer are not re-timed (budget)."""
-SCENE_TIMEOUT_S = 300.0
 FAILED = frozenset(str(s) for s in Status if s.failed) | {str(Status.SKIP)}
 
 Tick = Callable[[int], None]
@@ -127,9 +127,11 @@ def yardstick(options: RunOptions) -> dict[str, dict[str, Any]]:
 def _pinned(options: RunOptions) -> Iterator[tuple[int | None, str]]:
     """The CPU for engine workers, with this process moved to another one (restored after)."""
     allowed = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
-    if not options.pin or len(allowed) < 2:
-        why = "pinning off (--no-pin)" if not options.pin else "not pinned: one CPU available"
-        yield None, why if allowed or not options.pin else "not pinned: the OS does not allow it"
+    unpinned = ("pinning off (--no-pin)" if not options.pin
+                else "not pinned: the OS does not allow it" if not allowed
+                else "not pinned: one CPU available" if len(allowed) < 2 else "")
+    if unpinned:
+        yield None, unpinned
         return
     worker_cpu, own_cpu = allowed[-1], allowed[0]
     if not pin(0, own_cpu):
