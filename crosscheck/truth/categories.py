@@ -232,10 +232,11 @@ def _timestep(case: ResponseCase, conv: Conventions, quantity: str, value: Value
     if not explained:
         return Explained(Category.ERROR, "", err)
     depth = (moved.a.radius + moved.b.radius) - norm(difference(moved.a.center, moved.b.center))
+    where = f"a penetration of {depth:.3g}" if depth >= 0 else f"a gap of {-depth:.3g}"
     step = f"steps of {conv.time_step:.3g} s" if conv.time_step else "its step"
     return Explained(Category.TIMESTEP, (
         f"right for the centres where the engine first reported the contact (error {err:.3g} "
-        f"there), reached after {step} at a penetration of {depth:.3g}; against the case as "
+        f"there), reached after {step} at {where}; against the case as "
         f"declared the error is {declared_err:.3g}"), err)
 
 
