@@ -5,6 +5,7 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+BUNDLE := $(VENV)/.plotly-bundle
 
 .PHONY: run test test-long lint venv clean browser
 
@@ -14,12 +15,17 @@ $(STAMP): requirements.lock pyproject.toml
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check --no-deps -e .
 	touch $(STAMP)
 
-venv: $(STAMP)
+# plotly's cartesian partial bundle for the report (npm registry, checked against its pinned SHA-512).
+$(BUNDLE): $(STAMP) crosscheck/report/bundle.py
+	$(BIN)/python -m crosscheck.report.bundle
+	touch $(BUNDLE)
 
-run: $(STAMP)
+venv: $(STAMP) $(BUNDLE)
+
+run: $(STAMP) $(BUNDLE)
 	$(BIN)/crosscheck run $(ARGS)
 
-lint: $(STAMP)
+lint: $(STAMP) $(BUNDLE)
 	$(BIN)/ruff check crosscheck adapters reference_impl tests
 	$(BIN)/mypy
 	$(BIN)/lint-imports

@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 
 import pandas as pd
+import pytest
 
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
@@ -34,9 +35,15 @@ def test_parquet_holds_the_csv_rows_with_typed_values(tmp_path: Path) -> None:
             assert row.value_bool == json.loads(cell)
         elif row.quantity == "distance":
             assert row.value_float == json.loads(cell)
-        elif cell not in ("", "undefined"):
+        elif cell != "null":
             assert list(row.value_vector) == json.loads(cell)
+    for cell in [*text["value"], *text["truth"]]:  # strict JSON: no NaN, Infinity, undefined
+        json.loads(cell, parse_constant=not_strict)
     coincident = table[(table["case_id"] == "coincident") & (table["quantity"] == "normal")]
     assert coincident["truth_vector"].isna().all()  # undefined: null, the status says why
     assert (coincident["status"] == "undefined").all()
     assert table["query_s"].dtype == "float64" and math.isnan(table["query_s"].iloc[0])
+
+
+def not_strict(token: str) -> None:
+    pytest.fail(f"{token} is not strict JSON")

@@ -6,10 +6,11 @@ import math
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Category, Observation, Status, Undefined
+from crosscheck.core.values import encode
 from crosscheck.truth import oracle
 from crosscheck.truth.bounds import bound, error_of
 from crosscheck.truth.categories import touch_feature
-from crosscheck.truth.score import encode, judge
+from crosscheck.truth.score import judge
 from tests.conftest import aabb, response, sphere
 
 TEXTBOOK = Conventions()
@@ -20,8 +21,8 @@ def test_encode_round_trips_floats_exactly() -> None:
     assert float(encode(x)) == x
     assert encode((1.0, -0.5)) == "[1.0, -0.5]"
     assert encode(True) == "true"
-    assert encode(None) == ""
-    assert encode(Undefined("x")) == "undefined"
+    assert encode(None) == "null"
+    assert encode(Undefined("x")) == "null"
 
 
 def test_normal_error_is_an_angle() -> None:

@@ -12,11 +12,12 @@ exactly); rows the engine did not answer on both sides are left out.
 
 from __future__ import annotations
 
-import json
 import math
 from typing import Any
 
 import pandas as pd
+
+from crosscheck.core.values import decode, text_of
 
 _PARTNER = {"v1": "v2", "v2": "v1"}
 
@@ -26,12 +27,6 @@ def mirror_value(quantity: str, value: Any) -> Any:
     if quantity == "normal" and isinstance(value, list):
         return [-x for x in value]
     return value
-
-
-def _decode(text: object) -> Any:
-    if not isinstance(text, str) or text in ("", "undefined"):
-        return None
-    return json.loads(text)
 
 
 def _close(a: Any, b: Any, tolerance: float) -> bool:
@@ -58,7 +53,7 @@ def asymmetries(frame: pd.DataFrame) -> pd.DataFrame:
                              suffixes=("", "_swapped"))
     rows = []
     for row in both.to_dict("records"):
-        original, swapped = _decode(row["value"]), _decode(row["value_swapped"])
+        original, swapped = decode(row["value"]), decode(row["value_swapped"])
         if original is None or swapped is None:
             continue
         expected = mirror_value(str(row["quantity"]), original)
@@ -66,6 +61,6 @@ def asymmetries(frame: pd.DataFrame) -> pd.DataFrame:
             rows.append({"case_id": row["case_id"], "engine": row["engine"],
                          "quantity": row["quantity"], "value": row["value"],
                          "swapped_value": row["value_swapped"],
-                         "expected_swapped": json.dumps(expected)})
+                         "expected_swapped": text_of(expected)})
     return pd.DataFrame(rows, columns=["case_id", "engine", "quantity", "value",
                                        "swapped_value", "expected_swapped"])

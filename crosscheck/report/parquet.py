@@ -15,26 +15,25 @@ A missing or undefined value is null in the typed columns; the row's
 ``status`` and ``reason`` say why.  Timing columns (``query_s`` and the rest)
 describe the case x engine, so they repeat on each of its quantity rows.
 
->>> typed('[0.6, 0.8]'), typed('true'), typed('undefined'), typed('1e-09')
-(('vector', [0.6, 0.8]), ('bool', True), (None, None), ('float', 1e-09))
+>>> typed('[0.6, 0.8]'), typed('true'), typed('null'), typed('1e-09'), typed('"Infinity"')
+(('vector', [0.6, 0.8]), ('bool', True), (None, None), ('float', 1e-09), ('float', inf))
 """
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
+
+from crosscheck.core.values import decode
 
 KINDS = ("bool", "float", "vector")
 
 
 def typed(text: object) -> tuple[str | None, Any]:
     """The type and value of one JSON text cell (``(None, None)``: none, or not typable)."""
-    if not isinstance(text, str) or text in ("", "undefined"):
-        return None, None
-    value = json.loads(text)
+    value = decode(text)
     if isinstance(value, bool):
         return "bool", value
     if isinstance(value, int | float):

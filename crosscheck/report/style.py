@@ -21,7 +21,8 @@ from typing import Any
 
 import plotly.io as pio
 from jinja2 import Environment, PackageLoader, select_autoescape
-from plotly.offline import get_plotlyjs
+
+from crosscheck.report import bundle
 
 COLOURS = ("#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f",
            "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac")
@@ -56,12 +57,21 @@ def plot_div(figure: Any, div_id: str) -> str:
     then it unpacks the figure and calls ``Plotly.newPlot``.  Figures are rendered without
     validation: ``go.Figure`` costs ~0.2-0.5 s each.
 
+    Every trace must be one the cartesian bundle draws (:data:`bundle.TRACES`).
+
     >>> html = plot_div({"data": [], "layout": {"height": 300}}, "x")
     >>> html.startswith('<div id="x" class="plotly-graph-div" style="height:300px; width:100%;">')
     True
+    >>> plot_div({"data": [{"type": "scatter3d"}], "layout": {}}, "y")
+    Traceback (most recent call last):
+    ValueError: chart y draws scatter3d, which plotly's cartesian bundle lacks
     """
     text = str(pio.to_json(figure, validate=False))
-    height = json.loads(text).get("layout", {}).get("height")
+    content = json.loads(text)
+    for trace in content.get("data", []):
+        if (kind := trace.get("type", "scatter")) not in bundle.TRACES:
+            raise ValueError(f"chart {div_id} draws {kind}, which plotly's cartesian bundle lacks")
+    height = content.get("layout", {}).get("height")
     style = f"height:{height}px; width:100%;" if height else "height:100%; width:100%;"
     return (f'<div id="{div_id}" class="plotly-graph-div" style="{style}"></div>'
             f"<script>whenPlotly(function () {{ return unpackText(\"{packed(text)}\").then("
@@ -72,8 +82,9 @@ def plot_div(figure: Any, div_id: str) -> str:
 
 @functools.cache
 def plotly_js() -> str:
-    """The plotly.js bundle, to inline once in the page (see :func:`packed`)."""
-    return str(get_plotlyjs())
+    """The plotly.js bundle, to inline once in the page (see :func:`packed`): the cartesian
+    partial bundle (:mod:`crosscheck.report.bundle`), else the wheel's full one."""
+    return bundle.script()
 
 
 def packed(text: str) -> str:

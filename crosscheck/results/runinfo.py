@@ -6,11 +6,6 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
 - **1** (up to the layered architecture): a free dict built by hand in three
   places; ``options`` held ``timed_ids`` (the timing sample, always ``null``
   when written), ``resumed`` was present only after a resume.
-- **3**: a timing phase after the verdicts: every sample in ``timings.jsonl``,
-  the results rows' timing columns filled from it, and ``timing`` here (the
-  sampling method, pinning, the machine yardstick at the start and the end,
-  each engine's binding overhead).  Options ``timing_cases``, ``timing_seed``,
-  ``scene_repeats`` and ``pin`` replace ``time_per_group``.
 - **2**: the typed :class:`RunInfo`; ``options`` are :class:`RunOptions`
   without ``timed_ids`` (which cases are timed is the runner's per-case
   choice, not an option), and ``resumed`` is always a list.  Every results
@@ -18,6 +13,17 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   1 had them only inside the case id; :mod:`crosscheck.results.legacy` reads
   them back from there), and ``error_at_contact`` (NaN in format 1: responses
   were judged at the engine's contact instead, category ``timestep`` did not exist).
+- **3**: a timing phase after the verdicts: every sample in ``timings.jsonl``,
+  the results rows' timing columns filled from it, and ``timing`` here (the
+  sampling method, pinning, the machine yardstick at the start and the end,
+  each engine's binding overhead).  Options ``timing_cases``, ``timing_seed``,
+  ``scene_repeats`` and ``pin`` replace ``time_per_group``.
+- **4**: the ``value`` and ``truth`` columns are strict JSON
+  (:mod:`crosscheck.core.values`): ``null`` for no value (formats 1-3: ``""``
+  or the bare token ``undefined``), and a number that is not finite as the
+  string ``"NaN"``, ``"Infinity"`` or ``"-Infinity"`` (formats 1-3: the bare
+  tokens, which strict JSON rejects).  ``read_results`` upgrades older rows
+  as it reads them; run.json itself is unchanged.
 
 >>> info = RunInfo(run_id="r", command="crosscheck run", options=RunOptions(quick=True),
 ...                machine={}, engines=(), started="2026-01-01T00:00:00+00:00")
@@ -38,7 +44,7 @@ from typing import Any
 
 from crosscheck.core.options import RunOptions
 
-FORMAT_VERSION = 3
+FORMAT_VERSION = 4
 """The version of run.json (and of the files beside it) that this harness writes."""
 
 
@@ -119,8 +125,12 @@ def _update_to_3(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "timing": None, "format_version": 3}
 
 
-_UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {1: _update_to_2,
-                                                                    2: _update_to_3}
+def _update_to_4(data: dict[str, Any]) -> dict[str, Any]:
+    return {**data, "format_version": 4}  # the results rows are upgraded as they are read
+
+
+_UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
+    1: _update_to_2, 2: _update_to_3, 3: _update_to_4}
 """Version N -> a function that turns a version-N run.json into version N + 1."""
 
 

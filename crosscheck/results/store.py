@@ -29,6 +29,7 @@ import pandas as pd
 
 from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
+from crosscheck.core.values import upgrade
 from crosscheck.results import legacy
 from crosscheck.results.runinfo import FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
@@ -165,6 +166,8 @@ def read_results(directory: Path) -> pd.DataFrame:
     if not rows:
         return frame
     frame = frame.astype({"dim": "int64", "loops": "int64"})
+    for column in ("value", "truth"):  # formats 1-3 wrote "", undefined and bare NaN
+        frame[column] = frame[column].map(upgrade)
     case_rank = {case_id: i for i, case_id in enumerate(_case_ids(directory))}
     engine_rank = {name: i for i, name in enumerate(_engine_names(directory))}
     keys = pd.DataFrame({

@@ -20,12 +20,13 @@ from crosscheck.core.contract import HANG_PROBE_S, Adapter
 from crosscheck.core.model import Observation, Record, Status, quantities_of
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
+from crosscheck.core.values import encode
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome
 from crosscheck.run.worker import LocalLanes
 from crosscheck.truth import oracle
-from crosscheck.truth.score import Verdict, encode, judge
+from crosscheck.truth.score import Verdict, judge
 
 
 def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,

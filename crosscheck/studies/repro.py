@@ -59,22 +59,21 @@ REPRO_DIR = "repro"
 
 ENCODE = '''\
 def number(x):
-    return float.__repr__(x) if math.isfinite(x) else json.dumps(x)
+    if math.isfinite(x):
+        return float.__repr__(x)
+    return '"NaN"' if x != x else ('"Infinity"' if x > 0 else '"-Infinity"')
 
 
 def encode(value):
-    # the JSON text crosscheck records for a value (results.csv): floats exactly
-    if value is None:
-        return ""  # the engine gives no such quantity
-    if isinstance(value, str):
-        return value  # "undefined": no defined value
+    # the strict JSON text crosscheck records for a value (results.csv): floats exactly
+    if value is None or isinstance(value, str):
+        return "null"  # no such quantity, or "undefined": no defined value
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):
         return number(value)
-    if all(isinstance(x, float) for x in value):
-        return "[" + ", ".join(number(x) for x in value) + "]"
-    return json.dumps(list(value))
+    return "[" + ", ".join(number(x) if isinstance(x, float) else encode(x)
+                           for x in value) + "]"
 '''
 
 

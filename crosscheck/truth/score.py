@@ -20,7 +20,6 @@ error at the centres where it first reported the contact is kept beside it.
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass
 from typing import cast
@@ -48,30 +47,6 @@ class Verdict:
     reason: str = ""
     error_at_contact: float = math.nan
     """Responses: the error against the truth where the engine first reported the contact."""
-
-
-def encode(value: Value | None) -> str:
-    """JSON text of a value (floats round-trip exactly); '' when absent.
-
-    >>> encode((0.1, -0.0, float("nan"))), encode(True), encode(1e300)
-    ('[0.1, -0.0, NaN]', 'true', '1e+300')
-    """
-    if value is None:
-        return ""
-    if isinstance(value, Undefined):
-        return "undefined"
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, float):
-        return _number(value)
-    if isinstance(value, tuple) and all(isinstance(x, float) for x in value):
-        return "[" + ", ".join(_number(x) for x in value) + "]"  # type: ignore[arg-type]
-    return json.dumps(list(value) if isinstance(value, tuple) else value)
-
-
-def _number(x: float) -> str:
-    """``json.dumps(x)`` for a float, without its per-call overhead (runs per record)."""
-    return float.__repr__(x) if math.isfinite(x) else json.dumps(x)
 
 
 def _is_unit(v: Vec) -> bool:
