@@ -234,7 +234,8 @@ def test_zero_errors_sit_at_the_labelled_floor() -> None:
     assert drawn["exact"] == style.ZERO_FLOOR
     assert drawn["fast"] == 2e-12
     assert fig.layout.yaxis.ticktext[0] == "0"
-    assert "0 plotted at 1e-18" in fig.layout.yaxis.title.text
+    assert "0 on the dotted lines" in fig.layout.yaxis.title.text
+    assert any(a.text.startswith("exact (error 0)") for a in fig.layout.annotations)
 
 
 def test_floor_moves_below_a_smaller_real_error() -> None:
@@ -253,7 +254,8 @@ def test_infinite_errors_sit_at_a_labelled_ceiling() -> None:
     fig = charts.figure(chart, ["a"])
     whisker_top = fig.data[0].y[0] + fig.data[0].error_y.array[0]
     assert fig.data[0].y[0] == 1.0 and whisker_top == 100.0 and fig.data[1].y[0] == 100.0
-    assert fig.layout.yaxis.ticktext[-1] == "inf" and "inf at 1e+02" in fig.layout.yaxis.title.text
+    assert fig.layout.yaxis.ticktext[-1] == "inf" and "inf on the dotted lines" in fig.layout.yaxis.title.text
+    assert any(a.text == "infinite error" for a in fig.layout.annotations)
 
 
 def test_untimed_and_unscored_engines_are_listed_not_plotted(rendered: str) -> None:

@@ -12,7 +12,9 @@ wrong verdicts) instead.  A vertical whisker runs from the median up to the
 whose timings are mostly unstable (more than half of its timed cases, see
 :mod:`crosscheck.report.speed`) is drawn hollow and named so in the legend,
 never as a precise point.  A log axis has no 0 and no infinity: exact answers
-are drawn at a labelled floor, infinite errors at a labelled ceiling.
+are drawn at a labelled floor, infinite errors at a labelled ceiling.  Engines
+that would hide one another are drawn side by side under one label naming them
+all; every axis is styled by :mod:`crosscheck.report.axes`.
 
 Every text that reaches plotly (engine names and settings, case ids and
 descriptions) is HTML-escaped first: plotly renders its labels as HTML.
@@ -34,6 +36,7 @@ from plotly.subplots import make_subplots
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
+from crosscheck.report import axes
 from crosscheck.report.speed import (
     UNSTABLE_SPREAD,
     Spread,
@@ -43,7 +46,7 @@ from crosscheck.report.speed import (
     seconds,
     with_iqr,
 )
-from crosscheck.report.style import COLOURS, SYMBOLS, ZERO_FLOOR, plot_div, plotly_template
+from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 from crosscheck.results.runinfo import RunInfo
 
 SCORED = Status.members("scored")
@@ -133,6 +136,11 @@ class SpeedChart:
         return [p for p in self.points if p.scored and p.timed]
 
     @property
+    def errors(self) -> list[float]:
+        """The median, 95th percentile and largest error of every plotted engine."""
+        return [v for p in self.plotted for v in (p.median, p.p95, p.max)]
+
+    @property
     def not_timed(self) -> list[Point]:
         return [p for p in self.points if p.scored and not p.timed]
 
@@ -195,16 +203,6 @@ def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
         failed=rows.loc[rows["status"].isin(FAILED), "case_id"].nunique())
 
 
-def _axis_limits(points: list[Point]) -> tuple[float, float | None]:
-    values = [v for p in points for v in (p.median, p.p95, p.max)]
-    finite = [v for v in values if 0 < v < math.inf]
-    below = 10.0 ** (math.floor(math.log10(min(finite))) - 1) if finite else ZERO_FLOOR
-    floor = min(ZERO_FLOOR, below)
-    if not any(math.isinf(v) for v in values):
-        return floor, None
-    return floor, 10.0 ** (math.ceil(math.log10(max(finite, default=1.0))) + 2)
-
-
 def speed_chart(frame: pd.DataFrame, kind: str, info: RunInfo,
                 cases: Mapping[str, AnyCase]) -> SpeedChart:
     """The speed-against-error data of one kind: one point per engine with rows of it."""
@@ -213,7 +211,8 @@ def speed_chart(frame: pd.DataFrame, kind: str, info: RunInfo,
     points = [point(group, measure, info, cases)
               for _, group in rows.groupby("engine", sort=False)]
     plotted = [p for p in points if p.scored and p.timed]
-    return SpeedChart(kind, measure, points, *_axis_limits(plotted))
+    return SpeedChart(kind, measure, points,
+                      *axes.limits(v for p in plotted for v in (p.median, p.p95, p.max)))
 
 
 def speed_charts(frame: pd.DataFrame, info: RunInfo,
@@ -276,10 +275,13 @@ def _legend_name(p: Point) -> str:
     return html.escape(p.engine) + (" (timing unstable)" if p.mostly_unstable else "")
 
 
-def _add_point(fig: go.Figure, chart: SpeedChart, p: Point, style: dict[str, Any]) -> None:
+def _add_point(fig: go.Figure, chart: SpeedChart, p: Point, style: dict[str, Any],
+               x: float) -> None:
+    """The point of one engine drawn at ``x`` (its median time, unless pulled apart from a
+    coincident point); the hover gives the true numbers."""
     y = chart.y(p.median)
     fig.add_trace(go.Scatter(
-        x=[p.query_s], y=[y], mode="markers", name=_legend_name(p),
+        x=[x], y=[y], mode="markers", name=_legend_name(p),
         legendgroup=html.escape(p.engine), hovertext=[hover(p, chart.measure)], hoverinfo="text",
         marker=_marker(p, style),
         error_y={"type": "data", "symmetric": False, "array": [chart.y(p.p95) - y],
@@ -289,7 +291,7 @@ def _add_point(fig: go.Figure, chart: SpeedChart, p: Point, style: dict[str, Any
                  "thickness": 1.5, "width": 5},
     ), row=1, col=1)
     fig.add_trace(go.Scatter(
-        x=[p.query_s], y=[chart.y(p.max)], mode="markers", showlegend=False,
+        x=[x], y=[chart.y(p.max)], mode="markers", showlegend=False,
         legendgroup=html.escape(p.engine), hoverinfo="text",
         hovertext=[f"<b>{html.escape(p.engine)}</b>: max error {p.max:.3g}<br>"
                    f"worst case: {_esc(p.worst[:160])}"],
@@ -310,41 +312,57 @@ def _add_verdicts(fig: go.Figure, chart: SpeedChart, styles: dict[str, dict[str,
     fig.update_yaxes(autorange="reversed", row=1, col=2)
 
 
+def error_range(chart: SpeedChart) -> tuple[float, float]:
+    """log10 of the ends of the error axis (the floor, when shown, and the ceiling included)."""
+    return axes.error_range(chart.errors, axes.shown_floor(chart.errors, chart.floor),
+                            chart.ceiling)
+
+
+def time_range(chart: SpeedChart) -> tuple[float, float]:
+    """log10 of the ends of the time axis: whole decades over every whisker, so that small
+    differences do not look large."""
+    times = [t for p in chart.plotted for t in (p.time.q1, p.time.q3, p.query_s)]
+    return axes.data_range(times)
+
+
 def _error_axis(fig: go.Figure, chart: SpeedChart) -> None:
-    low = round(math.log10(chart.floor))
-    values = [v for p in chart.plotted for v in (p.median, p.p95, p.max) if 0 < v < math.inf]
-    high = max([low + 1, *(math.ceil(math.log10(v)) for v in values)])
-    step = max(1, math.ceil((high - low) / 8))
-    ticks = {10.0 ** k: f"1e{k}" for k in range(low + step, high + 1, step)}
-    ticks = {chart.floor: "0"} | ticks
-    if chart.ceiling:
-        ticks[chart.ceiling] = "inf"
-    top = math.log10(chart.ceiling or 10.0 ** high)
-    title = f"median {chart.measure.error_label}<br>(0 plotted at {chart.floor:.0e}"
-    title += f", inf at {chart.ceiling:.0e})" if chart.ceiling else ")"
-    fig.update_yaxes(type="log", tickvals=list(ticks), ticktext=list(ticks.values()),
-                     range=[low - 0.5, top + 0.5], title_text=title, row=1, col=1)
-    for y, label in ((chart.floor, "exact (error 0)"), (chart.ceiling, "infinite error")):
-        if y:  # annotations on a log axis take log10 of the value, shapes the value itself
-            fig.add_hline(y=y, line_dash="dot", line_color="#888", row=1, col=1)
-            fig.add_annotation(text=label, x=1, xref="x domain", y=math.log10(y), yref="y",
-                               xanchor="right", yanchor="top" if y == chart.floor else "bottom",
-                               showarrow=False, font={"size": 11, "color": "#666"})
+    floor = axes.shown_floor(chart.errors, chart.floor)
+    marks = [*(["0"] if floor else []), *(["inf"] if chart.ceiling else [])]
+    title = f"median {chart.measure.error_label}" + (
+        f"<br>({' and '.join(marks)} on the dotted lines)" if marks else "")
+    fig.update_yaxes(axes.log_axis(title, *error_range(chart), floor, chart.ceiling),
+                     row=1, col=1)
+    shapes, labels = axes.limit_marks(floor, chart.ceiling, "infinite error")
+    for shape in shapes:
+        fig.add_shape(shape)
+    for label in labels:
+        fig.add_annotation(label)
 
 
 def _time_axis(fig: go.Figure, chart: SpeedChart) -> None:
-    """Log time axis spanning at least a decade and every whisker, so small differences do not
-    look large."""
-    logs = [math.log10(t) for p in chart.plotted for t in (p.time.q1, p.time.q3) if t > 0]
-    logs = logs or [math.log10(p.query_s) for p in chart.plotted]
-    middle, half = (min(logs) + max(logs)) / 2, max(0.5, (max(logs) - min(logs)) / 2 + 0.15)
-    low, high = middle - half, middle + half
-    ticks = [m * 10.0**k for k in range(math.floor(low), math.ceil(high) + 1) for m in (1, 2, 5)]
-    ticks = [t for t in ticks if low <= math.log10(t) <= high]
-    fig.update_xaxes(type="log", range=[low, high], tickvals=ticks,
-                     ticktext=[seconds(t) for t in ticks], row=1, col=1,
-                     title_text="median time per call through the Python binding "
-                                "(whisker: IQR over cases)")
+    fig.update_xaxes(axes.log_axis("median time per call through the Python binding (s; "
+                                   "whisker: IQR over cases)", *time_range(chart)), row=1, col=1)
+
+
+def drawn_x(chart: SpeedChart) -> tuple[list[float], list[list[int]]]:
+    """Where each plotted point is drawn along x, and the groups of coincident points."""
+    low, high = time_range(chart)
+    bottom, top = error_range(chart)
+    plotted = chart.plotted
+    groups = axes.coincident([(p.query_s, chart.y(p.median)) for p in plotted],
+                             (high - low, top - bottom))
+    return axes.spread([p.query_s for p in plotted], groups, high - low), groups
+
+
+def _label_groups(fig: go.Figure, chart: SpeedChart, groups: list[list[int]]) -> None:
+    """One label over each group of coincident points, naming every engine in it."""
+    for group in (g for g in groups if len(g) > 1):
+        members = [chart.plotted[i] for i in group]
+        middle = sum(math.log10(p.query_s) for p in members) / len(members)
+        fig.add_annotation(
+            text="same point: " + ", ".join(html.escape(p.engine) for p in members),
+            x=middle, y=math.log10(chart.y(members[0].median)),
+            xref="x", yref="y", yshift=16, showarrow=False, font=axes.LABEL_FONT)
 
 
 def figure(chart: SpeedChart, order: list[str]) -> go.Figure:
@@ -356,8 +374,10 @@ def figure(chart: SpeedChart, order: list[str]) -> go.Figure:
                                         chart.measure.verdict_label))
     names = dict.fromkeys([*order, *(p.engine for p in chart.points)])
     styles = {name: _style(i) for i, name in enumerate(names)}
-    for p in chart.plotted:
-        _add_point(fig, chart, p, styles[p.engine])
+    xs, groups = drawn_x(chart)
+    for p, x in zip(chart.plotted, xs, strict=True):
+        _add_point(fig, chart, p, styles[p.engine], x)
+    _label_groups(fig, chart, groups)
     _add_verdicts(fig, chart, styles)
     _error_axis(fig, chart)
     _time_axis(fig, chart)

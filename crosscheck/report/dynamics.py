@@ -1,14 +1,19 @@
-"""The dynamics section of the report: accuracy against speed for stepped scenes.
+"""The dynamics section of the report: accuracy against cost for stepped scenes.
 
 Reads only stored rows (kind ``sphere_scene``) and the cases' inputs; it never
 runs an engine.  For each scene block (the cases' ``origin``) there is one
-chart, in the manner of published cross-engine simulator benchmarks: the
-real-time factor (simulated seconds per wall second of stepping) on x, the
-error at the end on y, both log scale, one curve per engine variant (and
-solver iteration count, when swept) through its time steps.  The table gives
-each scene x engine at the time step nearest to 1/240 s: position error (mean
-radii), signed kinetic energy change (fraction of the initial energy: negative
-is lost) and the real-time factor.
+chart, drawn the way the speed charts are (lower left is better): x is the
+wall time of stepping per simulated second (``1 /`` the real-time factor of
+published cross-engine simulator benchmarks), y the position error at the end,
+both log scale, one curve per engine variant (and solver iteration count, when
+swept) through its time steps, each point labelled with its ``dt``.  A point
+whose exact run has an impact exactly on a step boundary is flagged (marker,
+hover and caption; :func:`crosscheck.truth.scenes.aligned`): an engine that
+resolves contacts a step late meets such an impact on time, so its error there
+is an artefact of the alignment, not accuracy.  The table gives each scene x
+engine at the time step nearest to 1/240 s: position error (mean radii), signed
+kinetic energy change (fraction of the initial energy: negative is lost) and
+the real-time factor.
 """
 
 from __future__ import annotations
@@ -21,12 +26,19 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase, SceneCase
+from crosscheck.report import axes
+from crosscheck.report.speed import seconds
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
+from crosscheck.truth import scenes
 
-FLOOR = 1e-17
-"""Errors of exactly 0 are drawn at this floor on the log axis."""
 HEADLINE_DT = 1.0 / 240.0
+FAILED = Status.members("failed")
+ALIGNED_SYMBOL = "circle-x"
+"""The marker of a point whose exact run has an impact on a step boundary."""
+ALIGNED_NOTE = ("circled x: an impact of the exact run falls on a step boundary (k dt); a "
+                "step-late engine meets it on time, so its error there is no measure of accuracy")
 
 
 def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
@@ -56,6 +68,8 @@ def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> 
         "simulated_s": steps * dt, "wall_s": wall,
         "rtf_spread": _rtf_spread(steps * dt, wall, float(pos.query_iqr_s)),
         "rtf": steps * dt / wall if wall > 0 else math.nan,
+        "cost": wall / (steps * dt) if wall > 0 else math.nan,
+        "aligned": tuple(scenes.aligned(case, scenes.truth(case).impacts or ())),
         "position_error": float(pos.error),
         "velocity_error": _error(by_q.get("velocities")),
         "momentum_error": _error(by_q.get("momentum")),
@@ -105,8 +119,21 @@ def headline(points: pd.DataFrame) -> list[dict[str, Any]]:
     return rows
 
 
-def charts(points: pd.DataFrame, order: list[str]) -> list[dict[str, str]]:
-    """One chart per scene: error against real-time factor, a curve per engine variant.
+def dt_label(dt: float) -> str:
+    """A time step as its chart label: with an SI prefix, or ``1/n s`` for a step of a whole
+    rate that three digits would round.
+
+    >>> dt_label(1 / 240), dt_label(1e-3), dt_label(0.05), dt_label(1e-5)
+    ('dt 1/240 s', 'dt 1 ms', 'dt 50 ms', 'dt 10 µs')
+    """
+    rate = round(1.0 / dt)
+    if float(f"{dt:.3g}") != dt and abs(rate * dt - 1.0) < 1e-9:
+        return f"dt 1/{rate} s"
+    return f"dt {seconds(dt)}"
+
+
+def charts(points: pd.DataFrame, order: list[str]) -> list[dict[str, Any]]:
+    """One chart per scene: position error against cost, a curve per engine variant.
 
     Figures are plain dicts rendered without validation (``go.Figure`` costs ~0.2 s each).
     """
@@ -114,42 +141,113 @@ def charts(points: pd.DataFrame, order: list[str]) -> list[dict[str, str]]:
         return []
     names = dict.fromkeys([*order, *points["engine"]])
     styles = {n: i for i, n in enumerate(names)}
-    out = []
-    for scene, group in points.groupby("scene", sort=False):
-        data = [_curve(curve.sort_values("dt"), str(variant), styles)
-                for variant, curve in group.groupby("variant", sort=False)]
-        layout = {
-            "template": plotly_template(), "height": 420,
-            "title": {"text": html.escape(str(scene))},
-            "margin": {"t": 50, "b": 40, "l": 40, "r": 20}, "hoverlabel": {"align": "left"},
-            "xaxis": {"type": "log",
-                      "title": {"text": "real-time factor (simulated s per wall s)"}},
-            "yaxis": {"type": "log",
-                      "title": {"text": "position error at the end (mean radii)"}}}
-        out.append({"scene": str(scene),
-                    "html": plot_div({"data": data, "layout": layout}, f"dyn-{scene}")})
-    return out
+    return [{"scene": str(scene), "aligned": int(group["aligned"].map(bool).sum()),
+             "html": plot_div(figure(group, str(scene), styles), f"dyn-{scene}")}
+            for scene, group in points.groupby("scene", sort=False)]
+
+
+def _at(error: float, floor: float, ceiling: float | None) -> float:
+    """Where an error is drawn: 0 at the floor, infinite or none at the ceiling."""
+    if error == 0:
+        return floor
+    return error if math.isfinite(error) else ceiling or math.nan
+
+
+def _y(rows: pd.DataFrame) -> tuple[list[float], float | None, float | None]:
+    """Where each position error is drawn, and the floor and ceiling when something sits there
+    (0 at the floor; infinite or no error at the ceiling)."""
+    shown = rows["cost"].gt(0) & rows["cost"].lt(math.inf)
+    errors = rows.loc[shown, "position_error"].astype(float)
+    floor, ceiling = axes.limits(errors, bool(rows.loc[shown, "status"].isin(FAILED).any()))
+    ys = [_at(e, floor, ceiling) if on else math.nan
+          for e, on in zip(rows["position_error"].astype(float), shown, strict=True)]
+    return ys, axes.shown_floor(errors, floor), ceiling
+
+
+def _sides(rows: pd.DataFrame, ys: list[float], floor: float | None,
+           ceiling: float | None) -> list[str]:
+    """Where each point's label goes: above for every other variant, below for the others
+    (neighbouring curves label both sides), always inside the floor and the ceiling."""
+    variants = {v: n for n, v in enumerate(dict.fromkeys(rows["variant"]))}
+    return ["bottom center" if y == ceiling or (variants[v] % 2 and y != floor)
+            else "top center" for v, y in zip(rows["variant"], ys, strict=True)]
+
+
+def drawn(group: pd.DataFrame) -> tuple[pd.DataFrame, dict[str, Any]]:
+    """The points of one scene with where they are drawn (``x``, ``y``: floor, ceiling and
+    coincident points pulled apart), their dt label (``label``: once for points drawn side
+    by side) and ``apart`` (the variants drawn beside them); and the two axes."""
+    rows = group.reset_index(drop=True)
+    ys, floor, ceiling = _y(rows)
+    low, high = axes.data_range(rows["cost"])
+    bottom, top = axes.error_range(ys, floor, ceiling)
+    groups = axes.coincident(list(zip(rows["cost"], ys, strict=True)), (high - low, top - bottom))
+    labels = [dt_label(dt) + (" (on a step)" if on else "")
+              for dt, on in zip(rows["dt"], rows["aligned"], strict=True)]
+    rows = rows.assign(x=axes.spread(rows["cost"].tolist(), groups, high - low), y=ys,
+                       apart=axes.beside(groups, rows["variant"].astype(str).tolist()),
+                       label=axes.once(groups, labels), side=_sides(rows, ys, floor, ceiling))
+    return rows, {
+        "xaxis": axes.log_axis("wall time per simulated second (s; 1 / real-time factor)",
+                               low, high),
+        "yaxis": axes.log_axis("position error at the end (mean radii)", bottom, top, floor,
+                               ceiling),
+        "marks": axes.limit_marks(floor, ceiling, "no value or infinite error")}
+
+
+def figure(group: pd.DataFrame, scene: str, styles: dict[str, int]) -> dict[str, Any]:
+    """The chart of one scene (a plain plotly figure): a curve per variant through its time
+    steps, each point labelled with its dt; the floor, the ceiling and aligned points
+    labelled."""
+    rows, parts = drawn(group)
+    shapes, notes = parts["marks"]
+    if rows["aligned"].map(bool).any():  # a caption line under the title
+        notes = [*notes, {"text": ALIGNED_NOTE, "xref": "paper", "yref": "paper", "x": 0,
+                          "y": 1, "yshift": 6, "xanchor": "left", "yanchor": "bottom",
+                          "showarrow": False, "font": axes.LABEL_FONT | {"color": "#b22222"}}]
+    layout = {
+        "template": plotly_template(), "height": 460, "hoverlabel": {"align": "left"},
+        "title": {"text": f"{html.escape(scene)} (lower left is better)"},
+        "margin": {"t": 80, "b": 40, "l": 40, "r": 20}, "xaxis": parts["xaxis"],
+        "yaxis": parts["yaxis"], "shapes": shapes, "annotations": notes}
+    data = [_curve(curve.sort_values("dt"), str(variant), styles)
+            for variant, curve in rows.groupby("variant", sort=False)]
+    return {"data": data, "layout": layout}
 
 
 def _curve(curve: pd.DataFrame, variant: str, styles: dict[str, int]) -> dict[str, Any]:
     style = styles[str(curve["engine"].iloc[0])]
+    colour, symbol = COLOURS[style % len(COLOURS)], SYMBOLS[style % len(SYMBOLS)]
+    flagged = curve["aligned"].map(bool).tolist()
     return {
-        "type": "scatter", "mode": "lines+markers", "name": html.escape(variant),
-        "x": curve["rtf"].tolist(), "y": curve["position_error"].clip(lower=FLOOR).tolist(),
-        "line": {"color": COLOURS[style % len(COLOURS)],
+        "type": "scatter", "mode": "lines+markers+text", "name": html.escape(variant),
+        "x": curve["x"].tolist(), "y": curve["y"].tolist(),
+        "text": curve["label"].tolist(), "textposition": curve["side"].tolist(),
+        "textfont": {"size": 9, "color": colour}, "cliponaxis": False,
+        "line": {"color": colour,
                  "dash": "dot" if curve["iterations"].notna().any() else "solid"},
-        "marker": {"symbol": SYMBOLS[style % len(SYMBOLS)], "size": 9},
+        "marker": {"symbol": [ALIGNED_SYMBOL if f else symbol for f in flagged],
+                   "size": [13 if f else 9 for f in flagged], "color": colour,
+                   "line": {"color": ["#b22222" if f else colour for f in flagged],
+                            "width": [2 if f else 0 for f in flagged]}},
         "hovertext": [_hover(r) for r in curve.itertuples(index=False)], "hoverinfo": "text"}
 
 
 def _hover(r: Any) -> str:
-    return "<br>".join([
+    lines = [
         f"<b>{html.escape(str(r.variant))}</b> dt = {r.dt:.3g} s ({r.steps} steps)",
-        f"real-time factor {r.rtf:.3g} (stepping {r.wall_s:.3g} s)",
+        f"wall time per simulated second {r.cost:.3g} s (real-time factor {r.rtf:.3g}; "
+        f"stepping {r.wall_s:.3g} s)",
         f"position error {r.position_error:.3g} mean radii",
         f"velocity error {r.velocity_error:.3g} of the top initial speed",
         f"energy change {r.energy_change:+.3g} of the initial energy",
-        f"momentum error {r.momentum_error:.3g}"])
+        f"momentum error {r.momentum_error:.3g}"]
+    if r.aligned:
+        lines.append(f"<b>impact on a step boundary</b> (t = {r.aligned[0]:.6g} s = k dt): a "
+                     "step-late engine meets it on time;<br>this error does not show its step lag")
+    if r.apart:
+        lines.append(f"drawn beside {html.escape(r.apart)} (same place)")
+    return "<br>".join(lines)
 
 
 def section(frame: pd.DataFrame, cases: Mapping[str, AnyCase],

@@ -10,7 +10,10 @@ The scale sweep is walked twice from 1, towards tiny and towards huge bodies.
 
 Charts plot a relative error against the difficulty: the distance error over
 the case's length scale, a velocity error over its velocity scale, the normal
-error in radians (see :func:`relative_error`).
+error in radians (see :func:`relative_error`).  Lower is better; x is the
+difficulty, harder to the right (each axis title says so).  Exact answers sit on
+a labelled floor, failures and infinite errors on a labelled ceiling, and engines
+with the same answer at a point are drawn side by side (:mod:`crosscheck.report.axes`).
 """
 
 from __future__ import annotations
@@ -29,7 +32,8 @@ from markupsafe import Markup
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
-from crosscheck.report.style import COLOURS, SYMBOLS, ZERO_FLOOR, plot_div, plotly_template
+from crosscheck.report import axes
+from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 from crosscheck.results.store import read_run
 from crosscheck.truth.categories import length_scale, velocity_scale
 
@@ -216,14 +220,14 @@ def thresholds(points: pd.DataFrame) -> pd.DataFrame:
 # Figures are plain dicts rendered without validation: go.Figure takes ~0.5 s per chart.
 
 
-def _limits(rows: pd.DataFrame) -> tuple[float, float | None, float]:
-    """Where 0 is drawn, where failures and inf are drawn (if any), the largest finite error."""
-    values = rows["rel_error"].to_numpy(dtype=float)
-    finite = values[(values > 0) & (values < math.inf)]
-    low, high = (finite.min(), finite.max()) if len(finite) else (1.0, 1.0)
-    floor = min(ZERO_FLOOR, 10.0 ** (math.floor(math.log10(low)) - 1))
-    failed = rows["status"].isin(FAILED).any() or (values == math.inf).any()
-    return floor, 10.0 ** (max(math.ceil(math.log10(high)), 0) + 2) if failed else None, high
+def _limits(rows: pd.DataFrame) -> tuple[float, float | None, float | None]:
+    """Where 0 is drawn, whether it shows (None: no exact answer drawn), and where failures
+    and inf are drawn (None: there are none)."""
+    drawn = rows[~rows["status"].isin(NEUTRAL)]
+    values = drawn["rel_error"].to_numpy(dtype=float)
+    failed = bool(drawn["status"].isin(FAILED).any() or (values == math.inf).any())
+    floor, ceiling = axes.limits(values[values < math.inf], failed)
+    return floor, axes.shown_floor(values, floor), ceiling
 
 
 def _y(row: dict[Hashable, Any], floor: float, ceiling: float | None) -> float:
@@ -233,21 +237,22 @@ def _y(row: dict[Hashable, Any], floor: float, ceiling: float | None) -> float:
 
 
 def _hover(row: dict[Hashable, Any]) -> str:
-    return "<br>".join(html.escape(line) for line in (
-        f"{row['engine']}: {_with_category(row['status'], row['category'])}", row["case_id"],
-        f"{row['param']} = {row['value']:.6g}", f"error {row['error']:.3g}",
-        f"relative error {row['rel_error']:.3g}"))
+    lines = [f"{row['engine']}: {_with_category(row['status'], row['category'])}",
+             row["case_id"], f"{row['param']} = {row['value']:.6g}", f"error {row['error']:.3g}",
+             f"relative error {row['rel_error']:.3g}"]
+    if row.get("apart"):
+        lines.append(f"drawn beside {row['apart']} (same place)")
+    return "<br>".join(html.escape(line) for line in lines)
 
 
-def _trace(rows: pd.DataFrame, index: int, panel: int, limits: tuple[float, float | None],
-           first: bool) -> dict[str, Any]:
-    """One engine's line on the sweep panel ``panel`` (1, 2, ...)."""
+def _trace(rows: pd.DataFrame, index: int, panel: int, first: bool) -> dict[str, Any]:
+    """One engine's line on the sweep panel ``panel`` (1, 2, ...), at the drawn ``x``, ``y``."""
     engine = html.escape(str(rows["engine"].iloc[0]))
     shown = rows.sort_values("value").to_dict("records")
     colour = COLOURS[index % len(COLOURS)]
     return {
         "type": "scatter", "xaxis": f"x{panel}", "yaxis": f"y{panel}", "name": engine,
-        "x": [r["value"] for r in shown], "y": [_y(r, *limits) for r in shown],
+        "x": [r["x"] for r in shown], "y": [r["y"] for r in shown],
         "mode": "lines+markers", "legendgroup": engine, "showlegend": first,
         "hoverinfo": "text", "hovertext": [_hover(r) for r in shown],
         "line": {"color": colour, "width": 1.5, "dash": DASHES[index % len(DASHES)]},
@@ -255,30 +260,42 @@ def _trace(rows: pd.DataFrame, index: int, panel: int, limits: tuple[float, floa
             "x" if r["status"] in BREAKING else SYMBOLS[index % len(SYMBOLS)] for r in shown]}}
 
 
-def _y_axis(quantity: str, floor: float, ceiling: float | None, top: float) -> dict[str, Any]:
-    low, high = round(math.log10(floor)), math.log10(ceiling or max(top, 1.0))
-    step = max(1, math.ceil((high - low) / 8))
-    ticks = {floor: "0"} | {10.0 ** k: f"1e{k}" for k in range(low + step, int(high) + 1, step)}
-    if ceiling:
-        ticks[ceiling] = "failed / inf"
-    note = f"0 drawn at {floor:.0e}" + (f", failures at {ceiling:.0e}" if ceiling else "")
-    return {"type": "log", "range": [low - 0.5, high + 0.5], "tickvals": list(ticks),
-            "ticktext": list(ticks.values()), "title": {"text": f"{Y_LABEL[quantity]}<br>({note})"}}
+def _y_axis(quantity: str, values: list[float], floor: float | None,
+            ceiling: float | None) -> dict[str, Any]:
+    low, high = axes.error_range(values, floor, ceiling)
+    notes = ([f"0 drawn at {floor:.0e}"] if floor else []) + (
+        [f"failures at {ceiling:.0e}"] if ceiling else [])
+    title = f"{Y_LABEL[quantity]}, lower is better" + (f"<br>({', '.join(notes)})" if notes
+                                                        else "")
+    return axes.log_axis(title, low, high, floor, ceiling)
 
 
-def _panel(n: int, count: int, param: str, sweep: str) -> dict[str, Any]:
-    """Axes (in a grid of at most 3 columns), title, tolerance line and label of panel ``n``."""
+def _drawn(on: pd.DataFrame, limits: tuple[float, float | None], spans: tuple[float, float]
+           ) -> pd.DataFrame:
+    """The points of one panel with where they are drawn: ``y`` at the floor or the ceiling
+    when need be, ``x`` pulled apart where engines coincide (``apart`` names the others)."""
+    rows = on.reset_index(drop=True)
+    ys = [_y(r, *limits) for r in rows.to_dict("records")]
+    groups = axes.coincident(list(zip(rows["value"], ys, strict=True)), spans)
+    return rows.assign(x=axes.spread(rows["value"].tolist(), groups, spans[0]), y=ys,
+                       apart=axes.beside(groups, rows["engine"].astype(str).tolist()))
+
+
+def _panel(n: int, count: int, param: str, sweep: str,
+           span: tuple[float, float]) -> dict[str, Any]:
+    """Axes (in a grid of at most 3 columns), title, tolerance line and label of panel ``n``;
+    ``span``: log10 of the ends of its x axis."""
     cols = min(3, count)
     rows = math.ceil(count / cols)
     width, height = (1 - 0.05 * (cols - 1)) / cols, (1 - 0.15 * (rows - 1)) / rows
     row, col = divmod(n - 1, cols)
     x0, y1 = col * (width + 0.05), 1 - row * (height + 0.15)
     harder = "away from 1" if param == "scale" else "to the right"
-    reverse = not any(d.harder_up for d in DIRECTIONS[param])
+    x_axis = axes.log_axis(f"{X_LABEL[param]} (harder {harder})", *span)
+    if not any(d.harder_up for d in DIRECTIONS[param]):
+        x_axis["range"] = x_axis["range"][::-1]
     return {
-        "x": {"type": "log", "domain": [x0, x0 + width], "anchor": f"y{n}", "exponentformat": "e",
-              "autorange": "reversed" if reverse else True,
-              "title": {"text": f"{X_LABEL[param]} (harder {harder})"}},
+        "x": x_axis | {"domain": [x0, x0 + width], "anchor": f"y{n}"},
         "y": {"domain": [y1 - height, y1], "anchor": f"x{n}", "showticklabels": col == 0},
         "title": {"text": html.escape(sweep), "x": x0 + width / 2, "y": y1, "xref": "paper",
                   "yref": "paper", "xanchor": "center", "yanchor": "bottom", "showarrow": False},
@@ -286,36 +303,47 @@ def _panel(n: int, count: int, param: str, sweep: str) -> dict[str, Any]:
                  "line": {"dash": "dot", "color": "#888"}},
         "label": {"text": "tolerance", "xref": f"x{n} domain", "x": 0, "yref": f"y{n}",
                   "xanchor": "left", "yanchor": "bottom", "showarrow": False,
-                  "font": {"size": 11, "color": "#666"}}}
+                  "font": axes.LABEL_FONT}}
 
 
 def figure(rows: pd.DataFrame, quantity: str, order: list[str]) -> dict[str, Any]:
     """Error against difficulty for one axis x kind: a panel per sweep, a line per engine."""
     rows = rows[rows["quantity"] == quantity].drop_duplicates(["sweep", "engine", "value"])
     sweeps = list(dict.fromkeys(rows["sweep"]))
-    floor, ceiling, top = _limits(rows)
+    floor, zero_at, ceiling = _limits(rows)
     tolerance = float(rows["rel_tolerance"].replace(0.0, math.nan).median())
-    y_axis = _y_axis(quantity, floor, ceiling, max(top, tolerance if tolerance > 0 else 0))
+    y_axis = _y_axis(quantity, [*rows["rel_error"], tolerance], zero_at, ceiling)
     layout: dict[str, Any] = {
         "template": plotly_template(), "height": 260 + 200 * math.ceil(len(sweeps) / 3),
         "hoverlabel": {"align": "left"}, "margin": {"t": 50, "b": 40, "l": 40, "r": 20},
         "legend": {"title": {"text": "engine (x: breaks)"}}, "annotations": [], "shapes": []}
     data: list[dict[str, Any]] = []
     for n, sweep in enumerate(sweeps, start=1):
-        on = rows[(rows["sweep"] == sweep) & ~rows["status"].isin(NEUTRAL)]
-        panel = _panel(n, len(sweeps), str(rows.loc[rows["sweep"] == sweep, "param"].iloc[0]),
-                       str(sweep))
+        on = rows[rows["sweep"] == sweep]
+        span = axes.data_range(on["value"], pad=0.1)
+        panel = _panel(n, len(sweeps), str(on["param"].iloc[0]), str(sweep), span)
         shared = {"matches": "y", "title": {"text": ""}} if n > 1 else {}
         layout |= {f"xaxis{n}": panel["x"], f"yaxis{n}": panel["y"] | y_axis | shared}
-        layout["annotations"].append(panel["title"])
-        if tolerance > 0:  # a shape takes the value on a log axis, an annotation its log10
-            layout["shapes"].append(panel["line"] | {"y0": tolerance, "y1": tolerance})
-            layout["annotations"].append(panel["label"] | {"y": math.log10(tolerance)})
+        _marks(layout, panel, n, tolerance, (zero_at, ceiling))
+        drawn = _drawn(on[~on["status"].isin(NEUTRAL)], (floor, ceiling),
+                       (span[1] - span[0], y_axis["range"][1] - y_axis["range"][0]))
         shown = {trace["name"] for trace in data}
-        data += [_trace(group, order.index(str(engine)), n, (floor, ceiling),
+        data += [_trace(group, order.index(str(engine)), n,
                         html.escape(str(engine)) not in shown)
-                 for engine, group in on.groupby("engine", sort=False)]
+                 for engine, group in drawn.groupby("engine", sort=False)]
     return {"data": data, "layout": layout}
+
+
+def _marks(layout: dict[str, Any], panel: dict[str, Any], n: int, tolerance: float,
+           limits: tuple[float | None, float | None]) -> None:
+    """Panel ``n``'s title, its tolerance line and its floor and ceiling lines, labelled."""
+    layout["annotations"].append(panel["title"])
+    if tolerance > 0:  # a shape takes the value on a log axis, an annotation its log10
+        layout["shapes"].append(panel["line"] | {"y0": tolerance, "y1": tolerance})
+        layout["annotations"].append(panel["label"] | {"y": math.log10(tolerance)})
+    shapes, notes = axes.limit_marks(*limits, "failed or infinite error", f"x{n}", f"y{n}")
+    layout["shapes"] += shapes
+    layout["annotations"] += notes
 
 
 def _chart(rows: pd.DataFrame, axis: str, kind: str, quantity: str,

@@ -44,8 +44,29 @@ def templates() -> Environment:
 
 @functools.cache
 def plotly_template() -> dict[str, Any]:
-    """The plotly template of every chart (``plotly_white``), as a plain dict."""
-    return dict(pio.templates["plotly_white"].to_plotly_json())
+    """The plotly template of every chart, as a plain dict: ``plotly_white`` with one font,
+    one axis style (a framed plot, outside ticks, light gridlines, no zero line) and plotly's
+    ``power`` exponent format on every axis (log axes: see :mod:`crosscheck.report.axes`).
+
+    >>> plotly_template()["layout"]["yaxis"]["exponentformat"]
+    'power'
+    """
+    template = dict(pio.templates["plotly_white"].to_plotly_json())
+    layout = dict(template["layout"])
+    layout["font"] = {**layout.get("font", {}), "size": 12,
+                      "family": "system-ui, -apple-system, 'Segoe UI', sans-serif"}
+    for name in ("xaxis", "yaxis"):
+        layout[name] = {**layout.get(name, {}), **chart_axis()}
+    template["layout"] = layout
+    return template
+
+
+def chart_axis() -> dict[str, Any]:
+    """The style every chart axis shares (the template's ``xaxis`` and ``yaxis``)."""
+    return {"exponentformat": "power", "showexponent": "all", "gridcolor": "#e6e6e6",
+            "linecolor": "#555", "showline": True, "mirror": True, "ticks": "outside",
+            "tickcolor": "#555", "ticklen": 4, "tickfont": {"size": 11}, "zeroline": False,
+            "title": {"standoff": 10, "font": {"size": 12}}, "automargin": True}
 
 
 def plot_div(figure: Any, div_id: str) -> str:
