@@ -254,7 +254,8 @@ def test_infinite_errors_sit_at_a_labelled_ceiling() -> None:
     fig = charts.figure(chart, ["a"])
     whisker_top = fig.data[0].y[0] + fig.data[0].error_y.array[0]
     assert fig.data[0].y[0] == 1.0 and whisker_top == 100.0 and fig.data[1].y[0] == 100.0
-    assert fig.layout.yaxis.ticktext[-1] == "inf" and "inf on the dotted lines" in fig.layout.yaxis.title.text
+    assert fig.layout.yaxis.ticktext[-1] == "inf"
+    assert "inf on the dotted lines" in fig.layout.yaxis.title.text
     assert any(a.text == "infinite error" for a in fig.layout.annotations)
 
 
