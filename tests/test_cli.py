@@ -16,6 +16,7 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.cli.console import summary_table
+from crosscheck.results.runinfo import FORMAT_VERSION
 from tests.conftest import ROOT, embedded
 from tests.test_cases import sphere_text
 
@@ -168,7 +169,8 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
     with pytest.raises(SystemExit) as done:
         main(["--version"])
     assert done.value.code == 0
-    assert re.fullmatch(r"crosscheck \S+ \(results format 3\)\n", capsys.readouterr().out)
+    expected = rf"crosscheck \S+ \(results format {FORMAT_VERSION}\)\n"
+    assert re.fullmatch(expected, capsys.readouterr().out)
 
 
 def test_the_summary_reads_whole_at_80_columns(small_suite: Path, tmp_path: Path) -> None:
