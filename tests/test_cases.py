@@ -223,3 +223,9 @@ def test_messages_give_the_line_and_a_did_you_mean(write_toml: Write) -> None:
     wrong_kind = only_error(write_toml(sphere_text().replace('kind = "sphere"', 'kind = "spere"')))
     assert "kind must be one of aabb, sphere, sphere_response, sphere_scene, not 'spere' " \
            "(did you mean 'sphere'?)" in wrong_kind
+
+
+def test_a_value_outside_a_list_of_choices_names_the_choices(write_toml: Write) -> None:
+    text = sphere_text().replace('dim = 3', 'dim = 3\ntwin_2d = "xyz"')
+    message = only_error(write_toml(text))
+    assert "field twin_2d: must be 'xy', 'xz' or 'yz' (got 'xyz')" in message

@@ -8,10 +8,18 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from crosscheck.cases.expand import SweepError, expand, swapped, values_of
+from crosscheck.cases.expand import (
+    TWIN_TAG,
+    SweepError,
+    TwinError,
+    expand,
+    flattened,
+    swapped,
+    values_of,
+)
 from crosscheck.cases.load import load_paths
 from crosscheck.core.model import Observation, Undefined
-from crosscheck.core.schema import LinSpace, LogSpace
+from crosscheck.core.schema import AnyCase, LinSpace, LogSpace, Plane, SceneCase
 from crosscheck.report.mirror import asymmetries
 from crosscheck.truth import oracle
 from tests.conftest import ROOT, aabb, response, sphere
@@ -128,6 +136,40 @@ def test_swapped_twins_of_the_shipped_suite_mirror_exactly() -> None:
             a, b = want.get(quantity), got.get(quantity)
             assert a == b or (isinstance(a, Undefined) and isinstance(b, Undefined)), (
                 original.id, quantity, a, b)
+
+
+def test_flattened_drops_the_axis_its_plane_leaves_out() -> None:
+    case = response([1.0, 2.0, 3.0], [4.0, 0.0, 5.0], [2.0, 2.0, 4.0], [0.0, 0.0, -1.0],
+                    sweep={"speed": [2.0], "direction": [1.0, 0.0, 1.0]})
+    flat = flattened(case, "xz")
+    assert (flat.id, flat.dim, flat.twin_2d) == ("r.2d", 2, None)
+    assert flat.a.center == (1.0, 3.0) and flat.b.velocity == (0.0, -1.0)
+    assert flat.sweep is not None and flat.sweep.direction == (1.0, 1.0)
+    assert flat.tags == (TWIN_TAG,) and flat.description == "d (2-D twin in the xz plane)"
+    box = flattened(aabb([0.0, 5.0, 1.0], [1.0, 2.0, 3.0], [2.0, 5.0, 0.0], [1.0, 1.0, 1.0]),
+                    "xz")
+    assert (box.a.center, box.a.half, box.b.half) == ((0.0, 1.0), (1.0, 3.0), (1.0, 1.0))
+
+
+@pytest.mark.parametrize(("case", "plane", "field"), [
+    (sphere(0.0, 1.0), "yz", "a.center[0]"),  # the centres differ in x
+    (response([0.0, 0.0, 0.0], [1.0, 0.0, 0.5], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]), "xy",
+     "a.velocity[2]"),
+    (sphere(0.0, 1.0, sweep={"gap": [0.1], "direction": [1.0, 0.0, 1.0]}), "xy",
+     "sweep.direction[2]"),
+    (sphere(0.0, 1.0, dim=2), "xy", "dim"),
+])
+def test_a_case_off_the_plane_has_no_twin(case: AnyCase, plane: Plane, field: str) -> None:
+    assert not isinstance(case, SceneCase)
+    with pytest.raises(TwinError) as info:
+        flattened(case, plane)
+    assert info.value.field == "twin_2d" and f"{plane} plane: {field} " in str(info.value)
+
+
+def test_a_swapped_twin_links_to_the_swapped_3d_case() -> None:
+    (point, twin) = expand(sphere(0.0, 1.0, twin_2d="xy"))
+    assert (twin.id, twin.from_3d, point.from_3d) == ("s.2d", "s", "")
+    assert swapped(twin).from_3d == "s.swapped" and swapped(point).from_3d == ""
 
 
 def test_swap_exchanges_bodies_and_keeps_the_rest() -> None:

@@ -12,6 +12,7 @@ import pandas as pd
 import pytest
 
 import adapters
+from crosscheck.cases.expand import expand
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import stability as stability_command
 from crosscheck.core.options import RunOptions
@@ -130,10 +131,64 @@ def test_only_single_parameter_sweep_points_are_read() -> None:
     assert stability.sweep_points(frame.iloc[:0], {}).empty
 
 
+def twin_sweep() -> dict[str, Any]:
+    """The cases of a 3-D gap sweep ``g`` with its 2-D twin ``g.2d``, by id."""
+    case = {"id": "g", "description": "d", "kind": "sphere", "dim": 3, "twin_2d": "xy",
+            "a": {"center": [0.0, 0.0, 0.0], "radius": 0.5},
+            "b": {"center": [1.0, 0.0, 0.0], "radius": 0.5}, "sweep": {"gap": GAPS}}
+    return {c.id: c for c in expand(CASE_ADAPTER.validate_python(case))}
+
+
+def dim_rows(cases: dict[str, Any], dim: int, engine: str, statuses: list[str],
+             quantity: str = "distance") -> list[dict[str, Any]]:
+    """Result rows of the points of ``cases`` in ``dim``, with these statuses in sweep order."""
+    points = [c for c in cases.values() if c.dim == dim]
+    return [{"case_id": c.id, "kind": "sphere", "dim": dim, "engine": engine,
+             "quantity": quantity, "value": "0.0", "status": status, "error": 1e-6,
+             "tolerance": 1e-9, "category": "tolerance" if status == "disagree" else "",
+             "origin": c.origin, "coords": json.dumps(c.coords), "twin_of": ""}
+            for c, status in zip(points, statuses, strict=True)]
+
+
+def test_a_3d_sweep_and_its_2d_twin_share_one_column() -> None:
+    cases = twin_sweep()
+    agree, late = ["agree"] * 4, ["agree", "agree", "disagree", "disagree"]
+    frame = pd.DataFrame(dim_rows(cases, 3, "both", agree) + dim_rows(cases, 2, "both", late)
+                         + dim_rows(cases, 3, "flat", ["skip"] * 4)
+                         + dim_rows(cases, 2, "flat", agree))
+    table = stability.thresholds(stability.sweep_points(frame, cases))
+    assert set(table["sweep"]) == {"g", "g.2d"} and set(table["family"]) == {"g"}
+    shown = table[table["headline"]]
+    assert shown["column"].tolist() == ["g (smaller)", "g (smaller)"]
+    both, flat = only(shown, engine="both"), only(shown, engine="flat")
+    assert both["dim"] == 2 and both["threshold"] == 1e-5  # the walk that breaks sooner
+    assert both["verdict"] == ("in 2-D: breaks at 1e-05 (disagree, tolerance); "
+                               "in 3-D: none in range (checked to 1e-07)")
+    assert flat["dim"] == 2 and flat["verdict"] == "in 2-D: none in range (checked to 1e-07)"
+    html = render({"table": table.to_dict("records"), "charts": []})
+    assert "<small>no verdict</small>" not in html and ">g.2d<br>" in html  # all cells 2-D
+    solid = frame[frame["engine"] == "both"].assign(engine="solid", status="agree")
+    table = stability.thresholds(stability.sweep_points(pd.concat([frame, solid]), cases))
+    assert only(table, engine="solid", headline=True)["dim"] == 3  # a tie shows the 3-D walk
+    html = render({"table": table.to_dict("records"), "charts": []})
+    assert ">g<br>" in html and html.count("<tr><td>") == 3  # its 3-D sweep names the column
+
+
+def test_an_engine_without_distances_is_shown_by_its_hit_walk() -> None:
+    table = table_of(rows("g", "gap", [(g, "skip") for g in GAPS]),
+                     rows("g", "gap", [(0.1, "agree"), (1e-7, "disagree")], quantity="hit"))
+    shown = only(table, headline=True)
+    assert (shown["quantity"], shown["threshold"]) == ("hit", 1e-7)
+    assert shown["verdict"] == "hit: breaks at 1e-07 (disagree, tolerance) (distance: no verdict)"
+    judged = table_of(rows("g", "gap", [(0.1, "agree")]),
+                      rows("g", "gap", [(0.1, "disagree")], quantity="hit"))
+    assert only(judged, headline=True)["quantity"] == "distance"  # no fallback when judged
+
+
 def test_relative_error_divides_by_the_case_scale() -> None:
     body = {"center": [1000.0, 0.0, 0.0], "radius": 0.5}
     moving = {"center": [0.0, 0.0, 0.0], "radius": 0.5, "mass": 1.0, "velocity": [4.0, 0, 0]}
-    cases = {case["id"]: CASE_ADAPTER.validate_python(case) for case in (
+    cases = {str(case["id"]): CASE_ADAPTER.validate_python(case) for case in (
         {"id": "s.offset=1000", "description": "d", "kind": "sphere", "dim": 3,
          "a": body, "b": body, "source": "x"},
         {"id": "r.mass_ratio=10", "description": "d", "dim": 3, "kind": "sphere_response",

@@ -20,6 +20,18 @@ every record, and nothing parses them back out of an id.
 >>> twin = swapped(point)
 >>> twin.id, twin.a.center, twin.twin_of, twin.coords
 ('g.gap=-0.25.swapped', (0.75, 0.0), 'g.gap=-0.25', {'gap': -0.25})
+
+A 3-D block with ``twin_2d`` (a coordinate plane) also stands for its 2-D twin,
+the block ``<id>.2d``: the same bodies in that plane, the third axis dropped,
+expanded over the same sweep.  The 3-D cases keep their ids and inputs; each
+2-D case names the 3-D case it flattens (``from_3d``), and the loader checks
+that the exact answer is the same (:func:`crosscheck.cases.load.twin_problems`).
+
+>>> block = CASE_ADAPTER.validate_python({"id": "t", "description": "d", "kind": "sphere",
+...     "dim": 3, "a": {"center": [0, 0, 5], "radius": 0.5},
+...     "b": {"center": [0, 1, 5], "radius": 0.5}, "twin_2d": "yz", "sweep": {"gap": [0.5]}})
+>>> [(c.id, c.b.center, c.from_3d) for c in expand(block)]
+[('t.gap=0.5', (0.0, 1.5, 5.0), ''), ('t.2d.gap=0.5', (1.5, 5.0), 't.gap=0.5')]
 """
 
 from __future__ import annotations
@@ -32,11 +44,13 @@ from typing import Any
 import numpy as np
 
 from crosscheck.core.schema import (
+    TWIN_SUFFIX,
     AabbCase,
     AnyCase,
     LinSpace,
     LogSpace,
     PairCase,
+    Plane,
     ResponseCase,
     SceneCase,
     Values,
@@ -44,6 +58,10 @@ from crosscheck.core.schema import (
 
 PARAMETERS = ("scale", "gap", "overlap", "offset", "mass_ratio", "speed")
 RESPONSE_ONLY = ("mass_ratio", "speed")
+PLANES: dict[Plane, int] = {"xy": 2, "xz": 1, "yz": 0}
+"""The axis (0 x, 1 y, 2 z) each plane of ``twin_2d`` drops."""
+AXIS_NAMES = "xyz"
+TWIN_TAG = "2d-twin"
 
 
 class SweepError(ValueError):
@@ -52,6 +70,13 @@ class SweepError(ValueError):
     def __init__(self, field: str, reason: str) -> None:
         super().__init__(reason)
         self.field = field
+
+
+class TwinError(SweepError):
+    """A block whose 2-D twin (``twin_2d``) cannot be made; ``field`` is ``twin_2d``."""
+
+    def __init__(self, reason: str) -> None:
+        super().__init__("twin_2d", reason)
 
 
 def values_of(spec: Values) -> list[float]:
@@ -85,11 +110,24 @@ def _label(name: str, value: float) -> str:
 
 
 def expand(case: AnyCase) -> list[AnyCase]:
-    """The cases a block stands for: itself, or one per sweep combination."""
+    """The cases a block stands for: itself, or one per sweep combination; then as many
+    2-D twins if it has ``twin_2d`` (each naming its 3-D case in ``from_3d``)."""
     if isinstance(case, SceneCase):
         if case.sweep is not None:
             raise SweepError("sweep", "scenes are swept over `steps` (dt, iterations), not sweep")
+        if case.twin_2d is not None:
+            raise TwinError("scenes have no 2-D twin: write the 2-D scene as a block of its own")
         return list(expand_steps(case))
+    points = _swept(case)
+    if case.twin_2d is None:
+        return list(points)
+    twins = _swept(flattened(case, case.twin_2d))
+    return [*points, *(twin.model_copy(update={"from_3d": point.id})
+                       for point, twin in zip(points, twins, strict=True))]
+
+
+def _swept(case: PairCase) -> list[PairCase]:
+    """The block itself, or one case per combination of its sweep parameters."""
     if case.sweep is None:
         return [case]
     grid = [(name, values_of(spec)) for name in PARAMETERS
@@ -179,9 +217,68 @@ _APPLY = {"scale": _scale, "gap": _gap, "overlap": lambda c, o: _gap(c, -o),
 def swapped(case: PairCase) -> PairCase:
     """The same case with A and B exchanged (its answers mirror the original's)."""
     return case.model_copy(update={
-        "id": f"{case.id}.swapped", "description": f"{case.description} (A and B swapped)",
+        "id": swapped_id(case.id), "description": f"{case.description} (A and B swapped)",
         "tags": (*case.tags, "swapped"), "a": case.b, "b": case.a, "swap": False,
-        "twin_of": case.id})
+        "twin_of": case.id, "from_3d": swapped_id(case.from_3d) if case.from_3d else ""})
+
+
+def swapped_id(case_id: str) -> str:
+    """The id of the A/B-swapped twin of case ``case_id``."""
+    return f"{case_id}.swapped"
+
+
+# --- 2-D twins ---------------------------------------------------------------------------------
+
+
+def flattened(case: PairCase, plane: Plane) -> PairCase:
+    """The 2-D twin of a 3-D block: its bodies in ``plane``, the third axis dropped.
+
+    Its id is ``<id>.2d``.  Only a case that lies in a plane parallel to ``plane``
+    has a twin: both centres equal on the dropped axis, and velocities and the sweep
+    direction zero on it (:class:`TwinError` otherwise).  The loader also checks the
+    exact answer (boxes can overlap least along the dropped axis).
+    """
+    axis = PLANES[plane]
+    problem = next(_flattening_problems(case, axis), None)
+    if problem is not None:
+        raise TwinError(f"no 2-D twin in the {plane} plane: {problem[0]} {problem[1]}")
+    sweep = case.sweep
+    if sweep is not None and sweep.direction is not None:
+        sweep = sweep.model_copy(update={"direction": _drop(sweep.direction, axis)})
+    flat = _bodies(case, a=_flat_body(case.a, axis), b=_flat_body(case.b, axis))
+    return flat.model_copy(update={
+        "id": f"{case.id}{TWIN_SUFFIX}", "dim": 2, "sweep": sweep, "twin_2d": None,
+        "description": f"{case.description} (2-D twin in the {plane} plane)",
+        "tags": (*case.tags, TWIN_TAG)})
+
+
+def _flattening_problems(case: PairCase, axis: int) -> Iterator[tuple[str, str]]:
+    """What keeps ``case`` from lying in a plane across ``axis``: (field, reason) pairs."""
+    name = AXIS_NAMES[axis]
+    if case.dim != 3:
+        yield "dim", f"is {case.dim}; a 2-D twin is made from a 3-D case"
+        return
+    if case.a.center[axis] != case.b.center[axis]:
+        yield f"a.center[{axis}]", (f"= {case.a.center[axis]!r} and b.center[{axis}] = "
+                                    f"{case.b.center[axis]!r} differ (the centres must share "
+                                    f"their {name})")
+    moving = (("a", case.a), ("b", case.b)) if isinstance(case, ResponseCase) else ()
+    for side, body in moving:
+        if body.velocity[axis] != 0:
+            yield f"{side}.velocity[{axis}]", f"is {body.velocity[axis]!r}, not 0"
+    direction = case.sweep.direction if case.sweep is not None else None
+    if direction is not None and len(direction) == 3 and direction[axis] != 0:
+        yield f"sweep.direction[{axis}]", f"is {direction[axis]!r}, not 0"
+
+
+def _drop(vector: tuple[float, ...], axis: int) -> tuple[float, ...]:
+    return tuple(x for i, x in enumerate(vector) if i != axis)
+
+
+def _flat_body(body: Any, axis: int) -> dict[str, Any]:
+    """The changes that put ``body`` in the plane across ``axis``."""
+    return {name: _drop(getattr(body, name), axis)
+            for name in ("center", "half", "velocity") if hasattr(body, name)}
 
 
 def with_swaps(cases: list[AnyCase]) -> Iterator[AnyCase]:

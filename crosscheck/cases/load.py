@@ -31,14 +31,24 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from crosscheck.cases.expand import SweepError, expand, with_swaps
+from crosscheck.cases.expand import (
+    AXIS_NAMES,
+    PLANES,
+    SweepError,
+    TwinError,
+    expand,
+    flattened,
+    with_swaps,
+)
 from crosscheck.cases.messages import plain
+from crosscheck.core.model import Undefined, Value, quantities_of
 from crosscheck.core.schema import (
     CASE_ADAPTER,
     LOADER_FIELDS,
     AabbBody,
     AnyCase,
     MovingSphere,
+    Plane,
     ResponseCase,
     SceneCase,
     SphereBody,
@@ -121,11 +131,65 @@ def _expanded(path: Path, blocks: list[AnyCase], errors: list[CaseError]) -> lis
         except SweepError as exc:
             errors.append(CaseError(str(path), repr(block.id), exc.field, str(exc)))
             continue
+        by_id = {point.id: point for point in points}
         for point in points:
             problems = semantic_problems(point) if point is not block else []
+            if point.from_3d and not problems:
+                problems = twin_problems(by_id[point.from_3d], point)
             errors.extend(CaseError(str(path), repr(point.id), f, r) for f, r in problems)
             out += [] if problems else [point]
     return out
+
+
+def twin_problems(original: AnyCase, twin: AnyCase) -> list[tuple[str, str]]:
+    """A 2-D twin must have its 3-D case's exact answer, quantity by quantity.
+
+    A vector of the 3-D answer (normal, velocity) must be 0 on the dropped axis and
+    equal the twin's on the other two; two Undefined values are the same answer.
+    """
+    if original.twin_2d is None:
+        return [("twin_2d", f"{original.id!r} has no 2-D twin")]
+    axis = PLANES[original.twin_2d]
+    want, got = oracle.truth(original), oracle.truth(twin)
+    return [("twin_2d", f"dropping the {AXIS_NAMES[axis]} axis changes the exact "
+                        f"{quantity}: {w!r} in 3-D, {g!r} in 2-D")
+            for quantity in quantities_of(original.kind_enum)
+            if not _same_answer(w := want.get(quantity), g := got.get(quantity), axis)]
+
+
+def plane_of(case: AnyCase) -> Plane | None:
+    """The first plane (xy, xz, yz) in which a 3-D case has a 2-D twin with its exact answer.
+
+    None when it has none: a 2-D case, a scene, or a contact that needs all three axes
+    (centres apart on every axis, boxes overlapping least along the only shared axis).
+    """
+    if isinstance(case, SceneCase) or case.dim != 3:
+        return None
+    for plane in PLANES:
+        try:
+            twin = flattened(case, plane)
+        except TwinError:
+            continue
+        if not twin_problems(case.model_copy(update={"twin_2d": plane}), twin):
+            return plane
+    return None
+
+
+def _same_answer(in_3d: Value | None, in_2d: Value | None, axis: int) -> bool:
+    if isinstance(in_3d, Undefined) or isinstance(in_2d, Undefined):
+        return isinstance(in_3d, Undefined) and isinstance(in_2d, Undefined)
+    if isinstance(in_3d, tuple):
+        kept = tuple(x for i, x in enumerate(in_3d) if i != axis)
+        return in_3d[axis] == 0 and _equal(kept, in_2d)
+    return _equal(in_3d, in_2d)
+
+
+def _equal(x: object, y: object) -> bool:
+    """Equal, counting NaN equal to NaN (also inside a vector)."""
+    if isinstance(x, tuple) and isinstance(y, tuple):
+        return len(x) == len(y) and all(_equal(a, b) for a, b in zip(x, y, strict=True))
+    both_nan = isinstance(x, float) and isinstance(y, float) and math.isnan(x) and math.isnan(y)
+    return both_nan or x == y
 
 
 def load_file(path: Path) -> tuple[list[AnyCase], list[CaseError]]:
@@ -189,8 +253,8 @@ def _validate_block(name: str, index: int, block: Any) -> tuple[AnyCase | None, 
         loader_set = [key for key in LOADER_FIELDS if key in block]
         if loader_set:
             return None, [CaseError(name, label, key, "set by the loader (where the case comes "
-                                    "from, its sweep coordinates, its swapped twin), not in a "
-                                    "case file") for key in loader_set]
+                                    "from, its sweep coordinates, its swapped twin, its 3-D "
+                                    "case), not in a case file") for key in loader_set]
         block = {**block, "source": name}
     try:
         case = CASE_ADAPTER.validate_python(block)

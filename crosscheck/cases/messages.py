@@ -71,5 +71,6 @@ def plain(err: dict[str, Any]) -> tuple[str, str]:
         shown = "" if kind == "missing" or isinstance(got, dict) else f", got {got!r}"
         return _WORDS[kind] + shown, where
     message = str(err["msg"]).removeprefix("Value error, ").removeprefix("Input should be ")
+    message = f"must be {message}" if kind == "literal_error" else message
     shown = "" if isinstance(got, dict) or repr(got) in message else f" (got {got!r})"
     return f"{message}{shown}", where

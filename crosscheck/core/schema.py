@@ -33,14 +33,18 @@ from crosscheck.core.model import Kind
 from crosscheck.core.scenegen import generated_bodies
 
 BAD_INPUT_TAG = "bad-input"
-LOADER_FIELDS = ("source", "origin", "coords", "twin_of")
+LOADER_FIELDS = ("source", "origin", "coords", "twin_of", "from_3d")
 """Fields the loader sets on every case; a case file may not set them."""
+TWIN_SUFFIX = ".2d"
+"""A block's 2-D twin (``twin_2d``) is the block ``<id>.2d``."""
 ID_PATTERN = r"^[a-z0-9][a-z0-9._,=+\-]*$"
 """Ids: lowercase letters, digits, '-', '.', '_'; sweeps add '=', ',' and '+' to expanded ids."""
 
 Num = Annotated[float, Strict()]
 """A TOML integer or float (nan and inf parse, and are rejected later unless bad-input)."""
 Vector = tuple[Num, ...]
+Plane = Literal["xy", "xz", "yz"]
+"""A coordinate plane of 3-D space: where a 3-D case's 2-D twin lives."""
 
 
 class _Frozen(BaseModel):
@@ -148,6 +152,9 @@ class _CaseBase(_Frozen):
     swap: Annotated[bool, Strict()] = Field(True, description=(
         "Also run the case with A and B swapped (its results must mirror these)."))
     sweep: Sweep | None = None
+    twin_2d: Plane | None = Field(None, description=(
+        "3-D cases: also run the case in 2-D in this coordinate plane (the third axis "
+        "dropped), as `<id>.2d`; the exact answer must not change."))
     source: SkipJsonSchema[str] = Field("", exclude=True)
     origin: SkipJsonSchema[str] = ""
     """Set by the loader: the id of the block this case was expanded from ('' for a plain block)."""
@@ -155,6 +162,8 @@ class _CaseBase(_Frozen):
     """Set by the loader: the sweep (or scene step) coordinates of this case, by parameter."""
     twin_of: SkipJsonSchema[str] = ""
     """Set by the loader: for an A/B-swapped twin, the id of the case it mirrors."""
+    from_3d: SkipJsonSchema[str] = ""
+    """Set by the loader: for a 2-D twin (``twin_2d``), the id of the 3-D case it flattens."""
 
     @property
     def kind_enum(self) -> Kind:

@@ -8,12 +8,24 @@ the answer breaks: status ``disagree``, ``error``, ``crash`` or ``timeout``.
 ``skip`` and ``undefined`` neither break nor agree: they are stepped over.
 The scale sweep is walked twice from 1, towards tiny and towards huge bodies.
 
+The matrix shows one cell per engine x sweep column (``headline``).  A 3-D sweep
+and its 2-D twin (``twin_2d`` in the case file: the same sweep in a plane) share
+a column, its ``family``: a 2-D engine's cell is its 2-D walk, and an engine with
+both walks shows the one that breaks sooner, its verdict naming both.  The cell is
+the kind's headline quantity (the distance; ``v2`` for responses); an engine that
+reports no distance along a detection walk (pymunk gives none for separated
+bodies) is shown by its ``hit`` walk, and the verdict says so.
+
 Charts plot a relative error against the difficulty: the distance error over
 the case's length scale, a velocity error over its velocity scale, the normal
 error in radians (see :func:`relative_error`).  Lower is better; x is the
 difficulty, harder to the right (each axis title says so).  Exact answers sit on
 a labelled floor, failures and infinite errors on a labelled ceiling, and engines
 with the same answer at a point are drawn side by side (:mod:`crosscheck.report.axes`).
+
+Over 400 lines because the study's three stages (points, thresholds and the matrix
+cells, charts) read one set of tables (``AXES``, ``DIRECTIONS``, ``HEADLINE``,
+the labels); the charts (from ``# --- charts``) are the part to move out first.
 """
 
 from __future__ import annotations
@@ -47,6 +59,8 @@ NEUTRAL = Status.members("neutral")
 FAILED = Status.members("failed")
 HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2"}
 """The quantity the threshold table shows for each kind."""
+FALLBACK = {"aabb": "hit", "sphere": "hit"}
+"""What the table shows for an engine whose headline quantity has no verdict on a walk."""
 CHARTED = {"aabb": ("distance", "normal"), "sphere": ("distance", "normal"),
            "sphere_response": ("v2",)}
 DASHES = ("solid", "dot", "dash", "longdash", "dashdot")
@@ -72,10 +86,10 @@ X_LABEL = {"offset": "offset added to every coordinate", "scale": "factor on eve
            "mass_ratio": "mass ratio m_B / m_A", "speed": "factor on both velocities"}
 Y_LABEL = {"distance": "|distance error| / length scale", "normal": "normal error (radians)",
            "v1": "|v1 error| / velocity scale", "v2": "|v2 error| / velocity scale"}
-POINT_COLUMNS = ["sweep", "axis", "param", "value", "direction", "kind", "dim", "engine",
+POINT_COLUMNS = ["sweep", "family", "axis", "param", "value", "direction", "kind", "dim", "engine",
                  "quantity", "status", "category", "error", "rel_error", "rel_tolerance",
                  "case_id"]
-TABLE_COLUMNS = ["sweep", "axis", "param", "direction", "harder", "kind", "dim", "engine",
+TABLE_COLUMNS = ["sweep", "family", "axis", "param", "direction", "harder", "kind", "dim", "engine",
                  "quantity", "headline", "column", "threshold", "status", "category", "verdict",
                  "state", "cell", "reached", "recovers", "recovered_at", "checked", "easiest",
                  "hardest", "points"]
@@ -118,11 +132,23 @@ def _single_parameter(coords: str) -> tuple[str, float] | None:
     return (param, float(value)) if param in DIRECTIONS else None
 
 
+def _family(case_id: str, origin: str, cases: Mapping[str, AnyCase]) -> str:
+    """The sweep column a point is shown in: a 2-D twin's is its 3-D case's sweep.
+
+    >>> _family("g.2d.gap=0.1", "g.2d", {})
+    'g.2d'
+    """
+    case = cases.get(case_id)
+    original = cases.get(case.from_3d) if case is not None and case.from_3d else None
+    return original.origin if original is not None and original.origin else origin
+
+
 def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
     """One row per sweep case x engine x quantity (x walk: scale 1 is in both scale walks).
 
     A sweep point is a case with one sweep coordinate (``coords``) that is not a
-    swapped twin; its sweep is the block it came from (``origin``).
+    swapped twin; its sweep is the block it came from (``origin``), its ``family``
+    the 3-D sweep of a 2-D twin (read from ``cases``), else its sweep.
     """
     found = [None if twin else _single_parameter(str(coords))
              for coords, twin in zip(frame["coords"], frame["twin_of"], strict=True)]
@@ -134,6 +160,8 @@ def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
     rows = frame[keep].drop(columns=["value"]).assign(
         param=[p for p, _ in chosen], value=[v for _, v in chosen])
     rows["sweep"] = rows["origin"]
+    rows["family"] = [_family(str(c), str(o), cases)
+                      for c, o in zip(rows["case_id"], rows["origin"], strict=True)]
     rows["axis"] = rows["param"].map(AXES)
     scales = _scales(cases, set(rows["case_id"]))
     for column, of in (("rel_error", "error"), ("rel_tolerance", "tolerance")):
@@ -200,20 +228,75 @@ def walk(rows: pd.DataFrame) -> dict[str, Any]:
 
 
 def thresholds(points: pd.DataFrame) -> pd.DataFrame:
-    """One row per sweep walk x engine x quantity: the threshold, its verdict text, recovery."""
+    """One row per sweep walk x engine x quantity: the threshold, its verdict text, recovery.
+
+    ``headline`` marks the one row per engine x ``column`` the matrix shows
+    (:func:`_shown`); a 2-D twin's rows come after its 3-D sweep's.
+    """
     rows = []
     keys = ["sweep", "direction", "engine", "quantity"]
     for (sweep, direction, engine, quantity), group in points.groupby(keys, sort=False):
         first = group.iloc[0]
         way = _direction(str(first["param"]), str(direction))
-        kind = str(first["kind"])
+        family = str(first.get("family", sweep))
         rows.append({
-            "sweep": sweep, "axis": first["axis"], "param": first["param"], "direction": direction,
-            "harder": f"{'larger' if way.harder_up else 'smaller'} is harder", "kind": kind,
-            "dim": first["dim"],
-            "engine": engine, "quantity": quantity, "headline": HEADLINE.get(kind) == quantity,
-            "column": f"{sweep} ({direction})", **walk(group)})
-    return pd.DataFrame(rows, columns=TABLE_COLUMNS)
+            "sweep": sweep, "family": family, "axis": first["axis"], "param": first["param"],
+            "direction": direction,
+            "harder": f"{'larger' if way.harder_up else 'smaller'} is harder",
+            "kind": str(first["kind"]), "dim": first["dim"], "engine": engine,
+            "quantity": quantity, "headline": False,
+            "column": f"{family} ({direction})", **walk(group)})
+    table = pd.DataFrame(rows, columns=TABLE_COLUMNS)
+    table = table.iloc[(table["sweep"] != table["family"]).argsort(kind="stable")]
+    return _shown(table.reset_index(drop=True))
+
+
+def _shown(table: pd.DataFrame) -> pd.DataFrame:
+    """Mark (``headline``) the row the matrix shows for each engine x column; name its dimension
+    and the quantity in its verdict when the column holds more than one walk or falls back.
+    """
+    for _, cell in table.groupby(["engine", "column"], sort=False):
+        walks: list[dict[Hashable, Any]] = cell.to_dict("records")
+        kind = str(walks[0]["kind"])
+        chosen = _choice(walks, kind)
+        label = cell.index[chosen]
+        table.at[label, "headline"] = True
+        table.at[label, "verdict"] = _cell_verdict(walks[chosen], walks, kind)
+    return table
+
+
+def _choice(walks: list[dict[Hashable, Any]], kind: str) -> int:
+    """The position of the walk shown: the headline quantity's that breaks soonest (the
+    fallback quantity's if the headline one has no verdict in any dimension)."""
+    def judged(quantity: str | None) -> list[int]:
+        return [i for i, w in enumerate(walks)
+                if w["quantity"] == quantity and w["state"] != "unjudged"]
+    candidates = (judged(HEADLINE.get(kind)) or judged(FALLBACK.get(kind))
+                  or [i for i, w in enumerate(walks) if w["quantity"] == HEADLINE.get(kind)]
+                  or [0])
+    reached = [float(walks[i]["reached"]) for i in candidates]
+    return candidates[min(range(len(candidates)),
+                          key=lambda j: math.inf if math.isnan(reached[j]) else reached[j])]
+
+
+def _cell_verdict(shown: dict[Hashable, Any], walks: list[dict[Hashable, Any]], kind: str) -> str:
+    """The shown walk's verdict, with its quantity if it is not the headline one, and its
+    dimension if its column has walks in both (then also the other's verdict, if it has one).
+
+    >>> walk = {"quantity": "hit", "dim": 2, "verdict": "none in range", "state": "none"}
+    >>> _cell_verdict(walk, [walk, walk | {"dim": 3, "verdict": "breaks at 1"}], "sphere")
+    'in 2-D: hit: none in range (distance: no verdict); in 3-D: breaks at 1'
+    """
+    verdict = str(shown["verdict"])
+    headline = HEADLINE.get(kind)
+    if shown["quantity"] != headline:
+        verdict = f"{shown['quantity']}: {verdict} ({headline}: no verdict)"
+    if len({w["dim"] for w in walks}) < 2:
+        return verdict
+    others = [w for w in walks if w["quantity"] == shown["quantity"]
+              and w["dim"] != shown["dim"] and w["state"] != "unjudged"]
+    return "; ".join([f"in {shown['dim']}-D: {verdict}",
+                      *(f"in {w['dim']}-D: {w['verdict']}" for w in others)])
 
 
 # --- charts ---------------------------------------------------------------------------------
