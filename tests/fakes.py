@@ -1,200 +1,42 @@
-"""Fake adapters with known behaviour, to test the harness without any engine."""
+"""Fake adapters with known behaviour: they live in the public kit,
+:mod:`crosscheck.testing.fakes`; re-exported here for the tests that import ``tests.fakes``."""
 
 from __future__ import annotations
 
-import os
-import signal
-import time
-from dataclasses import replace
-from typing import Any, ClassVar
-
-from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
-from crosscheck.core.model import Kind, Observation
-from crosscheck.core.schema import AnyCase
-from crosscheck.truth import oracle
-
-
-class _Fake(Adapter):
-    engine: ClassVar[str] = "fake"
-    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind)
-    conventions: ClassVar[Conventions] = Conventions()
-
-    def version(self) -> str:
-        return "0"
-
-    def prepare(self, case: AnyCase) -> Any:
-        return case
-
-
-class AlwaysRight(_Fake):
-    """Answers with the exact truth."""
-
-    name: ClassVar[str] = "fake-right"
-
-    def query(self, prepared: Any) -> Observation:
-        return oracle.truth(prepared)
-
-
-class OffByOne(_Fake):
-    """Distance always 1.0 too large; everything else right."""
-
-    name: ClassVar[str] = "fake-off"
-
-    def query(self, prepared: Any) -> Observation:
-        truth = oracle.truth(prepared)
-        assert isinstance(truth.distance, float)
-        return Observation(hit=truth.hit, distance=truth.distance + 1.0, normal=truth.normal)
-
-
-class Raises(_Fake):
-    """Raises on every query."""
-
-    name: ClassVar[str] = "fake-raises"
-
-    def query(self, prepared: Any) -> Observation:
-        raise RuntimeError("engine exploded")
-
-
-class HitOnly(_Fake):
-    """Reports only the verdict; distance and normal are absent."""
-
-    name: ClassVar[str] = "fake-hit-only"
-    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.AABB, Kind.SPHERE)
-
-    def query(self, prepared: Any) -> Observation:
-        return Observation(hit=oracle.truth(prepared).hit)
-
-
-class TouchingIsContact(_Fake):
-    """Declares that touching counts as contact, and reports spheres that way."""
-
-    name: ClassVar[str] = "fake-touch"
-    conventions: ClassVar[Conventions] = Conventions(touching={"sphere": True})
-
-    def query(self, prepared: Any) -> Observation:
-        truth = oracle.truth(prepared)
-        return Observation(hit=truth.distance == 0.0 or truth.hit)
-
-
-class Unavailable(_Fake):
-    """An engine that is not installed."""
-
-    name: ClassVar[str] = "fake-missing"
-
-    def available(self) -> str | None:
-        return "not installed here"
-
-    def query(self, prepared: Any) -> Observation:
-        raise AssertionError("must never be queried")
-
-
-class SleepsForever(_Fake):
-    """Hangs in query, as an engine stuck in a loop."""
-
-    name: ClassVar[str] = "fake-hangs"
-
-    def query(self, prepared: Any) -> Observation:
-        while True:
-            time.sleep(1.0)
-
-
-class Aborts(_Fake):
-    """Kills its own process with SIGABRT, as an engine failing an assertion in C."""
-
-    name: ClassVar[str] = "fake-aborts"
-
-    def query(self, prepared: Any) -> Observation:
-        os.abort()
-
-
-class CrashesOnSpheresAt(_Fake):
-    """Segfault-like death (SIGSEGV) only on the case with id 'boom'; right otherwise."""
-
-    name: ClassVar[str] = "fake-boom"
-
-    def query(self, prepared: Any) -> Observation:
-        if prepared.id == "boom":
-            os.kill(os.getpid(), signal.SIGSEGV)
-        return oracle.truth(prepared)
-
-
-class ClaimsResponse(_Fake):
-    """Claims sphere_response but cannot do it: answers with no velocities."""
-
-    name: ClassVar[str] = "fake-claims"
-
-    def query(self, prepared: Any) -> Observation:
-        return Observation()
-
-
-class DeclaresHangs(SleepsForever):
-    """Hangs on 'boom', which it declares a known hang; declares 'after' too but answers."""
-
-    name: ClassVar[str] = "fake-declared-hang"
-
-    def known_hang(self, case: AnyCase) -> str | None:
-        return "stuck in a loop" if case.id in ("boom", "after") else None
-
-    def query(self, prepared: Any) -> Observation:
-        if prepared.id == "boom":
-            super().query(prepared)
-        return oracle.truth(prepared)
-
-
-class HangsOnDistance(_Fake):
-    """Declares that only ``distance`` hangs on 'boom' (as FCL's signed distance does): its
-    full query hangs there, while ``query_without`` the distance answers the rest."""
-
-    name: ClassVar[str] = "fake-hangs-on-distance"
-
-    def known_hang(self, case: AnyCase) -> str | None:
-        return "distance loops" if case.id == "boom" else None
-
-    def hanging_quantities(self, case: AnyCase) -> frozenset[str]:
-        return frozenset({"distance"}) if self.known_hang(case) else frozenset()
-
-    def query(self, prepared: Any) -> Observation:
-        while prepared.id == "boom":
-            time.sleep(1.0)
-        return oracle.truth(prepared)
-
-    def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
-        if "distance" not in skip:
-            return self.query(prepared)
-        return replace(oracle.truth(prepared), distance=None)
-
-
-class HangsOnDistanceRestRaises(HangsOnDistance):
-    """As HangsOnDistance, but answering without the distance raises."""
-
-    name: ClassVar[str] = "fake-hangs-rest-raises"
-
-    def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
-        raise RuntimeError("no verdict either")
-
-
-class BusyLoop(_Fake):
-    """Right answers at a known cost: a busy loop of ``ITERATIONS`` additions per query.
-
-    The answer is computed once in ``prepare``, so the query's cost is the loop alone.
-    """
-
-    name: ClassVar[str] = "fake-busy"
-    ITERATIONS: ClassVar[int] = 20_000
-
-    def prepare(self, case: AnyCase) -> Any:
-        return oracle.truth(case)
-
-    def query(self, prepared: Any) -> Observation:
-        total = 0
-        for i in range(self.ITERATIONS):
-            total += i
-        assert total >= 0
-        result: Observation = prepared
-        return result
-
-
-class BusyLoopTwice(BusyLoop):
-    """The same engine, twice as slow: for ``compare`` to catch (same name as BusyLoop)."""
-
-    ITERATIONS: ClassVar[int] = 2 * BusyLoop.ITERATIONS
+from crosscheck.testing.fakes import (
+    Aborts,
+    AlwaysRight,
+    BusyLoop,
+    BusyLoopTwice,
+    ClaimsResponse,
+    Conforming,
+    CrashesOnSpheresAt,
+    DeclaresHangs,
+    HangsOnDistance,
+    HangsOnDistanceRestRaises,
+    HitOnly,
+    OffByOne,
+    Raises,
+    SleepsForever,
+    TouchingIsContact,
+    Unavailable,
+)
+
+__all__ = [
+    "Aborts",
+    "AlwaysRight",
+    "BusyLoop",
+    "BusyLoopTwice",
+    "ClaimsResponse",
+    "Conforming",
+    "CrashesOnSpheresAt",
+    "DeclaresHangs",
+    "HangsOnDistance",
+    "HangsOnDistanceRestRaises",
+    "HitOnly",
+    "OffByOne",
+    "Raises",
+    "SleepsForever",
+    "TouchingIsContact",
+    "Unavailable",
+]

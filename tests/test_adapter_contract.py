@@ -1,132 +1,249 @@
-"""Every registered adapter honours the contract: declared, available, repeatable, sourced."""
+"""Every registered adapter passes the conformance kit, and the kit fails broken adapters.
+
+The kit (:mod:`crosscheck.testing`) holds the contract's checks, so an engine's own CI runs
+the same ones; here it runs on every built-in adapter, then on fakes that each break one
+promise, to show that it catches them and says where.
+"""
 
 from __future__ import annotations
 
-import importlib
+import ast
+from dataclasses import replace
+from typing import Any, ClassVar
 
+import numpy as np
 import pytest
 
 import adapters
-from crosscheck.core.contract import Adapter
-from crosscheck.core.model import Kind, quantities_of
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase
-from tests.conftest import aabb, response, sphere
+from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.model import Kind, Observation
+from crosscheck.core.schema import AnyCase
+from crosscheck.testing import ConformanceError, check_adapter, conformance_failures
+from crosscheck.testing.fakes import Conforming, Unavailable
+from crosscheck.truth import oracle
 
-ENGINES = ["fcl", "pybullet", "pybullet-default", "pymunk", "pymunk-default"]
-
-
-def sample(kind: Kind, dim: int) -> AnyCase:
-    pad = [0.0] * (dim - 1)
-    if kind is Kind.AABB:
-        return aabb([0.0, *pad], [0.5] * dim, [0.75, *pad], [0.5] * dim)
-    if kind is Kind.SPHERE:
-        return sphere(0.0, 0.75, dim=dim)
-    if kind is Kind.SPHERE_SCENE:
-        return scene(dim)
-    return response([0.0, *pad], [1.0, *pad], [1.0, *pad], [-1.0, *pad])
+OWN_FORMULA = {"reference", "reference-f32"}
+"""The textbook formula cites the textbook's file in this repository, not a public link."""
 
 
 @pytest.mark.parametrize("name", adapters.names())
-def test_adapter_is_available_and_declared(name: str) -> None:
-    adapter = adapters.get(name)
-    assert adapter.name == name
-    assert adapter.available() is None
-    assert adapter.version()
-    assert adapter.capabilities
-    assert adapter.conventions.sources
+def test_registered_adapter_passes_the_conformance_kit(name: str) -> None:
+    check_adapter(adapters.adapter_class(name), name=name,
+                  public_sources=name not in OWN_FORMULA)
 
 
-@pytest.mark.parametrize("name", ENGINES)
-def test_engine_conventions_cite_public_sources_in_the_module_docstring(name: str) -> None:
-    adapter = adapters.get(name)
-    links = [s for s in adapter.conventions.sources if s.startswith("https://")]
-    assert links, f"{name} cites no link"
-    module = importlib.import_module(type(adapter).__module__)
-    doc = (module.__doc__ or "").lower()
-    assert "conventions" in doc and "sources" in doc
+def test_the_conforming_fake_passes_also_in_a_worker() -> None:
+    assert conformance_failures(Conforming, public_sources=False) == []
 
 
-@pytest.mark.parametrize("name", adapters.names())
-def test_query_is_repeatable_and_in_harness_conventions(name: str) -> None:
-    adapter: Adapter = adapters.get(name)
-    for kind, dim in sorted(adapter.capabilities):
-        if kind is Kind.SPHERE_SCENE:
-            continue  # a query steps the scene on: see test_scene_runs_are_deterministic
-        case = sample(kind, dim)
-        assert adapter.unsupported(case) is None
-        prepared = adapter.prepare(case)
-        try:
-            first, second = adapter.query(prepared), adapter.query(prepared)
-        finally:
-            adapter.release(prepared)
-        assert first == second, (name, kind, dim)
-        for quantity in quantities_of(kind):
-            value = first.get(quantity)
-            if isinstance(value, tuple):
-                assert len(value) == dim, (name, kind, dim, quantity)
-        if kind is not Kind.SPHERE_RESPONSE:
-            assert first.hit is True
-            assert isinstance(first.distance, float) and first.distance < 0
-            assert first.normal is None or first.normal[0] > 0.99  # A -> B is +x
+# --- fakes that break one promise each (module level: a worker process imports them) ---------
+
+class WrongNormal(Conforming):
+    """Normals from B to A."""
+
+    name: ClassVar[str] = "fake-wrong-normal"
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        if isinstance(truth.normal, tuple):
+            return replace(truth, normal=tuple(-x for x in truth.normal))
+        return truth
 
 
-def scene(dim: int) -> AnyCase:
-    pad = [0.0] * (dim - 1)
-    return CASE_ADAPTER.validate_python({
-        "id": "scene", "description": "d", "kind": "sphere_scene", "dim": dim, "duration": 2.0,
-        "dt": 0.01, "bodies": [
-            {"center": [-1.0, *pad], "radius": 0.5, "mass": 1.0, "velocity": [1.0, *pad]},
-            {"center": [1.0, *pad], "radius": 0.5, "mass": 1.0, "velocity": [-1.0, *pad]}]})
+class NoSources(Conforming):
+    name: ClassVar[str] = "fake-no-sources"
+    conventions: ClassVar[Conventions] = Conventions()
 
 
-@pytest.mark.parametrize("name", adapters.names())
-def test_scene_runs_are_deterministic_and_in_harness_conventions(name: str) -> None:
-    adapter: Adapter = adapters.get(name)
-    dims = sorted(d for k, d in adapter.capabilities if k is Kind.SPHERE_SCENE)
-    for dim in dims:
-        runs = []
-        for _ in range(2):
-            prepared = adapter.prepare(scene(dim))
-            try:
-                runs.append(adapter.query(prepared))
-            finally:
-                adapter.release(prepared)
-        first, second = runs
-        assert first.positions == second.positions and first.velocities == second.velocities
-        assert isinstance(first.positions, tuple) and len(first.positions) == 2
-        assert all(len(p) == dim for p in first.positions)
-        assert first.wall_s is not None and first.wall_s > 0
-        # equal masses head-on at e = 1: they have exchanged velocities by t = 2
-        assert isinstance(first.velocities, tuple) and first.velocities[0][0] < 0
+class MissingVelocity(Conforming):
+    """Reports v1 but not v2."""
+
+    name: ClassVar[str] = "fake-missing-v2"
+
+    def query(self, prepared: Any) -> Observation:
+        return replace(oracle.truth(prepared), v2=None)
 
 
-@pytest.mark.parametrize("name", adapters.names())
-def test_unsupported_pairs_have_a_reason(name: str) -> None:
-    adapter = adapters.get(name)
-    for kind in Kind:
-        for dim in (2, 3):
-            reason = adapter.unsupported(sample(kind, dim))
-            assert (reason is None) == ((kind, dim) in adapter.capabilities)
-            assert reason is None or name.split("-")[0] in reason or "engine" in reason
+class ExtraQuantity(Conforming):
+    """Puts a velocity into its detection answers."""
+
+    name: ClassVar[str] = "fake-extra"
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        return truth if truth.v1 is not None else replace(truth, v1=(0.0,) * prepared.dim)
 
 
-@pytest.mark.parametrize("name", adapters.names())
-def test_declared_hangs_and_conventions_are_well_formed(name: str) -> None:
-    adapter: Adapter = adapters.get(name)
-    conventions = adapter.conventions
-    assert conventions.zero_mass in ("static", "")
-    assert conventions.negative_extents in ("absolute", "")
-    assert conventions.damping >= 0.0
-    assert conventions.time_step is None or conventions.time_step > 0.0
-    for kind, dim in sorted(adapter.capabilities):
-        if kind is Kind.SPHERE_SCENE:
-            continue
-        case = sample(kind, dim)
-        hanging = adapter.hanging_quantities(case)
-        assert hanging <= set(quantities_of(kind))
-        assert (adapter.known_hang(case) is None) == (not hanging), (name, kind, dim)
-        prepared = adapter.prepare(case)
-        try:  # skipping nothing is the query itself
-            assert adapter.query_without(prepared, frozenset()) == adapter.query(prepared)
-        finally:
-            adapter.release(prepared)
+class AlwaysHits(Conforming):
+    name: ClassVar[str] = "fake-always-hits"
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        return truth if truth.hit is None else replace(truth, hit=True)
+
+
+class NumpyVerdict(Conforming):
+    """A numpy bool for a verdict (not a bool: it does not travel as JSON)."""
+
+    name: ClassVar[str] = "fake-numpy-bool"
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        return truth if truth.hit is None else replace(truth, hit=np.bool_(truth.hit))
+
+
+class Drifts(Conforming):
+    """Each query a little further off: not repeatable."""
+
+    name: ClassVar[str] = "fake-drifts"
+    calls: ClassVar[list[int]] = []
+
+    def query(self, prepared: Any) -> Observation:
+        self.calls.append(1)
+        truth = oracle.truth(prepared)
+        if isinstance(truth.distance, float):
+            return replace(truth, distance=truth.distance + 1e-9 * len(self.calls))
+        return truth
+
+
+class ClaimsEverything(Conforming):
+    """Spheres only, but never says it skips anything."""
+
+    name: ClassVar[str] = "fake-claims-everything"
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE)
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        return None
+
+
+class IllFormedConventions(Conforming):
+    name: ClassVar[str] = "fake-ill-formed"
+    conventions: ClassVar[Conventions] = Conventions(
+        zero_mass="zero", damping=-1.0, time_step=0.0, margins={"face": -1.0},
+        touching={"vertex": True}, sources=("somewhere",))
+
+
+class HangsWithoutSaying(Conforming):
+    """Names a known hang everywhere but no hanging quantity."""
+
+    name: ClassVar[str] = "fake-hang-unsaid"
+
+    def known_hang(self, case: AnyCase) -> str | None:
+        return "loops"
+
+    def hanging_quantities(self, case: AnyCase) -> frozenset[str]:
+        return frozenset()
+
+
+class NeedsArgument(Conforming):
+    name: ClassVar[str] = "fake-needs-argument"
+
+    def __init__(self, path: str) -> None:
+        self.path = path
+
+
+class NotAnAdapter:
+    name: ClassVar[str] = "fake-not-an-adapter"
+
+
+class Abstract(Adapter):
+    """No query."""
+
+    name: ClassVar[str] = "fake-abstract"
+    engine: ClassVar[str] = "fake"
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE)
+    conventions: ClassVar[Conventions] = Conforming.conventions
+
+    def version(self) -> str:
+        return "0"
+
+    def prepare(self, case: AnyCase) -> Any:
+        return case
+
+
+class ConfiguredAtRuntime(Conforming):
+    """Right only once a test sets ``offset`` to 0: a worker process re-imports the default."""
+
+    name: ClassVar[str] = "fake-configured"
+    offset: ClassVar[float] = 1.0
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        if isinstance(truth.distance, float):
+            return replace(truth, distance=truth.distance + self.offset)
+        return truth
+
+
+# --- the kit catches each, and says where --------------------------------------------------
+
+BROKEN: list[tuple[type[Any], set[str], str]] = [
+    (WrongNormal, {"overlap", "gap"}, "unit vector from A to B (+x)"),
+    (NoSources, {"conventions"}, "sources"),
+    (MissingVelocity, {"observe"}, "no v2"),
+    (ExtraQuantity, {"observe"}, "also v1"),
+    (AlwaysHits, {"gap"}, "hit False"),
+    (NumpyVerdict, {"overlap", "gap"}, "(numpy."),
+    (Drifts, {"repeat"}, "the same answer"),
+    (ClaimsEverything, {"unsupported"}, "skip reason"),
+    (IllFormedConventions, {"conventions"}, "zero_mass"),
+    (HangsWithoutSaying, {"hangs"}, "known_hang"),
+    (NeedsArgument, {"made"}, "no arguments"),
+    (NotAnAdapter, {"declared"}, "subclass of crosscheck.core.contract.Adapter"),
+    (Abstract, {"declared"}, "query"),
+    (Unavailable, {"available"}, "not installed here"),
+]
+
+
+@pytest.mark.parametrize(("cls", "checks", "words"), BROKEN, ids=[b[0].__name__ for b in BROKEN])
+def test_the_kit_fails_a_broken_adapter_and_says_where(cls: type[Any], checks: set[str],
+                                                       words: str) -> None:
+    failures = conformance_failures(cls, public_sources=False, worker=False)
+    assert {f.check for f in failures} == checks
+    assert any(words in str(f) for f in failures), [str(f) for f in failures]
+    for failure in failures:
+        assert str(failure).startswith(f"{cls.name} ({cls.__module__}.{cls.__qualname__}): ")
+        assert "expected " in str(failure)
+    with pytest.raises(ConformanceError) as raised:
+        check_adapter(cls, public_sources=False, worker=False)
+    assert len(raised.value.failures) == len(failures)
+
+
+def test_a_failure_names_the_case_and_what_was_expected() -> None:
+    failures = conformance_failures(WrongNormal, public_sources=False, worker=False)
+    gap_y = [f for f in failures if "along -y" in f.case]
+    assert len(gap_y) == 4  # aabb and sphere, 2-D and 3-D
+    for failure in gap_y:
+        assert "B 1.5 from A along -y (gap 0.5)" in str(failure)
+        assert "a unit vector from A to B (-y)" in failure.expected
+        assert ast.literal_eval(failure.got)[1] == 1.0  # it said +y
+
+
+def test_the_kit_asks_for_public_sources_unless_told_not_to() -> None:
+    failures = conformance_failures(Conforming, worker=False)
+    assert [f.expected.split(" ")[0:3] for f in failures] == [
+        ["at", "least", "one"], ["module", "crosscheck.testing.fakes's", "docstring"]]
+
+
+def test_the_kit_checks_the_registered_name() -> None:
+    failures = conformance_failures(Conforming, name="other", public_sources=False,
+                                    worker=False)
+    assert [(f.check, f.expected, f.got) for f in failures] == [
+        ("declared", "name 'other'", "'fake-conforming'")]
+
+
+def test_a_class_that_cannot_be_pickled_fails_the_worker_check() -> None:
+    class Local(Conforming):
+        name: ClassVar[str] = "fake-local"
+
+    failures = conformance_failures(Local, public_sources=False)
+    assert [f.check for f in failures] == ["worker"]
+    assert "pickled by reference" in failures[0].expected
+
+
+def test_state_a_worker_process_does_not_see_fails_the_worker_check(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(ConfiguredAtRuntime, "offset", 0.0)
+    failures = conformance_failures(ConfiguredAtRuntime, public_sources=False)
+    assert [f.check for f in failures] == ["worker"]
+    assert failures[0].expected.startswith("the same answer as in this process")
+    assert "distance=0.75" in failures[0].got  # the overlap of 0.25, plus the default offset

@@ -11,7 +11,8 @@ import pytest
 from tests.conftest import ROOT
 
 PACKAGES = ("crosscheck", "adapters", "reference_impl")
-OPTIONAL = {"pybullet", "pymunk", "fcl", "dask", "distributed"}
+OPTIONAL = {"pybullet", "pymunk", "fcl", "coal", "Box2D", "rapier3d", "mujoco", "dask",
+            "distributed"}
 """What may be imported inside a function: the optional engines, and Dask (see run/distributed)."""
 MODULES = sorted(p for package in PACKAGES for p in (ROOT / package).rglob("*.py"))
 

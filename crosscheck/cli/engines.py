@@ -1,4 +1,12 @@
-"""``crosscheck engines``, and choosing engines by name for every command that runs them."""
+"""``crosscheck engines``, and choosing engines by name for every command that runs them.
+
+Engines are the built-in table's and the plug-ins' (the ``crosscheck.adapters``
+entry-point group, see :mod:`adapters`).  ``crosscheck engines`` lists every one, built-in
+or plug-in, then a line per plug-in naming its distribution and version; one that cannot
+be used (its module fails to import, its class is not an Adapter, its name clashes, it
+raises) is listed with the reason, never a traceback.  Asking for it by name (``--engine``) is
+refused with that reason; running every engine skips it with a note.
+"""
 
 from __future__ import annotations
 
@@ -6,44 +14,118 @@ import argparse
 from collections.abc import Sequence
 
 from rich.table import Table
+from rich.text import Text
 
 import adapters
-from crosscheck.cli.console import out
+from crosscheck.cli.console import err, out
 from crosscheck.core.contract import Adapter, engine_info
 
 UnknownEngine = adapters.UnknownEngine
 
 
 def names() -> list[str]:
-    """Every engine name the registry knows, in registry order."""
-    return adapters.names()
+    """Every engine name: the built-ins in registry order, then the plug-ins."""
+    return adapters.all_names()
+
+
+def _note(message: str) -> None:
+    err.print(Text(f"note: {message}", style="yellow"))
+
+
+def _warn_shadowed(chosen: Sequence[str]) -> None:
+    """Say so when a chosen built-in's name is also a (refused) plug-in's."""
+    for entry in adapters.plugins():
+        if entry.name in chosen and entry.name in adapters.REGISTRY:
+            _note(f"{entry.describe()} is refused ({entry.clash}); the built-in runs")
+
+
+def _usable(entry: adapters.Entry) -> Adapter | str:
+    """The entry's adapter if it can run here, else the reason it cannot."""
+    problem = entry.problem()
+    if problem:
+        return problem
+    try:
+        adapter = entry.load()()
+        unavailable = adapter.available()
+    except Exception as exc:  # a plug-in's fault is a reason, not a traceback
+        return f"{type(exc).__name__}: {exc}"
+    return unavailable or adapter
+
+
+def _made(name: str) -> Adapter:
+    """The adapter called ``name``; RefusedEngine, with the reason, if it cannot be made."""
+    entry = adapters.find(name)
+    cls = entry.load()
+    try:
+        return cls()
+    except Exception as exc:  # a plug-in's fault is a reason, not a traceback
+        raise adapters.RefusedEngine(f"{entry.describe()} {entry.verdict}: it fails: "
+                                     f"{type(exc).__name__}: {exc}") from None
 
 
 def select(names: Sequence[str] | None) -> list[Adapter]:
-    """The named engines, or every available one; raises UnknownEngine for a bad name."""
+    """The named engines, or every available one (with a note for each that cannot be
+    used); raises UnknownEngine (or its RefusedEngine) for a bad name."""
     if names:
-        return [adapters.get(name) for name in names]
-    chosen = [adapters.get(name) for name in adapters.names()]
-    return [a for a in chosen if a.available() is None]
+        _warn_shadowed(names)
+        return [_made(name) for name in names]
+    chosen = []
+    for entry in adapters.entries():
+        usable = _usable(entry)
+        if isinstance(usable, Adapter):
+            chosen.append(usable)
+        elif not entry.builtin or entry.problem():  # a built-in not installed: as ever
+            _note(f"skipping {entry.describe()}: {usable}")
+    return chosen
+
+
+def _row(entry: adapters.Entry, settings: bool) -> tuple[list[Text], str | None]:
+    """One row of the listing (name, built-in or plug-in, version, availability,
+    capabilities[, settings]) and why the entry cannot be used (None: it can)."""
+    problem = entry.problem()
+    info: dict[str, object] = {}
+    if problem is None:
+        try:
+            info = engine_info(entry.load()())
+        except Exception as exc:  # a plug-in's fault is a reason, not a traceback
+            problem = f"it fails: {type(exc).__name__}: {exc}"
+    origin = "built-in" if entry.builtin else "plug-in"
+    if problem is not None:
+        cells = [entry.name, origin, "-", entry.verdict.split()[-1], "", ""]  # reason below
+    else:
+        caps = info["capabilities"]
+        assert isinstance(caps, list)
+        cells = [str(info["name"]), origin, str(info["version"]), str(info["available"]),
+                 ", ".join(caps), str(info["settings"])]
+    texts = [Text(cell, style="red" if problem and i == 3 else "") for i, cell in enumerate(cells)]
+    return (texts if settings else texts[:-1]), problem
 
 
 def cmd_engines(args: argparse.Namespace) -> int:
     table = Table(title="engines")
-    columns = ["name", "version", "available", "capabilities"]
+    columns = ["name", "from", "version", "available", "capabilities"]
     for column in [*columns, "settings"] if args.settings else columns:
-        table.add_column(column, no_wrap=column in ("name", "version"))
-    for name in adapters.names():
-        info = engine_info(adapters.get(name))
-        caps = info["capabilities"]
-        assert isinstance(caps, list)
-        row = [str(info["name"]), str(info["version"]), str(info["available"]), ", ".join(caps)]
-        table.add_row(*row, *([str(info["settings"])] if args.settings else []))
+        table.add_column(column, no_wrap=column in ("name", "from"), overflow="fold")
+    lines = []
+    for entry in adapters.entries():
+        row, problem = _row(entry, args.settings)
+        table.add_row(*row)
+        if problem:
+            lines.append(Text(f"{entry.describe()} {entry.verdict}: {problem}", style="red"))
+        elif not entry.builtin:
+            lines.append(Text(entry.describe()))
     out.print(table)
+    out.print(Text(f"Built-ins are the lines of adapters.REGISTRY; plug-ins are the entry "
+                   f"points of installed distributions in the {adapters.ENTRY_POINT_GROUP!r} "
+                   f"group."))
+    for line in lines:
+        out.print(line)
     return 0
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``engines``."""
-    p = sub.add_parser("engines", help="list adapters, versions, capabilities, availability")
+    p = sub.add_parser("engines", help="list adapters (built-in and plug-ins), where each comes "
+                                       "from, versions, capabilities, availability")
     p.add_argument("--settings", action="store_true", help="also show each variant's settings")
     p.set_defaults(func=cmd_engines)

@@ -67,7 +67,11 @@ def cmd_run(args: argparse.Namespace) -> int:
         return resume(args.resume)
     loaded = load_paths(args.paths or [Path("cases")])
     report_case_errors(loaded)
-    engines = engine_choice.select(args.engine)
+    try:  # a listed engine that cannot be used (a broken plug-in) is refused, with its reason
+        engines = engine_choice.select(args.engine)
+    except engine_choice.UnknownEngine as exc:
+        fail(str(exc))
+        return 2
     directory = args.out or run_dir(Path("reports"))
     try:
         store = ResultsStore(directory)
@@ -89,11 +93,11 @@ def resume(directory: Path) -> int:
     """Finish a stopped run in ``directory`` with its own cases, engines and options."""
     try:
         stored = read_run(directory)
+        engines = engine_choice.select(stored.info.engine_names)
         store = ResultsStore(directory, resume=True)
-    except (OSError, StoreError) as exc:
+    except (OSError, StoreError, engine_choice.UnknownEngine) as exc:
         fail(f"cannot resume {directory}: {exc}")
         return 2
-    engines = engine_choice.select(stored.info.engine_names)
     out.print(f"resuming {directory}: {len(store.done)} case x engine pairs already done",
               markup=False, highlight=False)
     return finish(store, list(stored.cases.values()), engines, stored.info.options,

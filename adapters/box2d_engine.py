@@ -1,0 +1,438 @@
+"""Box2D 2.3.0 through pybox2d 2.3.10 (``import Box2D``) as an engine: ``box2d``, ``box2d-default``.
+
+Box2D is a 2-D engine in float32 (``float32`` is C ``float`` throughout): every 3-D case
+is skipped with the reason "2-D engine", and every input is rounded to float32 on its way
+into the engine.  Kinds: ``aabb`` (polygon boxes), ``sphere`` (circles) and
+``sphere_response``; scenes are not adapted.
+
+Detection (``aabb``, ``sphere``): ``prepare`` builds two shapes (``b2PolygonShape(box=(hx,
+hy))`` or ``b2CircleShape(radius=r)``) and two ``b2Transform`` s at the case's centres
+(angle 0), with no world.  ``query`` calls Box2D's narrow phase, the function a world's
+contact calls on every step: ``b2CollidePolygons`` / ``b2CollideCircles`` into a
+``b2Manifold``.
+
+- points in the manifold -> ``hit`` True; ``normal`` = ``b2WorldManifold.normal`` after
+  ``Initialize`` ("world vector pointing from A to B", b2Collision.h; the e_faceB case is
+  negated there), used as is.  ``distance`` is absent (None, scored ``skip``, "engine reported
+  no distance"): Box2D has no penetration depth.  ``b2Distance`` is GJK without EPA: on
+  overlapping cores it returns 0, on overlapping radii it returns 0 by definition
+  (b2Distance.cpp), and pybox2d's ``b2WorldManifold`` has no ``separations`` (the bundled
+  2.3.0 does not compute them).  Undefined was the other choice; it would be scored as a
+  wrong answer (``disagree``/``error``) on every overlapping pair, while the engine does not
+  answer wrongly: it does not answer.  Hence None.
+- no points -> ``hit`` False; ``distance`` and ``normal`` from ``b2Distance`` (witness
+  points ``pointA`` -> ``pointB``, normalised here in float64; None when they coincide).
+  Tuned: ``useRadii=False`` on boxes of radius 0 (the gap itself; with ``useRadii=True`` a
+  gap below ``b2_epsilon`` reads 0).  Circles always take ``useRadii=True``: a circle's
+  distance proxy is its centre with the radius as skin.  Default: ``useRadii=True``
+  (pybox2d's default), which subtracts the two 0.01 polygon skins.
+``b2TestOverlap`` would give only a verdict, and its threshold is ``distance < 10 b2_epsilon``
+(with the skins), not the contact rule a world uses; a world with contacts would add a
+broad phase and a step to the same narrow phase.
+
+Response (``sphere_response``): ``prepare`` builds a ``b2World`` (gravity 0) with two
+dynamic bodies (``CreateDynamicBody`` with the case's centre and velocity: Box2D's body
+definition asserts that both are finite, so NaN or inf raises ``AssertionError`` there),
+each with one circle fixture (density 0, so ``massData`` sets the mass exactly: the case's
+mass, centre 0).  ``query`` resets the pair (both bodies deactivated and reactivated, which
+destroys the contact and its cached impulses: no warm start from an earlier query; then
+``transform``, velocity, angular velocity 0, awake), and steps until the first step after
+which the pair's contact is ``touching``, or until they no longer approach, or
+``MAX_STEPS``.  ``b2World::Step`` first updates contacts (the narrow phase at the positions
+the step starts from), then solves the touching ones and integrates: ``resolved_at`` is the
+centres read before that step.  The velocities after it are the answer (position
+correction moves positions only).  Restitution: Box2D mixes the fixtures' values by
+``max`` (b2MixRestitution), so A's fixture gets the case's ``e`` and B's 0.
+
+Variants (sources below):
+
+- ``box2d``: polygon ``radius = 0`` (no skin) and ``useRadii=False`` for boxes; response:
+  dt 1e-3 s, 8 velocity and 3 position iterations, friction 0, ``fixedRotation`` (the
+  moment plays no part without friction; it also makes a zero radius harmless), sleeping
+  off with ``SetAllowSleeping(False)`` (a slow body would fall asleep before it arrives).
+  pybox2d's ``b2World(doSleep=False)`` and ``world.allowSleeping = False`` only set a Python
+  attribute: Box2D keeps sleeping on (measured; ``GetAllowSleeping()`` stays True).
+- ``box2d-default``: polygon skin ``b2_polygonRadius`` (0.01 per box, kept), ``useRadii``
+  True; response: dt 1/60 s with 8 and 3 iterations (the pybox2d testbed's ``hz``,
+  ``velocityIterations``, ``positionIterations``; ``Step`` has no defaults), friction 0.2
+  (``b2FixtureDef`` default), rotation free with the disc's moment ``m r^2 / 2`` (what a
+  density gives), sleeping allowed (``b2World`` default): a body slower than
+  ``b2_linearSleepTolerance`` (0.01 m/s) for ``b2_timeToSleep`` (0.5 s) falls asleep with its
+  velocity zeroed (b2Island.cpp), so a slow approach from afar stops before it arrives.
+
+Conventions (each from Box2D's source as pybox2d 2.3.10 bundles it, ``SOURCES``):
+
+- box extents half: ``box=(hx, hy)`` calls ``SetAsBox(hx, hy)``, vertices at +-hx, +-hy
+  [Box2D_shapes.i, b2PolygonShape.cpp].
+- normal A to B (above).
+- touching: circles touching collide (``distSqr > radius * radius`` is the only reject,
+  b2CollideCircle.cpp); face-touching boxes collide (``separation > totalRadius`` rejects);
+  corner-touching boxes of radius 0 do NOT (the incident edge clips to no point at the
+  reference face's side planes: measured); with the default skins they do (within 0.02).
+  Declared per variant: tuned sphere/face contact, corner apart; default all contact.
+- margins: ``b2_epsilon`` (FLT_EPSILON, 1.19e-7) everywhere: Box2D uses it as an absolute
+  length tolerance (b2Distance.cpp: GJK stops as "overlapped" below it, and with radii a
+  distance not above it reads 0; b2Collision.cpp: circle centres closer than it get the
+  normal (1, 0)); measured: spheres of radius 1e-9 a gap of 1e-12 apart read 0, boxes of
+  half-width 1e-9 a gap of 2e-9 apart read 4e-9.  Default: plus 0.02 at faces and corners
+  (two ``b2_polygonRadius`` = 2 x 2 ``b2_linearSlop``, b2Settings.h): the verdict counts
+  gaps up to it as contact and the distance is the gap less it.
+- rtol ``RTOL`` = 2^-21 (8 float32 units of 2^-24), of the case's size: every input is
+  rounded to float32 and every operation is float32.  Measured on 2,000 random unit box
+  pairs at a 1e6 offset, gaps 0.05 to 1: distance off by a median 0.018, worst 0.060 (the
+  float32 spacing there is 0.0625: a 0.2 gap reads 0.1875), within 2^-21 x 1e6 = 0.48.
+- restitution: ``max`` of the fixtures', A = e and B = 0 gives e.  Restitution threshold:
+  ``b2_velocityThreshold`` = 1 m/s, compiled in; the solver bounces only when ``vRel <
+  -b2_velocityThreshold`` in float32 (b2ContactSolver.cpp), so an approach of exactly 1
+  m/s is inelastic: declared ``THRESHOLD`` = 1 + 2^-23, one float32 unit above 1.
+- separating contacts: the accumulated normal impulse is clamped at 0, so bodies already
+  moving apart are left alone (``resolves_separating`` False).
+- time step: each variant's dt (1e-3, 1/60), fixed; damping 0 (``linearDamping`` default 0).
+  ``b2_maxTranslation`` = 2 m per step (b2Island.cpp): a faster body has its velocity
+  scaled down, so speeds above 2000 m/s (tuned) or 120 m/s (default) are clipped; the
+  suite's fastest body moves at 5 m/s, and no case is clipped.
+- zero mass: refused (``zero_mass`` ""): ``SetMassData`` silently reads a mass <= 0 as 1
+  (b2Body.cpp), so the adapter raises ``ValueError`` instead (recorded as ``error``).
+- negative sizes: refused (``negative_extents`` ""): ``SetAsBox`` with a negative half-width
+  builds an inside-out polygon (vertices clockwise, normals unchanged) that collides with
+  nothing, not even overlapping (no manifold point), while ``b2Distance`` sees the magnitude
+  (measured), and a negative circle radius sum is squared in the verdict but read literally
+  in the distance.
+
+Guarded inputs (``ValueError`` in ``prepare``, the reason in the message): non-finite
+detection inputs (the collide functions take them unchecked: a NaN radius or centre reads
+as contact, measured), non-finite radii, NaN or non-positive masses and a negative or NaN
+restitution (``max(e, 0)`` would silently read 0).  An infinite mass is Box2D's own
+immovable body (inverse mass 0) and is passed on.  Numbers beyond float32's range are
+refused by pybox2d itself (``OverflowError`` / ``TypeError``).  ``CreateFixture`` with a
+fixture definition without a shape (``b2FixtureDef()``) segfaults (pybox2d's keyword form
+raises ``ValueError`` first); the adapter always passes a shape (the runner's worker
+isolation covers any segfault).
+
+Other facts measured (engine faults the report shows as ``error``, not hidden): a box edge
+shorter than ``b2_epsilon`` gives a manifold normal that is not a unit vector (its length is
+the edge's, 0 for a zero-size box: ``b2Vec2::Normalize`` leaves a vector shorter than
+``b2_epsilon`` as it is, b2Math.h; reported as the engine gives it); a response at a 1e8
+offset rounds 3-4-5 neighbours onto one float32 point, so the bodies collide along (1, 0);
+the default variant's friction (0.2) changes every oblique response (no convention covers
+friction).  Coincident circles get normal (1, 0) (centres within ``b2_epsilon``); coincident
+boxes the first face of least overlap, (0, -1).
+
+(Longer than 400 lines: about 160 of them are this docstring, the conventions as measured with
+their sources; the code is two short paths, detection and stepped response, and one guard.)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+from crosscheck.core.contract import Adapter, Capability, Conventions
+from crosscheck.core.geometry import Vec
+from crosscheck.core.model import Kind, Observation
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+
+B2 = "https://github.com/pybox2d/pybox2d/blob/2.3.10/Box2D/"
+SOURCES = (
+    B2 + "Common/b2Settings.h",  # polygonRadius, velocityThreshold 1, maxTranslation 2, b2Assert
+    B2 + "Box2D_shapes.i",  # box= property calls SetAsBox
+    B2 + "Box2D_misc.i",  # b2Distance(shapeA, .., useRadii) wrapper
+    B2 + "Collision/Shapes/b2PolygonShape.cpp",  # SetAsBox(hx, hy): vertices at +-hx, +-hy
+    B2 + "Collision/b2CollideCircle.cpp",  # distSqr > radius^2 rejects: touching collides
+    B2 + "Collision/b2CollidePolygon.cpp",  # separation > totalRadius rejects; clipping
+    B2 + "Collision/b2Collision.cpp",  # b2WorldManifold: normal A to B, (1, 0) within eps
+    B2 + "Collision/b2Collision.h",  # no separations in b2WorldManifold (2.3.0)
+    B2 + "Collision/b2Distance.cpp",  # GJK; useRadii: overlap -> distance 0; b2_epsilon
+    B2 + "Common/b2Math.h",  # b2Vec2::Normalize leaves vectors shorter than b2_epsilon
+    B2 + "Dynamics/Contacts/b2Contact.h",  # b2MixRestitution: max
+    B2 + "Dynamics/Contacts/b2ContactSolver.cpp",  # vRel < -b2_velocityThreshold; clamp >= 0
+    B2 + "Dynamics/b2Island.cpp",  # b2_maxTranslation clips velocities
+    B2 + "Dynamics/b2Body.cpp",  # SetMassData: mass <= 0 -> 1
+    B2 + "Dynamics/b2World.cpp",  # Step: Collide, then Solve; SetAllowSleeping
+    B2 + "Box2D_world.i",  # b2World.__init__: self.allowSleeping = doSleep (no such property)
+    B2 + "Dynamics/b2Fixture.h",  # b2FixtureDef friction 0.2, restitution 0, density 0
+    "https://github.com/pybox2d/pybox2d/blob/2.3.10/library/Box2D/examples/settings.py",
+)
+RTOL = 2.0**-21
+"""8 float32 units (2^-24) of the case's size."""
+THRESHOLD = 1.0 + 2.0**-23
+"""b2_velocityThreshold (1 m/s), bounced only strictly above, compared in float32."""
+B2_EPSILON = 2.0**-23
+"""b2_epsilon (FLT_EPSILON): the absolute length below which Box2D's geometry gives up."""
+SKIN = 0.02
+"""Two boxes' b2_polygonRadius (0.01 each): the default variant's extra margin at boxes."""
+MAX_STEPS = 100_000
+"""Step cap of a response query (bodies still approaching without touching)."""
+CAPABILITIES = frozenset({(Kind.AABB, 2), (Kind.SPHERE, 2), (Kind.SPHERE_RESPONSE, 2)})
+
+
+def engine() -> Any:
+    """The ``Box2D`` module (pybox2d), imported on first use."""
+    import Box2D  # type: ignore[import-untyped]
+
+    return Box2D
+
+
+@dataclass(frozen=True, slots=True)
+class Variant:
+    """What a variant sets (None: Box2D's default)."""
+
+    polygon_radius: float | None
+    use_radii: bool
+    dt: float
+    friction: float | None
+    fixed_rotation: bool
+    sleep: bool
+    velocity_iterations: int = 8
+    position_iterations: int = 3
+
+
+@dataclass(frozen=True, slots=True)
+class Detection:
+    """Two shapes at two transforms, and a manifold pair reused by every query."""
+
+    a: Any
+    b: Any
+    xa: Any
+    xb: Any
+    circles: bool
+    use_radii: bool
+    manifold: Any
+    world_manifold: Any
+
+
+@dataclass(frozen=True, slots=True)
+class Response:
+    """A world holding A and B; every query resets them and steps."""
+
+    case: ResponseCase
+    world: Any
+    a: Any
+    b: Any
+    variant: Variant
+
+
+def _finite(xs: Sequence[float]) -> bool:
+    return all(math.isfinite(x) for x in xs)
+
+
+def refusal(case: PairCase) -> str | None:
+    """Why the adapter refuses ``case``: an input Box2D would silently mis-handle (or None)."""
+    sizes = [*case.a.half, *case.b.half] if isinstance(case, AabbCase) else [
+        case.a.radius, case.b.radius]
+    if any(x < 0 for x in sizes):
+        return ("negative size: Box2D builds an inside-out box or squares a negative radius "
+                "sum (see the adapter's conventions)")
+    if not isinstance(case, ResponseCase):
+        if not _finite([*case.a.center, *case.b.center, *sizes]):
+            return "non-finite input: Box2D's collide functions take it unchecked"
+        return None
+    if not _finite(sizes):
+        return "non-finite radius: Box2D's circle collision takes it unchecked"
+    if not all(m > 0 for m in (case.a.mass, case.b.mass)):
+        return "mass NaN or <= 0: b2Body::SetMassData reads a mass <= 0 as 1"
+    if not case.restitution >= 0:
+        return "restitution negative or NaN: Box2D mixes restitutions by max(e, 0)"
+    return None
+
+
+def _transform(center: Vec) -> Any:
+    xf = engine().b2Transform()
+    xf.position = (center[0], center[1])
+    xf.angle = 0.0
+    return xf
+
+
+def _shape(case: PairCase, which: str, polygon_radius: float | None) -> Any:
+    b2 = engine()
+    body = getattr(case, which)
+    if isinstance(case, AabbCase):
+        shape = b2.b2PolygonShape(box=(body.half[0], body.half[1]))
+        if polygon_radius is not None:
+            shape.radius = polygon_radius
+        return shape
+    return b2.b2CircleShape(radius=body.radius)
+
+
+def _direction(pa: Sequence[float], pb: Sequence[float]) -> Vec | None:
+    """The unit vector from ``pa`` to ``pb`` (float64), or None when they coincide."""
+    dx, dy = pb[0] - pa[0], pb[1] - pa[1]
+    length = math.hypot(dx, dy)
+    return (dx / length, dy / length) if length > 0 else None
+
+
+def _detect(p: Detection) -> Observation:
+    b2 = engine()
+    collide = b2.b2CollideCircles if p.circles else b2.b2CollidePolygons
+    collide(p.manifold, p.a, p.xa, p.b, p.xb)
+    if p.manifold.pointCount:
+        p.world_manifold.Initialize(p.manifold, p.xa, p.a.radius, p.xb, p.b.radius)
+        n = p.world_manifold.normal
+        return Observation(hit=True, normal=(float(n[0]), float(n[1])))
+    out = b2.b2Distance(shapeA=p.a, shapeB=p.b, transformA=p.xa, transformB=p.xb,
+                        useRadii=p.use_radii or p.circles)
+    return Observation(hit=False, distance=float(out.distance),
+                       normal=_direction(out.pointA, out.pointB))
+
+
+def _vec(v: Any) -> Vec:
+    return (float(v[0]), float(v[1]))
+
+
+def _body(world: Any, data: Any, restitution: float, variant: Variant) -> Any:
+    """A dynamic body of the case's centre, velocity and mass, with one circle fixture."""
+    b2 = engine()
+    body = world.CreateDynamicBody(position=_vec(data.center),
+                                   linearVelocity=_vec(data.velocity),
+                                   fixedRotation=variant.fixed_rotation)
+    extra = {} if variant.friction is None else {"friction": variant.friction}
+    body.CreateCircleFixture(radius=data.radius, density=0.0, restitution=restitution, **extra)
+    moment = 0.0 if variant.fixed_rotation else 0.5 * data.mass * data.radius**2
+    body.massData = b2.b2MassData(mass=data.mass, center=(0.0, 0.0), I=moment)
+    return body
+
+
+def _reset(p: Response) -> None:
+    """A and B back at the case's start, with no contact (nor its impulses) left over."""
+    p.b.active = False  # destroys the contact and the broad-phase proxies
+    p.a.active = False
+    for body, data in ((p.a, p.case.a), (p.b, p.case.b)):
+        body.active = True
+        body.transform = (_vec(data.center), 0.0)  # also finds the new contact
+        body.linearVelocity = _vec(data.velocity)
+        body.angularVelocity = 0.0
+        body.awake = True
+
+
+def _touching(body: Any) -> bool:
+    return any(edge.contact.touching for edge in body.contacts)
+
+
+def _approaching(a: Any, b: Any) -> bool:
+    """Whether B moves towards A along their line of centres (False for NaN)."""
+    (pa, pb), (va, vb) = (a.position, b.position), (a.linearVelocity, b.linearVelocity)
+    return bool((vb[0] - va[0]) * (pb[0] - pa[0]) + (vb[1] - va[1]) * (pb[1] - pa[1]) < 0.0)
+
+
+def _respond(p: Response) -> Observation:
+    _reset(p)
+    v = p.variant
+    resolved: tuple[Vec, Vec] | None = None
+    for _ in range(MAX_STEPS):
+        start = (_vec(p.a.position), _vec(p.b.position))
+        p.world.Step(v.dt, v.velocity_iterations, v.position_iterations)
+        if _touching(p.a):
+            resolved = start
+            break
+        if not _approaching(p.a, p.b):
+            break
+    return Observation(v1=_vec(p.a.linearVelocity), v2=_vec(p.b.linearVelocity),
+                       resolved_at=resolved)
+
+
+def _conventions(variant: Variant, settings: str) -> Conventions:
+    skin = variant.polygon_radius is None
+    box_margin = B2_EPSILON + (SKIN if skin else 0.0)
+    return Conventions(
+        box_extents="half (box=(hx, hy) calls b2PolygonShape::SetAsBox(hx, hy))",
+        normal="A to B (b2WorldManifold.normal; apart: b2Distance pointA -> pointB); as is",
+        touching={"sphere": True, "face": True, "corner": skin},
+        margins={"sphere": B2_EPSILON, "face": box_margin, "corner": box_margin},
+        rtol=RTOL,
+        restitution="max of the fixtures' restitutions (b2MixRestitution); A = e, B = 0",
+        restitution_threshold=THRESHOLD,
+        resolves_separating=False,
+        time_step=variant.dt,
+        damping=0.0,
+        zero_mass="",
+        negative_extents="",
+        notes=_NOTES + settings,
+        sources=SOURCES,
+    )
+
+
+_NOTES = ("float32 engine (inputs rounded to float32). Detection: b2CollidePolygons / "
+          "b2CollideCircles manifold (hit, normal); apart: b2Distance (distance, normal). "
+          "No penetration depth: the distance of a colliding pair is not reported (skip). "
+          "Touching circles and face-touching boxes collide. Restitution threshold 1 m/s "
+          "(b2_velocityThreshold, compiled in; bounce only when vRel < -1 in float32). "
+          "Velocities above 2 m per step are clipped (b2_maxTranslation); no suite case is. "
+          "Refused (ValueError): negative sizes, mass <= 0 (Box2D reads it as 1), negative "
+          "restitution, non-finite detection inputs and radii. ")
+
+
+class Box2dTuned(Adapter):
+    """Box2D set for accuracy: no polygon skin, small step, no friction, no rotation, no sleep."""
+
+    name: ClassVar[str] = "box2d"
+    engine: ClassVar[str] = "pybox2d"
+    variant: ClassVar[Variant] = Variant(polygon_radius=0.0, use_radii=False, dt=1e-3,
+                                         friction=0.0, fixed_rotation=True, sleep=False)
+    settings: ClassVar[str] = (
+        "polygon radius 0, b2Distance useRadii=False for boxes; response: dt 1e-3 s, "
+        "8 velocity / 3 position iterations, friction 0, fixedRotation, sleeping off, "
+        "restitution A = e, B = 0")
+    capabilities: ClassVar[frozenset[Capability]] = CAPABILITIES
+    conventions: ClassVar[Conventions] = _conventions(variant, settings)
+
+    def version(self) -> str:
+        b2 = engine()
+        v = b2.b2Globals.b2_version
+        return f"{b2.__version__} (Box2D {v.major}.{v.minor}.{v.revision})"
+
+    def available(self) -> str | None:
+        try:
+            engine()
+        except ImportError as exc:
+            return str(exc)
+        return None
+
+    def binding_call(self) -> Callable[[], object]:
+        """A zero ``b2Vec2``: one object made through pybox2d's SWIG binding."""
+        return engine().b2Vec2  # type: ignore[no-any-return]
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        if case.dim != 2:
+            return f"box2d is a 2-D engine: no {case.kind} in {case.dim}-D"
+        return super().unsupported(case)
+
+    def prepare(self, case: AnyCase) -> Any:
+        assert not isinstance(case, SceneCase), "box2d declares no scene capability"
+        why = refusal(case)
+        if why:
+            raise ValueError(why)
+        if isinstance(case, ResponseCase):
+            return self._world(case)
+        b2 = engine()
+        v = self.variant
+        return Detection(_shape(case, "a", v.polygon_radius), _shape(case, "b", v.polygon_radius),
+                         _transform(case.a.center), _transform(case.b.center),
+                         circles=not isinstance(case, AabbCase), use_radii=v.use_radii,
+                         manifold=b2.b2Manifold(), world_manifold=b2.b2WorldManifold())
+
+    def _world(self, case: ResponseCase) -> Response:
+        world = engine().b2World(gravity=(0.0, 0.0))
+        world.SetAllowSleeping(self.variant.sleep)  # not doSleep=: see the module docstring
+        a = _body(world, case.a, case.restitution, self.variant)
+        b = _body(world, case.b, 0.0, self.variant)
+        return Response(case, world, a, b, self.variant)
+
+    def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, Response):
+            return _respond(prepared)
+        return _detect(prepared)
+
+
+class Box2dDefault(Box2dTuned):
+    """Box2D out of the box: only geometry, masses, velocities and restitution are set."""
+
+    name: ClassVar[str] = "box2d-default"
+    variant: ClassVar[Variant] = Variant(polygon_radius=None, use_radii=True, dt=1.0 / 60.0,
+                                         friction=None, fixed_rotation=False, sleep=True)
+    settings: ClassVar[str] = (
+        "polygon radius b2_polygonRadius (0.01), b2Distance useRadii=True; response: dt 1/60 s, "
+        "8 velocity / 3 position iterations (pybox2d testbed), friction (0.2), rotation free "
+        "(disc moment), sleeping allowed; restitution A = e, B = 0")
+    conventions: ClassVar[Conventions] = _conventions(variant, settings)

@@ -1,0 +1,370 @@
+"""MuJoCo 4.0.0 (mujoco-core, float64) as an engine: ``mujoco`` (stiff) and ``mujoco-default``.
+
+Every case runs on a compiled two-body model (two free-joint bodies with explicit
+inertials, one geom each, gravity 0; see :mod:`adapters.mujoco_setup`), compiled once per
+adapter instance and kind (~10 ms) and changed per case: geom sizes with the bounds the
+compiler derives (``geom_rbound``, ``geom_aabb``: the broad phase drops a pair whose bounds
+are stale), masses (``mj_setConst``) and ``qpos``.  2-D cases lie in z = 0: discs are
+spheres, a 2-D box gets the z half-width 2 x the case's largest half-width (1 if all are 0)
+so z is never the axis of least overlap nor a gap; vectors come back without z.
+
+Detection (``aabb``, ``sphere``; ``mujoco-default`` only, see below): ``query`` runs
+``mj_kinematics`` (geom poses from qpos), ``mj_collision`` (the contacts, geom margin 0) and
+``mj_geomDistance(m, d, A, B, 1e30, fromto)``:
+
+- ``hit``: a contact between A and B with distance <= 0.  Not "``ncon`` > 0": a contact
+  within a margin has a positive distance.  MuJoCo lists touching contacts (distance 0) and
+  leaves them out of its forces (``exclude``: distance >= margin); the verdict is the
+  collision pass's.
+- ``distance``: ``mj_geomDistance``.  Spheres: the sphere-sphere collider run with the
+  1e30 as margin, ``|cb - ca| - ra - rb``; boxes: GJK, and EPA when they overlap (native
+  CCD; for polytopes its tolerance is 1e-15 absolute, not ``opt.ccd_tolerance``).  When EPA
+  cannot build its polytope it returns 0 ("assume touching", engine_collision_gjk.c).
+  Measured: 0.0 for 2 of 300 random overlapping box pairs at 1e6 (overlaps of 9e4 and
+  2e5), for an overlap of 2e-12 between boxes of 1e-9 and of 3e-9 at an offset of 1e8, and
+  -1.15e-12 for an overlap of 2e-12 between boxes of 1e-6, where the contact's ``dist``
+  from ``mj_collision`` (the box-box SAT collider) is right every time.  The adapter reports
+  ``mj_geomDistance`` anyway: it is MuJoCo's distance query, what a user calls for a
+  distance, and the row then shows its error beside a right ``hit`` and ``normal`` (which
+  come from the contact); substituting the contact's depth would hide the fault.
+- ``normal``: in contact the deepest contact's ``frame[0:3]``, which points from
+  ``geom[0]`` to ``geom[1]`` (A is geom 0; flipped if a contact lists B first, never seen);
+  apart (distance > 0) the unit vector of ``fromto`` (A's nearest point to B's: a
+  difference of two surface points, so a normal across a tiny gap tilts by ~u size / gap);
+  none when those points round to the same double (a gap below the coordinates' ulp, e.g.
+  0.125 at 1e15 or 5.6e-17 at 1) or without contact at distance <= 0 (corner-touching
+  boxes): the engine gives no direction there.
+
+Responses (``sphere_response``, 2-D and 3-D): stepped by :mod:`adapters.mujoco_response`
+until no contact is active and the spheres no longer approach.
+
+Conventions (sources in ``SOURCES``: docs of 4.0.0; source files linked at main and read at
+commit a7255075, a 3.12.1 development snapshot, the newest one mirrored here; each rule
+measured on the installed 4.0.0 and pinned in tests/test_adapter_mujoco.py):
+
+- box geom size is the half-sizes [XMLreference]; normal from geom[0] to geom[1]
+  (``mjContact.frame``; ``fromto`` from geom1 to geom2) [engine_support.c]: A to B, no flip.
+- touching: spheres touching give a contact at distance 0 (``mjraw_SphereSphere`` rejects
+  only ``|d|^2 > (r1 + r2 + margin)^2``): contact, unlike the textbook; boxes touching on a
+  face or an edge give contacts at distance 0, on a corner none (the box-box collider
+  clips no contact point there, measured): corner declared apart.  A 2-D corner touch is a
+  3-D edge touch in the embedding, so 2-D corners collide (as the textbook says).  No
+  margins (geom margin 0).
+- rtol: ``mujoco-default`` 2^-50 (mjtNum is double); ``mujoco`` the precision of its stiff
+  contact, measured on the suite's responses (see :data:`STIFF_RTOL`).
+- restitution: MuJoCo has none.  ``mujoco-default`` keeps the soft default contact (solref
+  0.02 1, solimp 0.9 0.95 0.001 0.5 2, friction 1, condim 3, Euler, dt 0.002 s) and ignores
+  the case's e: a 1 m/s head-on bounce of equal spheres leaves at about +-0.14 (measured).
+  ``mujoco`` builds a spring-dashpot with the case's e (see mujoco_response); e = 0 and e
+  outside [0, 1] are skipped.  No threshold; bodies already separating meet no force
+  (resolves_separating False).  Damping 0: joint damping, ``opt.viscosity`` and
+  ``opt.density`` are 0 by default (no drag on free bodies).
+- zero mass, zero or negative sizes: the compiler refuses them ("mass and inertia of moving
+  bodies must be larger than mjMINVAL", "size 0 must be positive in geom", user_objects.cc
+  and user_model.cc); a changed compiled model would not check, so such a case is compiled
+  as itself and its compiler error raised: ``error`` rows, as a user gets (zero_mass "",
+  negative_extents "").
+- non-finite input: detection reads NaN and inf silently (``mj_geomDistance`` returns its
+  1e30 cap, no contact): reported Undefined.  Responses: ``mj_step`` resets the state on a
+  bad value and counts a warning; the warning is raised.
+- fatal errors: ``mju_error`` ends a C program; the Python binding turns it into
+  ``mujoco.FatalError`` [python.rst, Error handling].  Found here (fuzzing sizes and
+  coordinates up to DBL_MAX): a sphere of radius 1.7e308 makes ``mj_collision`` fail with
+  "mju_makeFrame: xaxis of contact frame undefined" (its contact normal overflows).  The
+  adapter raises it as an error and compiles a new pair for the next case.  No hang was
+  found (GJK and EPA are bounded by ``ccd_iterations``, stepping by ``MAX_STEPS``), so no
+  ``known_hang``.  Warnings and errors go to the installed handler, never to
+  ``MUJOCO_LOG.TXT`` [simulation.rst, Default handler].
+
+Variants.  The stiff contact is a response setting only: detection is the same engine call
+in both variants, and one ``rtol`` per adapter would widen the detection allowance of
+``mujoco`` to its response precision (EPA errors would become ``tolerance``), so detection
+is scored under ``mujoco-default`` alone and ``mujoco`` skips it with that reason.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any, ClassVar
+
+import numpy as np
+
+from adapters import mujoco_response as response
+from adapters.mujoco_setup import Mass, Pair, compile_pair, engine, guarded, refusal, set_sizes
+from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.geometry import Vec, Vec3, to3, z_half
+from crosscheck.core.model import Kind, Observation, quantities_of
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+
+MJ = "https://github.com/google-deepmind/mujoco/blob/main/"
+DOCS = "https://mujoco.readthedocs.io/en/4.0.0/"
+SOURCES = (
+    DOCS + "XMLreference.html#body-geom",
+    DOCS + "modeling.html#solver-parameters",
+    DOCS + "APIreference/APIfunctions.html#mj-geomdistance",
+    MJ + "src/engine/engine_collision_primitive.c",  # mjraw_SphereSphere
+    MJ + "src/engine/engine_collision_box.c",  # box-box SAT collider
+    MJ + "src/engine/engine_collision_gjk.c",  # GJK/EPA, 'assume touching'
+    MJ + "src/engine/engine_support.c",  # mj_geomDistance
+    MJ + "src/engine/engine_collision_driver.c",  # contact geom order, exclude
+    MJ + "src/engine/engine_core_constraint.c",  # solref, solimp -> aref
+    MJ + "src/engine/engine_forward.c",  # mj_checkPos/Vel/Acc reset, RK4
+    MJ + "src/engine/engine_util_errmem.c",  # warnings -> MUJOCO_LOG.TXT
+    MJ + "src/user/user_objects.cc",  # size must be positive
+    DOCS + "programming/simulation.html#sidefaulthandler",  # legacy handler: no log file
+    DOCS + "python.html#pyerror",  # mju_error -> mujoco.FatalError
+    "https://arxiv.org/abs/2204.10917",  # linear dashpot, force stopped at zero
+)
+DISTMAX = 1e30
+"""``distmax`` of ``mj_geomDistance``: above any distance in the suite."""
+DETECTION = frozenset({Kind.AABB, Kind.SPHERE})
+STIFF_RTOL = 1e-6
+"""The stiff contact's precision, relative to the case's largest velocity component: its
+worst error on the suite's finite, approaching responses with 0 < e <= 1 was 3.6e-7 of it
+(grazing and oblique impacts: the line of centres turns while the contact lasts), 1e-10
+head-on; declared with a factor 3 of room.  Not covered: coordinates of 1e8, where the
+positions' rounding costs 1.5e-4 (an ``error``)."""
+
+
+@dataclass(eq=False)
+class Detection:
+    """A detection case set into its pair: sizes, ``qpos``, the ``fromto`` buffer."""
+
+    pair: Pair
+    sizes: tuple[Vec3, Vec3]
+    qpos: tuple[float, ...]
+    dim: int
+    fromto: Any = field(default_factory=lambda: np.zeros(6))
+
+
+@dataclass(frozen=True, slots=True)
+class Fixed:
+    """An answer known without the engine (input it reads silently)."""
+
+    observation: Observation
+
+
+def sizes_of(case: PairCase) -> tuple[Vec3, Vec3]:
+    """Geom sizes of A and B: radius (then 0, 0) or half-sizes (2-D: z half-width added)."""
+    if isinstance(case, AabbCase):
+        if case.dim == 3:
+            return to3(case.a.half), to3(case.b.half)
+        hz = z_half(case.a.half, case.b.half)
+        return (case.a.half[0], case.a.half[1], hz), (case.b.half[0], case.b.half[1], hz)
+    return (case.a.radius, 0.0, 0.0), (case.b.radius, 0.0, 0.0)
+
+
+def non_finite(case: PairCase) -> str:
+    """The first non-finite position or size of a detection case, in words ('' if none)."""
+    named = [("a.center", case.a.center), ("b.center", case.b.center)]
+    if isinstance(case, AabbCase):
+        named += [("a.half", case.a.half), ("b.half", case.b.half)]
+    else:
+        named += [("a.radius", (case.a.radius,)), ("b.radius", (case.b.radius,))]
+    for name, values in named:
+        bad = [x for x in values if not math.isfinite(x)]
+        if bad:
+            return f"{name} holds {bad[0]!r}"
+    return ""
+
+
+def _unit(v: Sequence[float]) -> Vec | None:
+    """``v`` normalised; None for a zero, overflowing or NaN vector (no direction)."""
+    length = math.hypot(*(float(x) for x in v))
+    return tuple(float(x) / length for x in v) if 0.0 < length < math.inf else None
+
+
+def detect(p: Detection) -> Observation:
+    """One collision pass and one distance query (see the module docstring)."""
+    mujoco, m, d = engine(), p.pair.model, p.pair.data
+    if p.pair.owner is not p:
+        place(p)
+    with guarded(p.pair):
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_collision(m, d)
+        distance = float(mujoco.mj_geomDistance(m, d, 0, 1, DISTMAX, p.fromto))
+    hit, normal = False, None
+    if d.ncon:
+        deepest = int(np.argmin(d.contact.dist))
+        if d.contact.dist[deepest] <= 0.0:
+            sign = 1.0 if d.contact.geom[deepest][0] == 0 else -1.0
+            hit, normal = True, _unit(sign * d.contact.frame[deepest][:3])
+    if not hit and distance > 0.0:
+        start, end = p.fromto[:3].tolist(), p.fromto[3:].tolist()  # Python floats: inf, no warning
+        normal = _unit([b - a for a, b in zip(start, end, strict=True)])
+    if normal is not None:
+        normal = normal[:p.dim]
+    return Observation(hit=hit, distance=distance, normal=normal)
+
+
+def place(p: Detection) -> None:
+    """Put a detection case's sizes and pose into its pair."""
+    set_sizes(p.pair, p.sizes)
+    p.pair.data.qpos[:] = p.qpos
+    p.pair.owner = p
+
+
+def _conventions(rtol: float, restitution: str, time_step: float | None,
+                 notes: str) -> Conventions:
+    return Conventions(
+        box_extents="half (a box geom's size is its half-sizes)",
+        normal="geom[0] to geom[1] (contact frame; mj_geomDistance's fromto from geom1 to "
+               "geom2); A is geom 0: no flip",
+        touching={"sphere": True, "face": True, "edge": True, "corner": False},
+        margins={},
+        rtol=rtol,
+        restitution=restitution,
+        restitution_threshold=0.0,
+        resolves_separating=False,
+        time_step=time_step,
+        damping=0.0,
+        zero_mass="",
+        negative_extents="",
+        notes=notes,
+        sources=SOURCES,
+    )
+
+
+_DETECTION_NOTES = (
+    "hit = a contact from mj_collision (geom margin 0) with distance <= 0: touching spheres "
+    "and face- or edge-touching boxes give contacts at distance 0, corner-touching boxes none "
+    "(2-D corners are 3-D edges here and do collide); distance = mj_geomDistance (GJK/EPA for "
+    "boxes: may read 0.0 for overlapping boxes where EPA fails, e.g. 2 of 300 random pairs at "
+    "1e6, while the contact's dist is right: reported as is); normal = the contact frame in "
+    "contact, else the fromto segment.  Zero or negative sizes and zero masses: the compiler "
+    "refuses them (error rows); NaN/inf positions are read silently (reported undefined).  ")
+_RESPONSE_NOTES = (
+    "Responses: free spheres stepped until no contact is active and they no longer approach; "
+    "resolved_at = the centres at the start of the first step whose collision pass found an "
+    "active contact; a warning (bad qpos/qvel/qacc: MuJoCo resets the state) is raised.  ")
+
+
+class MujocoDefault(Adapter):
+    """MuJoCo as a user gets it: only geometry, masses and velocities are set."""
+
+    name: ClassVar[str] = "mujoco-default"
+    engine: ClassVar[str] = "mujoco"
+    settings: ClassVar[str] = (
+        "two free bodies, gravity 0; defaults: Euler, dt 0.002 s, solref 0.02 1, solimp 0.9 "
+        "0.95 0.001 0.5 2, condim 3, friction 1, margin 0; response inertia 2/5 m r^2 (a solid "
+        "sphere, as MuJoCo computes it from a geom's mass); 2-D boxes get z half-width 2x the "
+        "largest half-width")
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
+    conventions: ClassVar[Conventions] = _conventions(
+        2.0**-50,
+        "no coefficient of restitution: MuJoCo's default soft contact (solref 0.02 1, solimp "
+        "0.9 0.95 0.001 0.5 2); the case's e is not read",
+        0.002,
+        _DETECTION_NOTES + _RESPONSE_NOTES + (
+            "Default contact: a 1 m/s head-on bounce of equal spheres leaves at about +-0.14 "
+            "whatever e the case asks; friction 1 acts on oblique impacts."))
+    stiff: ClassVar[response.Stiff | None] = None
+    condim: ClassVar[str] = ""
+    """Extra MJCF attributes of the response geoms."""
+
+    def __init__(self) -> None:
+        self._pairs: dict[str, Pair] = {}
+
+    def version(self) -> str:
+        return str(engine().mj_versionString())
+
+    def available(self) -> str | None:
+        try:
+            engine()
+        except ImportError as exc:
+            return f"mujoco not importable: {exc}"
+        return None
+
+    def binding_call(self) -> Callable[[], object]:
+        """``mj_version()``: one call through the pybind11 binding into libmujoco."""
+        return engine().mj_version  # type: ignore[no-any-return]
+
+    def pair(self, key: str) -> Pair:
+        """The compiled pair of ``key`` (a geom type, or ``response``), compiled on first use."""
+        if key not in self._pairs or self._pairs[key].broken:
+            if key == "response":
+                self._pairs[key] = compile_pair("sphere", self.condim)
+                if self.stiff is not None:
+                    response.tune_stiff(self._pairs[key])
+            else:
+                self._pairs[key] = compile_pair(key)
+        return self._pairs[key]
+
+    def prepare(self, case: AnyCase) -> Any:
+        assert not isinstance(case, SceneCase), "the mujoco adapters declare no scenes"
+        geom = "box" if isinstance(case, AabbCase) else "sphere"
+        sizes = sizes_of(case)
+        masses = self.masses(case) if isinstance(case, ResponseCase) else None
+        refused = refusal(geom, sizes, masses)
+        if refused is not None:
+            raise ValueError(f"MuJoCo's compiler refuses this case: {refused}")
+        if isinstance(case, ResponseCase):
+            assert masses is not None
+            contact = None if self.stiff is None else response.stiff_contact(case, self.stiff)
+            return response.prepare(self.pair("response"), case, masses, contact)
+        if bad := non_finite(case):
+            return Fixed(Observation.undefined(quantities_of(case.kind_enum), (
+                f"non-finite input ({bad}): MuJoCo's detection reads it silently")))
+        identity = (1.0, 0.0, 0.0, 0.0)
+        qpos = (*to3(case.a.center), *identity, *to3(case.b.center), *identity)
+        prepared = Detection(self.pair(geom), sizes, qpos, case.dim)
+        place(prepared)
+        return prepared
+
+    def masses(self, case: ResponseCase) -> tuple[Mass, Mass]:
+        """Mass and inertia of A and B: a solid sphere's, 2/5 m r^2 (MuJoCo's for a geom)."""
+        return ((case.a.mass, (0.4 * case.a.mass * case.a.radius ** 2,) * 3),
+                (case.b.mass, (0.4 * case.b.mass * case.b.radius ** 2,) * 3))
+
+    def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, Fixed):
+            return prepared.observation
+        if isinstance(prepared, response.Prepared):
+            return response.respond(prepared)
+        return detect(prepared)
+
+
+class MujocoStiff(MujocoDefault):
+    """MuJoCo with a stiff, frictionless spring-dashpot contact fitted to each response case."""
+
+    name: ClassVar[str] = "mujoco"
+    settings: ClassVar[str] = (
+        "responses only: two free bodies, gravity 0, condim 1 (frictionless), RK4, solver "
+        "tolerance 1e-15, solimp flat 0.9999, direct solref (-w0^2, -2 zeta w0) with w0 = "
+        "relative speed / (10 sqrt(P R 2^-52)) capped at 1e9 / speed and zeta giving the "
+        "case's e, dt = contact duration / 256, geom margin 2^-1022; inertia = mass (no "
+        "rotation takes part)")
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE_RESPONSE)
+    conventions: ClassVar[Conventions] = replace(
+        MujocoDefault.conventions,
+        rtol=STIFF_RTOL,
+        restitution=("no coefficient of restitution in MuJoCo: a linear spring-dashpot (direct "
+                     "solref) whose restitution, force stopped at zero, is the case's e; "
+                     "e = 0 and e outside [0, 1] skipped"),
+        time_step=None,
+        notes=_RESPONSE_NOTES + (
+            "Stiff contact fitted per case (adapters/mujoco_response.py): the time step is "
+            "the contact's duration / 256, so no single time_step is declared.  rtol 1e-6 of "
+            "the largest velocity component: measured worst 3.6e-7 on the suite (the line of "
+            "centres turns during an oblique contact), 1e-10 head-on; at coordinates of 1e8 "
+            "the positions' rounding costs 1.5e-4.  Detection is the same engine call as "
+            "mujoco-default's and is scored there only."))
+    stiff: ClassVar[response.Stiff | None] = response.Stiff()
+    condim: ClassVar[str] = ' condim="1"'
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        if case.kind_enum in DETECTION:
+            return ("mujoco (stiff) sets contact dynamics only: detection is the same engine "
+                    "call as mujoco-default's and is scored there (this variant's rtol is its "
+                    "response precision)")
+        if isinstance(case, ResponseCase) and (why := response.restitution_refusal(
+                case.restitution)):
+            return f"mujoco (stiff): {why}"
+        return super().unsupported(case)
+
+    def masses(self, case: ResponseCase) -> tuple[Mass, Mass]:
+        """Mass, and inertia equal to it: frictionless contact through the centres, no torque."""
+        return ((case.a.mass, (case.a.mass,) * 3), (case.b.mass, (case.b.mass,) * 3))

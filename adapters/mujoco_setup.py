@@ -1,0 +1,165 @@
+"""MuJoCo setup shared by its adapters: quiet import, compiled pairs, the compiler's refusals.
+
+What it is for: the detection part (:mod:`adapters.mujoco_engine`) and the response part
+(:mod:`adapters.mujoco_response`) both need a compiled two-body model whose sizes, masses
+and poses change per case, and both must keep MuJoCo from writing files:
+
+- ``engine()``: the ``mujoco`` module, imported once, lazily (an optional engine: importing
+  this module does not import it).  On that import a warning handler is installed
+  (``mujoco.set_mju_user_warning``): without it every MuJoCo warning is printed and
+  appended to ``MUJOCO_LOG.TXT`` in the current directory (``mju_warning`` in
+  ``engine_util_errmem.c``).  The handler keeps the last messages in :data:`WARNINGS`.
+- ``compile_pair(geom, ...)``: two free-joint bodies with explicit inertials (a tiny sphere
+  does not compile without one: its computed inertia falls below mjMINVAL), gravity 0, each
+  with one geom of type ``geom`` (``sphere`` or ``box``).  Compiling costs ~10 ms; a
+  :class:`Pair` is compiled once per adapter instance and kind, then changed per case with
+  :func:`set_sizes` and :func:`set_masses` (what ``mj_setConst`` must follow) and ``qpos``.
+  ``Pair.owner`` names the prepared case the model holds now, so a query of another
+  prepared case puts its own values back first.
+- ``refusal(geom, sizes, masses)``: what MuJoCo's compiler says of sizes and masses it
+  would not compile (a size not > 0 or NaN: "size 0 must be positive in geom"; a moving
+  body's mass or inertia not > mjMINVAL = 1e-15).  Changing a compiled model bypasses
+  those checks, so the adapters ask the compiler itself: only when a number is outside
+  the compiler's range, the case's own model is compiled, and its error message returned.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+from crosscheck.core.geometry import Vec3
+
+__all__ = ["MINVAL", "WARNINGS", "Mass", "Pair", "compile_pair", "engine", "guarded", "refusal",
+           "set_masses", "set_sizes"]
+
+MINVAL = 1e-15
+"""mjMINVAL: the smallest mass and inertia MuJoCo's compiler accepts for a moving body."""
+WARNINGS: deque[str] = deque(maxlen=16)
+"""The last MuJoCo warning messages (kept by the handler instead of MUJOCO_LOG.TXT)."""
+Mass = tuple[float, Vec3]
+"""A body's mass and diagonal inertia."""
+
+_MODULE: list[Any] = []
+_XML = """<mujoco model="crosscheck-pair">
+  <option gravity="0 0 0"/>
+  <worldbody>
+    <body name="a"><freejoint/><inertial pos="0 0 0" mass="{ma}" diaginertia="{ia}"/>
+      <geom name="a" type="{geom}" size="{sa}"{extra}/></body>
+    <body name="b"><freejoint/><inertial pos="0 0 0" mass="{mb}" diaginertia="{ib}"/>
+      <geom name="b" type="{geom}" size="{sb}"{extra}/></body>
+  </worldbody>
+</mujoco>"""
+_UNIT: dict[str, Vec3] = {"sphere": (1.0, 0.0, 0.0), "box": (1.0, 1.0, 1.0)}
+_ONE: Mass = (1.0, (1.0, 1.0, 1.0))
+
+
+def _keep(message: str) -> None:
+    WARNINGS.append(str(message))
+
+
+def engine() -> Any:
+    """The ``mujoco`` module, imported on first use, with the warning handler installed."""
+    if not _MODULE:
+        import mujoco  # type: ignore[import-untyped]
+
+        mujoco.set_mju_user_warning(_keep)
+        _MODULE.append(mujoco)
+    return _MODULE[0]
+
+
+@dataclass(eq=False)
+class Pair:
+    """A compiled two-body model and its data; ``owner``: the prepared case set in it now."""
+
+    model: Any
+    data: Any
+    geom: str
+    owner: object = None
+    broken: bool = False
+    """Set after a MuJoCo fatal error in it: the next case compiles a new pair."""
+
+
+def _text(values: Sequence[float]) -> str:
+    return " ".join(repr(float(x)) for x in values)
+
+
+def _xml(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass], extra: str) -> str:
+    count = 1 if geom == "sphere" else 3
+    (ma, ia), (mb, ib) = masses
+    return _XML.format(geom=geom, sa=_text(sizes[0][:count]), sb=_text(sizes[1][:count]),
+                       ma=repr(float(ma)), mb=repr(float(mb)), ia=_text(ia), ib=_text(ib),
+                       extra=extra)
+
+
+def compile_pair(geom: str, extra: str = "") -> Pair:
+    """Two free bodies of unit mass, each with one unit geom of type ``geom``.
+
+    ``extra``: more geom attributes, as MJCF text (e.g. ``' condim="1"'``).
+    """
+    mujoco = engine()
+    model = mujoco.MjModel.from_xml_string(_xml(geom, (_UNIT[geom],) * 2, (_ONE,) * 2, extra))
+    return Pair(model, mujoco.MjData(model), geom)
+
+
+@contextmanager
+def guarded(pair: Pair) -> Iterator[None]:
+    """Run engine calls on ``pair``; a MuJoCo fatal error (``mju_error``, which exits a C
+    program) becomes a RuntimeError and marks the pair broken."""
+    try:
+        yield
+    except engine().FatalError as exc:
+        pair.broken = True
+        raise RuntimeError(f"MuJoCo fatal error (mju_error): {exc}") from None
+
+
+def set_sizes(pair: Pair, sizes: Sequence[Vec3]) -> None:
+    """Geom sizes (radius; box half-sizes) with the bounds the compiler derives from them:
+    ``geom_rbound`` (bounding sphere) and ``geom_aabb`` (local box), both used by the
+    broad phase (a stale bound drops the pair before the narrow phase)."""
+    m = pair.model
+    for g, size in enumerate(sizes):
+        m.geom_size[g] = size
+        if pair.geom == "sphere":
+            r = size[0]
+            m.geom_rbound[g] = r
+            m.geom_aabb[g] = (0.0, 0.0, 0.0, r, r, r)
+        else:
+            m.geom_rbound[g] = math.sqrt(math.fsum(h * h for h in size))
+            m.geom_aabb[g] = (0.0, 0.0, 0.0, *size)
+
+
+def set_masses(pair: Pair, masses: Sequence[Mass]) -> None:
+    """Body masses and inertias, then ``mj_setConst``: it recomputes what the compiler derived
+    from them (``body_invweight0``, the constraint solver's diagonal estimate)."""
+    m = pair.model
+    for body, (mass, inertia) in enumerate(masses, start=1):
+        m.body_mass[body] = mass
+        m.body_inertia[body] = inertia
+    engine().mj_setConst(m, pair.data)
+
+
+def _in_range(sizes: Sequence[Vec3], masses: Sequence[Mass]) -> bool:
+    return (all(x > 0.0 for size in sizes for x in size)  # NaN is not > 0
+            and all(x > MINVAL for mass, inertia in masses for x in (mass, *inertia)))
+
+
+def refusal(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass] | None = None) -> str | None:
+    """MuJoCo's compiler error for these sizes and masses (None: it compiles them).
+
+    Detection bodies have unit masses (``masses`` None).  A sphere's size is its radius
+    alone (the other two numbers are not read).
+    """
+    used: list[Vec3] = [(s[0], 1.0, 1.0) if geom == "sphere" else s for s in sizes]
+    weights = masses or (_ONE, _ONE)
+    if _in_range(used, weights):
+        return None
+    try:
+        engine().MjModel.from_xml_string(_xml(geom, sizes, weights, ""))
+    except ValueError as exc:
+        return str(exc).strip().splitlines()[0]
+    return None

@@ -1,0 +1,396 @@
+"""Rapier through its official Python bindings (rapier3d 0.36.1): ``rapier``, ``rapier-default``.
+
+rapier3d 0.36.1 is the PyO3 build of Rapier 0.36.1 (3-D, ``Real`` = f32) with parry3d
+0.31.1 (the wheel's SBOM); it imports numpy undeclared (numpy is in our dependencies).
+Kinds: ``aabb``, ``sphere``, ``sphere_response`` in 3-D, and in 2-D run in the plane z = 0
+(as fcl does): a disc is a ball at z = 0, a 2-D box a cuboid with the z half-width of
+:func:`crosscheck.core.geometry.z_half` (z is never the axis of least overlap nor a gap), a
+2-D response locks z translation; answers come back as 2-tuples.  No scenes.
+
+Detection.  The bindings expose no pairwise parry query (no ``contact``/``distance`` of two
+shapes at two poses): the narrow phase is the pairwise query they have.  ``prepare`` builds
+two standalone ``Collider`` s (``SharedShape.ball(radius)`` or ``SharedShape.cuboid`` with
+half-extents, at the case's centres, identity rotation) with ``ActiveCollisionTypes.all()``:
+a standalone collider counts as fixed, and the default types leave fixed-fixed pairs out
+(collider_components.rs), so without it the pair is never formed (measured).  ``query``
+runs two ``CollisionPipeline.step(prediction, ...)`` passes, each over a new ``ColliderSet``,
+``BroadPhaseBvh`` and ``NarrowPhase`` (a set once stepped is invisible to a new broad phase,
+measured; new sets make every query the first): the narrow phase calls parry's contact
+manifold of the pair (contact_manifolds_ball_ball.rs, contact_manifolds_cuboid_cuboid.rs).
+
+- ``hit``: ``ContactPair.has_any_active_contact`` at the variant's prediction distance: a
+  pair has active (solver) contacts only for points with ``dist < prediction``
+  (pair_update.rs), and a ball pair has contact points only for ``dist < prediction``.
+- ``distance``, ``normal``: from a second pass whose prediction distance reaches past any gap
+  (``1 + 2 (|cb - ca| + the sizes)``): the smallest ``ContactData.dist`` (signed, gap
+  positive) and the world ``ContactManifoldData.normal`` of its manifold, which points from
+  collider1 to collider2 (negated if rapier stores the pair as (B, A)).  No contact point:
+  both Undefined, with the reason.
+
+Response: :mod:`adapters.rapier_response` steps a new world per query, built from the
+builders ``prepare`` makes (dynamic bodies with ``Collider.ball(r).mass(m)``), up to the
+first step whose solver pushed A and B apart; ``resolved_at`` is the centres at its start.
+
+Variants (the sources are in ``SOURCES``; Rapier files at tag v0.35.2, the nearest tag to
+0.36.1 we can read, parry files at v0.25.3; every fact below was re-measured with 0.36.1):
+
+- ``rapier``: detection at prediction distance 0 (the textbook rule for spheres:
+  ``dist < 0``).  Responses: ``normalized_prediction_distance`` 0,
+  ``normalized_max_linear_velocity`` f32::MAX (the default 400 m/s caps the speed after each
+  substep: 1000 m/s read 399.998, measured), dt 1/60 set explicitly, bodies
+  ``soft_ccd_prediction`` 1e30 (predictive contacts whatever the step's travel), rotations
+  locked, no sleeping, damping 0, friction 0, restitution rule Multiply with A = e and
+  B = 1 (e exactly); why not a smaller dt: see :mod:`adapters.rapier_response`.
+- ``rapier-default``: only geometry, masses, velocities and restitution (both colliders e,
+  averaged by the default rule: e exactly), plus ``ActiveCollisionTypes.all()`` for
+  detection; prediction distance 0.02 (``IntegrationParameters().prediction_distance()``),
+  dt 1/60, friction 0.5, rotation free, sleeping allowed, speeds capped at 400.
+
+Conventions (declared in ``TUNED`` and ``DEFAULT``):
+
+- box extents: half (``SharedShape.cuboid(hx, hy, hz)``) [_rapier3d.pyi]; normal from A to B
+  (``ContactManifoldData.normal`` = collider1's rotation x ``local_n1``) [pair_update.rs].
+- touching: a contact needs ``dist < prediction`` [contact_manifolds_ball_ball.rs,
+  pair_update.rs].  ``rapier``: touching is apart at every feature (textbook for spheres,
+  not for boxes).  ``rapier-default``: touching and any gap below 0.02 is contact: touching
+  True at every feature and margin 0.02 (0.019999999552965164) at every feature
+  [integration_parameters.rs].
+- precision: f32 throughout, rtol 2^-21 (4 float32 ulps of the case's size; measured on
+  2,000 random sphere and 2,000 box pairs at scales 1e-3 to 1e3: distances within 2.1e-7 x
+  size; responses within 2^-21 x the speed but for the f32-gap effect above).
+- restitution: ``CoefficientCombineRule`` (the stronger rule of the two colliders wins;
+  Average by default) [coefficient_combine_rule.rs]; a new contact bounces when the combined
+  e > 0 (``is_bouncy``) [contact_pair.rs]: no threshold (0).  The bounce is an end-of-step
+  pass that sets the normal velocity to -e x the approach, only on a contact that carried a
+  normal impulse, which is clamped at >= 0 [contact_constraint_element.rs]: bodies already
+  separating are left alone (``resolves_separating`` False).
+- time step: 1/60 s in both; damping 0 (rapier's default linear damping is 0).
+- mass 0 is immovable: parry's ``MassProperties`` stores ``inv(m)``, 0 for m = 0 exactly
+  ("zero = infinite mass") [mass_properties.rs, utils/inv.rs]; ``zero_mass`` "static"
+  (measured: a body of mass 0 at -1 sends the other back at -3 and keeps its velocity; a
+  mass of 1e-21 is still a light body).  An infinite mass is immovable too.
+- negative sizes read literally (``negative_extents`` ""): a ball of radius -0.5 at 0.75
+  from a unit ball reads 0.25 apart (0.75 - 1 + 0.5), a cuboid with half-width -1 on x
+  answers as the literal per-axis formula (measured).
+
+Faults measured here (and pinned in tests/test_adapter_rapier.py):
+
+- NaN anywhere, or an infinite centre or size, is ignored without a word (no contact pair,
+  hit False; a NaN mass: no contact; a NaN restitution: no bounce).  ``check_inputs`` raises
+  instead (recorded as ``error``), also for a finite number beyond float32's range.  An
+  infinite velocity or restitution ends in rapier's quarantine: ``query`` raises.
+- small boxes: a face contact needs the unnormalised face normal (4 hx hy of the reference
+  face) above f32::EPSILON (parry's ``relative_eq!(denom, 0.0)`` in
+  polygonal_feature3d.rs), so overlapping cubes of half-width <= 1.7263e-4 never collide
+  (bisected) and zero-size boxes give no contact point at all.
+- ball pairs whose squared centre distance overflows f32 (centres more than ~1.8e19 apart)
+  give no contact point; centres far from the origin lose the gap to f32 rounding (at 1e8
+  the spacing is 8: a 3-4-5 pair there reads coincident).
+- separated boxes get a point in the wide pass only where the support faces overlap in
+  projection (face, some edge and corner gaps); otherwise the distance is Undefined.
+- a negative mass: when 1/ma + 1/mb < 0 the clamped impulse is 0 and the bodies pass
+  through each other; a negative restitution is read as 0 (no bounce).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from importlib import metadata
+from typing import TYPE_CHECKING, Any, ClassVar
+
+from adapters.rapier_response import APPROACH_RTOL, Response, respond
+from crosscheck.core import geometry
+from crosscheck.core.contract import FEATURES, Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.geometry import Vec3, to3
+from crosscheck.core.model import Kind, Observation, Undefined
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+
+if TYPE_CHECKING:
+    import rapier3d
+
+RAPIER = "https://github.com/dimforge/rapier/blob/v0.35.2/"
+PARRY = "https://github.com/dimforge/parry/blob/v0.25.3/src/"
+SOURCES = (
+    "https://pypi.org/project/rapier3d/0.36.1/",
+    RAPIER + "python/rapier-py-3d/python/rapier3d/_rapier3d.pyi",
+    RAPIER + "src/pipeline/collision_pipeline.rs",
+    RAPIER + "src/geometry/narrow_phase/pair_update.rs",
+    RAPIER + "src/geometry/collider_components.rs",
+    RAPIER + "src/geometry/contact_pair.rs",
+    RAPIER + "src/dynamics/coefficient_combine_rule.rs",
+    RAPIER + "src/dynamics/integration_parameters.rs",
+    RAPIER + "src/dynamics/solver/contact_constraint/contact_constraint_element.rs",
+    PARRY + "query/contact_manifolds/contact_manifolds_ball_ball.rs",
+    PARRY + "query/contact_manifolds/contact_manifolds_cuboid_cuboid.rs",
+    PARRY + "shape/polygonal_feature3d.rs",
+    PARRY + "mass_properties/mass_properties.rs",
+    PARRY + "utils/inv.rs",
+)
+F32_MAX = 3.4028234663852886e38
+"""The largest finite float32: rapier's ``Real``."""
+DEFAULT_PREDICTION = 0.019999999552965164
+"""``IntegrationParameters().prediction_distance()``: 0.02 (as float32) x length_unit 1."""
+DEFAULT_DT = 0.01666666753590107
+"""``IntegrationParameters().dt``: 1/60 as float32."""
+TUNED_DT = 1.0 / 60.0
+"""The tuned step, set explicitly: rapier's default (why not smaller: adapters.rapier_response)."""
+SOFT_CCD = 1e30
+"""Tuned bodies' ``soft_ccd_prediction``: no bound on the predictive reach of a step."""
+
+
+# --- inputs rapier cannot take ----------------------------------------------------------------
+
+
+def _numbers(case: PairCase) -> list[tuple[str, float]]:
+    """Every number of a case with its name: centres, sizes, and for responses the rest."""
+    named = [(f"{s}.center[{i}]", x) for s, body in (("a", case.a), ("b", case.b))
+             for i, x in enumerate(body.center)]
+    if isinstance(case, AabbCase):
+        return named + [(f"{s}.half[{i}]", x) for s, body in (("a", case.a), ("b", case.b))
+                        for i, x in enumerate(body.half)]
+    named += [("a.radius", case.a.radius), ("b.radius", case.b.radius)]
+    if isinstance(case, ResponseCase):
+        named += [("a.mass", case.a.mass), ("b.mass", case.b.mass),
+                  ("restitution", case.restitution)]
+        named += [(f"{s}.velocity[{i}]", x) for s, body in (("a", case.a), ("b", case.b))
+                  for i, x in enumerate(body.velocity)]
+    return named
+
+
+def check_inputs(case: PairCase) -> None:
+    """Raise for an input rapier would take without a word and mishandle (see the module
+    docstring): NaN anywhere, infinite geometry, or a number beyond float32's range."""
+    for name, x in _numbers(case):
+        geometric = not name.startswith(("restitution", "a.m", "b.m", "a.v", "b.v"))
+        if math.isnan(x) or (math.isinf(x) and geometric):
+            raise ValueError(f"{name} = {x!r}: rapier takes it without a word (measured: no "
+                             "contact, or no bounce), so the adapter does not ask it")
+        if math.isfinite(x) and abs(x) > F32_MAX:
+            raise OverflowError(f"{name} = {x!r} is beyond float32's largest finite value "
+                                f"{F32_MAX:.8g}: rapier (f32) would read it as infinite")
+
+
+# --- detection --------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Detection:
+    """Two standalone colliders (fixed, paired with ``ActiveCollisionTypes.all()``).
+
+    ``prediction``: the variant's prediction distance (the verdict); ``reach``: the
+    prediction distance of the pass that reads the signed distance and normal.
+    """
+
+    a: rapier3d.Collider
+    b: rapier3d.Collider
+    prediction: float
+    reach: float
+    dim: int
+    pipeline: rapier3d.CollisionPipeline
+
+
+def _shapes(case: PairCase) -> tuple[rapier3d.SharedShape, rapier3d.SharedShape]:
+    """Balls (radius) or cuboids (half-extents); 2-D boxes get the z half-width of the embedding."""
+    import rapier3d as rp
+
+    if not isinstance(case, AabbCase):
+        return rp.SharedShape.ball(case.a.radius), rp.SharedShape.ball(case.b.radius)
+    extra = (geometry.z_half(case.a.half, case.b.half),) if case.dim == 2 else ()
+    return (rp.SharedShape.cuboid(*case.a.half, *extra),
+            rp.SharedShape.cuboid(*case.b.half, *extra))
+
+
+def _reach(case: PairCase) -> float:
+    """A prediction distance above any gap of the case (capped at float32's largest)."""
+    sizes = sum(abs(x) for name, x in _numbers(case) if "center" not in name)
+    return min(F32_MAX, 1.0 + 2.0 * (math.dist(to3(case.a.center), to3(case.b.center)) + sizes))
+
+
+def _narrow(p: Detection, prediction: float) -> tuple[rapier3d.ContactPair | None, bool]:
+    """One collision-detection pass over fresh sets: the pair of A and B (or None) and whether
+    rapier stored it as (B, A)."""
+    import rapier3d as rp
+
+    colliders = rp.ColliderSet()
+    ha, hb = colliders.insert(p.a), colliders.insert(p.b)
+    narrow = rp.NarrowPhase()
+    p.pipeline.step(prediction, rp.IslandManager(), rp.BroadPhaseBvh(), narrow,
+                    rp.RigidBodySet(), colliders)
+    pair = narrow.contact_pair(ha, hb)
+    return pair, pair is not None and pair.collider1 != ha
+
+
+def _deepest(pair: rapier3d.ContactPair | None, flipped: bool) -> tuple[float, Vec3] | None:
+    """The smallest contact distance of the pair and its manifold's world normal, A to B."""
+    best: tuple[float, Vec3] | None = None
+    for manifold in pair.manifolds if pair is not None else ():
+        for point in manifold.points:
+            if best is None or point.dist < best[0]:
+                best = (float(point.dist), manifold.data.normal.to_tuple())
+    if best is None:
+        return None
+    distance, normal = best
+    return distance, ((-normal[0], -normal[1], -normal[2]) if flipped else normal)
+
+
+def detect(p: Detection) -> Observation:
+    """The verdict at the variant's prediction distance; distance and normal from a pass whose
+    prediction reaches past any gap (Undefined when rapier gives no contact point)."""
+    verdict, _ = _narrow(p, p.prediction)
+    hit = verdict is not None and bool(verdict.has_any_active_contact)
+    deepest = _deepest(*_narrow(p, p.reach))
+    if deepest is None:
+        none = Undefined(f"rapier gave no contact point within prediction distance {p.reach:.3g}")
+        return Observation(hit=hit, distance=none, normal=none)
+    distance, normal = deepest
+    return Observation(hit=hit, distance=distance, normal=tuple(normal[:p.dim]))
+
+
+# --- the adapters -----------------------------------------------------------------------------
+
+_NOTES = ("Detection: narrow phase of two standalone colliders (ActiveCollisionTypes.all()) in "
+          "new sets per pass; hit = has_any_active_contact at the variant's prediction "
+          "distance; distance and normal = deepest contact point of a pass whose prediction "
+          "reaches past any gap (Undefined when rapier gives none: zero-size boxes, boxes of "
+          "half-width <= 1.7e-4, some edge or corner gaps).  Responses: first step whose "
+          "solver put an impulse on the pair; resolved_at = centres at its start.  f32: "
+          "centres far from the origin lose small gaps.  Mass 0 is immovable (inverse "
+          "mass 0); with 1/ma + 1/mb < 0 no impulse; negative restitution reads as 0.  "
+          "NaN or infinite geometry is ignored by rapier, so the adapter raises.  ")
+TUNED = Conventions(
+    box_extents="half (SharedShape.cuboid takes half-extents)",
+    normal="ContactManifoldData.normal points from collider1 to collider2: A to B (negated if "
+           "rapier stores the pair as (B, A))",
+    touching=dict.fromkeys(FEATURES, False),
+    margins={},
+    rtol=2.0**-21,
+    restitution="rule Multiply on both colliders, A = e and B = 1: e exactly",
+    restitution_threshold=0.0,
+    resolves_separating=False,
+    time_step=TUNED_DT,
+    damping=0.0,
+    zero_mass="static",
+    negative_extents="",
+    notes=_NOTES + "Tuned: prediction 0, soft CCD, friction 0, no speed cap.",
+    sources=SOURCES,
+)
+DEFAULT = replace(
+    TUNED,
+    touching=dict.fromkeys(FEATURES, True),
+    margins=dict.fromkeys(FEATURES, DEFAULT_PREDICTION),
+    restitution="rapier's default rule Average, both colliders e: (e + e) / 2 = e exactly",
+    time_step=DEFAULT_DT,
+    notes=_NOTES + ("Defaults: prediction 0.02 (touching and gaps below it are contact), "
+                    "friction 0.5 and free rotation (oblique responses lose tangential "
+                    "speed to friction: reported as error), speeds capped at 400."),
+)
+
+
+class RapierTuned(Adapter):
+    """Rapier set for the textbook rules and accuracy (see the module docstring)."""
+
+    name: ClassVar[str] = "rapier"
+    engine: ClassVar[str] = "rapier3d"
+    settings: ClassVar[str] = (
+        "detection: prediction distance 0, ActiveCollisionTypes.all(); responses: gravity 0, "
+        "dt 1/60 (explicit), normalized_prediction_distance 0, normalized_max_linear_velocity "
+        "f32::MAX, soft_ccd_prediction 1e30, rotations locked, no sleeping, damping 0, "
+        "friction 0, restitution rule Multiply with A = e, B = 1; 2-D: z = 0, z locked")
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
+    conventions: ClassVar[Conventions] = TUNED
+    prediction: ClassVar[float] = 0.0
+    """Detection: the verdict's prediction distance (``normalized_prediction_distance``)."""
+    parameters: ClassVar[tuple[tuple[str, float], ...]] = (
+        ("dt", TUNED_DT), ("normalized_prediction_distance", 0.0),
+        ("normalized_max_linear_velocity", F32_MAX))
+    """Responses: the ``IntegrationParameters`` the world gets."""
+
+    def version(self) -> str:
+        return metadata.version("rapier3d")
+
+    def available(self) -> str | None:
+        try:  # rapier3d is imported lazily, where it is used
+            import rapier3d  # noqa: F401
+        except ImportError as exc:
+            return f"rapier3d not importable: {exc}"
+        return None
+
+    def binding_call(self) -> Callable[[], object]:
+        """``Vec3.zeros()``: one float32 vector made through the PyO3 binding."""
+        import rapier3d as rp
+
+        return rp.Vec3.zeros
+
+    def prepare(self, case: AnyCase) -> Any:
+        assert not isinstance(case, SceneCase), "rapier declares no scene capability"
+        check_inputs(case)
+        if isinstance(case, ResponseCase):
+            return self._response(case)
+        import rapier3d as rp
+
+        every = rp.ActiveCollisionTypes.all()  # standalone (fixed) colliders pair only so
+        (sa, sb), (ca, cb) = _shapes(case), (to3(case.a.center), to3(case.b.center))
+        return Detection(rp.Collider.new(sa).translation(ca).active_collision_types(every).build(),
+                         rp.Collider.new(sb).translation(cb).active_collision_types(every).build(),
+                         self.prediction, _reach(case), case.dim, rp.CollisionPipeline())
+
+    def _response(self, case: ResponseCase) -> Response:
+        bodies, colliders = [], []
+        for body, e in ((case.a, case.restitution), (case.b, 1.0)):
+            builder = self._body(to3(body.center), to3(body.velocity))
+            if case.dim == 2:  # the plane z = 0 is the case's plane: no motion out of it
+                builder = builder.enabled_translations((True, True, False))
+            bodies.append(builder)
+            colliders.append(self._collider(body.radius, body.mass, case.restitution, e))
+        speeds = [abs(x) for x in (*case.a.velocity, *case.b.velocity)]
+        return Response((bodies[0], bodies[1]), (colliders[0], colliders[1]), self.parameters,
+                        case.dim, APPROACH_RTOL * max(speeds, default=0.0))
+
+    def _body(self, centre: Vec3, velocity: Vec3) -> rapier3d.RigidBodyBuilder:
+        import rapier3d as rp
+
+        return (rp.RigidBody.dynamic().translation(centre).linvel(velocity).can_sleep(False)
+                .soft_ccd_prediction(SOFT_CCD).locked_axes(rp.LockedAxes.ROTATION_LOCKED)
+                .linear_damping(0.0).angular_damping(0.0))
+
+    def _collider(self, radius: float, mass: float, e: float,
+                  own: float) -> rapier3d.ColliderBuilder:
+        """Tuned: friction 0; restitution ``own`` (A: e, B: 1) combined by product (= e)."""
+        import rapier3d as rp
+
+        return (rp.Collider.ball(radius).mass(mass).friction(0.0).restitution(own)
+                .restitution_combine_rule(rp.CoefficientCombineRule.MULTIPLY))
+
+    def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, Response):
+            return respond(prepared)
+        return detect(prepared)
+
+
+class RapierDefault(RapierTuned):
+    """Rapier out of the box: only geometry, masses, velocities and restitution are set."""
+
+    name: ClassVar[str] = "rapier-default"
+    settings: ClassVar[str] = (
+        "detection: default prediction distance 0.02, ActiveCollisionTypes.all(); responses: "
+        "gravity 0, both colliders restitution e (default rule Average), everything else "
+        "default (dt 1/60, friction 0.5, rotation free, sleeping, speed cap 400); "
+        "2-D: z = 0, z locked")
+    conventions: ClassVar[Conventions] = DEFAULT
+    prediction: ClassVar[float] = DEFAULT_PREDICTION
+    parameters: ClassVar[tuple[tuple[str, float], ...]] = ()
+
+    def _body(self, centre: Vec3, velocity: Vec3) -> rapier3d.RigidBodyBuilder:
+        import rapier3d as rp
+
+        return rp.RigidBody.dynamic().translation(centre).linvel(velocity)
+
+    def _collider(self, radius: float, mass: float, e: float,
+                  own: float) -> rapier3d.ColliderBuilder:
+        """Default: both colliders get e; the default rule averages them (= e)."""
+        import rapier3d as rp
+
+        return rp.Collider.ball(radius).mass(mass).restitution(e)

@@ -1,0 +1,91 @@
+"""The cases the conformance kit puts to an adapter: plain, unit-sized, far from every edge.
+
+Each :class:`Sample` is a validated case and a label that says what it is and what the
+textbook answers, so that a failure report names the case in words.  Bodies have radius
+or half-width 0.5; B sits on the +x axis (or the -y axis) of A.
+
+>>> overlap(Kind.SPHERE, 2).label
+'sphere 2-D, B 0.75 from A along +x (overlap 0.25)'
+>>> gap(Kind.AABB, 3, axis=1, sign=-1.0).case.b.center
+(0.0, -1.5, 0.0)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from crosscheck.core.model import Kind
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase
+
+AXES = "xyz"
+
+
+@dataclass(frozen=True, slots=True)
+class Sample:
+    """A case and what it is, in words (for failure reports)."""
+
+    label: str
+    case: AnyCase
+    axis: int = 0
+    sign: float = 1.0
+    """The direction from A's centre to B's: ``sign`` along axis ``axis``."""
+
+
+def _at(dim: int, axis: int, value: float) -> list[float]:
+    point = [0.0] * dim
+    point[axis] = value
+    return point
+
+
+def _pair(kind: Kind, dim: int, case_id: str, b_center: list[float]) -> AnyCase:
+    size = {"half": [0.5] * dim} if kind is Kind.AABB else {"radius": 0.5}
+    return CASE_ADAPTER.validate_python({
+        "id": case_id, "description": "conformance kit sample", "kind": str(kind), "dim": dim,
+        "a": {"center": [0.0] * dim, **size}, "b": {"center": b_center, **size}})
+
+
+def overlap(kind: Kind, dim: int) -> Sample:
+    """A detection pair overlapping by 0.25 along +x: hit, distance -0.25, normal +x."""
+    case = _pair(kind, dim, f"kit-{kind}-{dim}d-overlap", _at(dim, 0, 0.75))
+    return Sample(f"{kind} {dim}-D, B 0.75 from A along +x (overlap 0.25)", case)
+
+
+def gap(kind: Kind, dim: int, axis: int = 0, sign: float = 1.0) -> Sample:
+    """A detection pair 0.5 apart along ``sign`` x axis ``axis``: no hit, distance 0.5."""
+    direction = f"{'+' if sign > 0 else '-'}{AXES[axis]}"
+    case = _pair(kind, dim, f"kit-{kind}-{dim}d-gap-{AXES[axis]}", _at(dim, axis, 1.5 * sign))
+    return Sample(f"{kind} {dim}-D, B 1.5 from A along {direction} (gap 0.5)", case, axis, sign)
+
+
+def head_on(dim: int) -> Sample:
+    """Equal unit masses touching on the x axis and approaching at 1 each, e = 1."""
+    body: dict[str, Any] = {"radius": 0.5, "mass": 1.0}
+    case = CASE_ADAPTER.validate_python({
+        "id": f"kit-response-{dim}d", "description": "conformance kit sample",
+        "kind": "sphere_response", "dim": dim,
+        "a": {**body, "center": [0.0] * dim, "velocity": _at(dim, 0, 1.0)},
+        "b": {**body, "center": _at(dim, 0, 1.0), "velocity": _at(dim, 0, -1.0)}})
+    return Sample(f"sphere_response {dim}-D, equal masses touching head-on along x at "
+                  f"+1 and -1, e = 1", case)
+
+
+def scene(dim: int) -> Sample:
+    """Two equal spheres 2 apart approaching at 1 each, stepped for 2 s (dt 0.01, e = 1)."""
+    body: dict[str, Any] = {"radius": 0.5, "mass": 1.0}
+    case = CASE_ADAPTER.validate_python({
+        "id": f"kit-scene-{dim}d", "description": "conformance kit sample",
+        "kind": "sphere_scene", "dim": dim, "duration": 2.0, "dt": 0.01, "bodies": [
+            {**body, "center": _at(dim, 0, -1.0), "velocity": _at(dim, 0, 1.0)},
+            {**body, "center": _at(dim, 0, 1.0), "velocity": _at(dim, 0, -1.0)}]})
+    return Sample(f"sphere_scene {dim}-D, two equal spheres head-on along x, 2 s at "
+                  f"dt 0.01, e = 1", case)
+
+
+def first(kind: Kind, dim: int) -> Sample:
+    """The kit's main sample of a kind: the overlap, the head-on response or the scene."""
+    if kind is Kind.SPHERE_RESPONSE:
+        return head_on(dim)
+    if kind is Kind.SPHERE_SCENE:
+        return scene(dim)
+    return overlap(kind, dim)
