@@ -332,6 +332,10 @@ def _respond(p: Response) -> Observation:
                        resolved_at=resolved)
 
 
+DEFAULT_FRICTION = 0.2
+"""b2FixtureDef's friction (Dynamics/b2Fixture.h); mixed as sqrt(fA fB) (b2MixFriction) = 0.2."""
+
+
 def _conventions(variant: Variant, settings: str) -> Conventions:
     skin = variant.polygon_radius is None
     box_margin = B2_EPSILON + (SKIN if skin else 0.0)
@@ -346,6 +350,7 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
         resolves_separating=False,
         time_step=variant.dt,
         damping=0.0,
+        friction=DEFAULT_FRICTION if variant.friction is None else variant.friction,
         zero_mass="",
         negative_extents="",
         notes=_NOTES + settings,

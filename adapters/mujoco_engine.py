@@ -207,7 +207,7 @@ def place(p: Detection) -> None:
 
 
 def _conventions(rtol: float, restitution: str, time_step: float | None,
-                 notes: str) -> Conventions:
+                 notes: str, *, soft: bool = False, friction: float = 0.0) -> Conventions:
     return Conventions(
         box_extents="half (a box geom's size is its half-sizes)",
         normal="geom[0] to geom[1] (contact frame; mj_geomDistance's fromto from geom1 to "
@@ -220,6 +220,8 @@ def _conventions(rtol: float, restitution: str, time_step: float | None,
         resolves_separating=False,
         time_step=time_step,
         damping=0.0,
+        restitution_model="soft" if soft else "",
+        friction=friction,
         zero_mass="",
         negative_extents="",
         notes=notes,
@@ -260,7 +262,8 @@ class MujocoDefault(Adapter):
         0.002,
         _DETECTION_NOTES + _RESPONSE_NOTES + (
             "Default contact: a 1 m/s head-on bounce of equal spheres leaves at about +-0.14 "
-            "whatever e the case asks; friction 1 acts on oblique impacts."))
+            "whatever e the case asks; friction 1 acts on oblique impacts."),
+        soft=True, friction=1.0)
     stiff: ClassVar[response.Stiff | None] = None
     condim: ClassVar[str] = ""
     """Extra MJCF attributes of the response geoms."""

@@ -153,6 +153,7 @@ SOURCES = (
     GH + "src/BulletCollision/CollisionDispatch/btCollisionWorld.cpp",
     GH + "src/BulletCollision/CollisionShapes/btBoxShape.h",
     GH + "src/BulletCollision/CollisionDispatch/btManifoldResult.cpp",
+    GH + "src/BulletCollision/CollisionDispatch/btCollisionObject.cpp",
     GH + "src/BulletDynamics/ConstraintSolver/btContactSolverInfo.h",
     GH + "src/BulletDynamics/Featherstone/btMultiBodyConstraintSolver.cpp",
     GH + "src/BulletDynamics/Featherstone/btMultiBody.cpp",
@@ -529,7 +530,10 @@ class PyBulletDefault(PyBulletTuned):
         PyBulletTuned.conventions,
         restitution_threshold=0.2,
         damping=0.04,
+        friction=0.25,
         notes=PyBulletTuned.conventions.notes
         + ".  Default damping 0.04 (dv/dt = -0.04 (1 + |v|) v, btMultiBody.cpp; measured in "
-          "adapters/pybullet_scene.py), friction 0.5 and contactSlop 1e-5 act on responses",
+          "adapters/pybullet_scene.py), friction 0.5 per body (btCollisionObject.cpp; "
+          "combined as the product 0.25 in btManifoldResult::calculateCombinedFriction) "
+          "and contactSlop 1e-5 act on responses",
     )

@@ -282,9 +282,11 @@ DEFAULT = replace(
     margins=dict.fromkeys(FEATURES, DEFAULT_PREDICTION),
     restitution="rapier's default rule Average, both colliders e: (e + e) / 2 = e exactly",
     time_step=DEFAULT_DT,
+    friction=0.5,
     notes=_NOTES + ("Defaults: prediction 0.02 (touching and gaps below it are contact), "
-                    "friction 0.5 and free rotation (oblique responses lose tangential "
-                    "speed to friction: reported as error), speeds capped at 400."),
+                    "friction 0.5 (ColliderBuilder default, combined by Average) and free "
+                    "rotation: oblique responses lose tangential speed to friction (declared), "
+                    "speeds capped at 400."),
 )
 
 

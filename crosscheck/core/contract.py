@@ -58,7 +58,12 @@ class Conventions:
     reads a body of mass 0 (``"static"``: immovable, infinite mass; ``""``:
     as the textbook does), ``negative_extents`` how it reads a negative
     radius or half-width (``"absolute"``: as its magnitude; ``""``: rejects
-    it or reads it literally, as the textbook does).
+    it or reads it literally, as the textbook does).  ``restitution_model``
+    is ``"soft"`` for an engine with no coefficient of restitution, whose
+    contact model sets the bounce (``""``: the case's e, as declared in
+    ``restitution``); ``friction`` the Coulomb coefficient that acts between
+    the bodies in responses (0: frictionless, as the textbook).  Both are read
+    by :mod:`crosscheck.truth.contact_model`.
     """
 
     box_extents: str = "half"
@@ -73,6 +78,8 @@ class Conventions:
     damping: float = 0.0
     zero_mass: str = ""
     negative_extents: str = ""
+    restitution_model: str = ""
+    friction: float = 0.0
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
 

@@ -4,8 +4,10 @@ Every disagreement gets exactly one category, tried in this order:
 
 1. ``convention``: a rule the engine documents differs from the textbook's, and
    it fires on this case: its touching rule at an exact touch, its reading of a
-   negative size or of a zero mass, leaving separating bodies alone, or a
-   restitution threshold above the approach speed;
+   negative size or of a zero mass, leaving separating bodies alone, a
+   restitution threshold above the approach speed, or (responses) a declared
+   soft contact or friction that the engine's impulse fits
+   (:mod:`crosscheck.truth.contact_model`);
 2. ``timestep``: (responses) the engine resolved the contact after a step into
    penetration, and its answer is right for the centres where it first reported
    the contact; the error there is recorded beside the error against the case;
@@ -30,7 +32,7 @@ from crosscheck.core.geometry import approach_speed as approach
 from crosscheck.core.geometry import difference, norm
 from crosscheck.core.model import Category, Observation, Undefined, Value
 from crosscheck.core.schema import AabbCase, PairCase, ResponseCase
-from crosscheck.truth import oracle
+from crosscheck.truth import contact_model, oracle
 from crosscheck.truth.bounds import bound, error_of
 
 
@@ -192,8 +194,8 @@ def _response_rule(case: ResponseCase, conv: Conventions) -> str:
         return (f"bodies already separating (approach speed {speed:.3g} <= 0): the engine "
                 "leaves them alone, the textbook exchanges momentum regardless")
     if 0 < speed < conv.restitution_threshold:
-        return (f"approach speed {speed:.3g} below the engine's restitution threshold "
-                f"{conv.restitution_threshold:g}: the bounce is inelastic")
+        return (f"approach speed {speed:.9g} below the engine's restitution threshold "
+                f"{conv.restitution_threshold:.9g}: the bounce is inelastic")
     return ""
 
 
@@ -288,6 +290,9 @@ def categorize(case: PairCase, conv: Conventions, quantity: str, value: Value, e
     """The category and reason of a disagreement of ``value`` (error ``err``, agree bound
     ``agree``) with the truth of ``case`` as declared."""
     rule = _convention(case, conv, quantity, value, truth)
+    if not rule and isinstance(case, ResponseCase) and quantity in ("v1", "v2"):
+        rule = contact_model.explain(case, conv, observation,
+                                     allowance(case, conv, quantity).total)
     if rule:
         return Explained(Category.CONVENTION, rule)
     at_contact = math.nan
