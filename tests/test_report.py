@@ -11,6 +11,7 @@ from collections.abc import Iterable
 from dataclasses import asdict, replace
 from html.parser import HTMLParser
 from pathlib import Path
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -521,3 +522,17 @@ def test_the_page_has_contents_and_says_when_a_run_is_incomplete(tmp_path: Path)
     (directory / "results.jsonl").write_text("\n".join(lines[:-3]) + "\n")  # a pair cut short
     html = report.render(directory)["report"].read_text(encoding="utf-8")
     assert "This run is incomplete" in html and "1 case &times; engine pairs" in html
+
+
+def test_the_conventions_table_shows_margins_contact_model_and_friction() -> None:
+    conventions = asdict(Conventions(margins={"face": 0.02}, friction=0.25,
+                                     restitution_model="soft"))
+    engine = {"name": "soft-engine", "version": "1", "available": "yes", "capabilities": [],
+              "conventions": conventions, "touching_rule": "contact when touching: all",
+              "settings": "s"}
+    html = style.templates().get_template("_engines.html.j2").render(
+        info=SimpleNamespace(engines=[engine]))
+    assert '<div class="wide"><table id="conventions">' in html  # never wider than the page
+    row = html[html.index("<td>soft-engine</td>"):]
+    assert "face 0.02" in row and "soft: no coefficient of restitution" in row
+    assert '<td class="num">0.25</td>' in row

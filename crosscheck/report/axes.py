@@ -61,6 +61,10 @@ def decades(first: int, last: int, most: int = MOST_TICKS) -> list[int]:
     return [k for k in range(first, last + 1) if k % step == 0]
 
 
+MIN_DECADE, MAX_DECADE = -320, 308
+"""The lowest and highest decades an error axis may reach (10.0 ** k is a double)."""
+
+
 def limits(values: Iterable[float], failed: bool = False) -> tuple[float, float | None]:
     """Floor and ceiling of an error axis: the floor is :data:`ZERO_FLOOR`, or a decade below
     the smallest positive error when that is smaller; the ceiling (only when a value is
@@ -70,15 +74,20 @@ def limits(values: Iterable[float], failed: bool = False) -> tuple[float, float 
     (1e-18, None)
     >>> limits([3e-21, math.inf])
     (1e-22, 100.0)
+
+    Both stay within the doubles, whatever the errors (an engine may answer 1.8e308):
+
+    >>> limits([5e-324, 1.7e308, math.nan])
+    (1e-320, 1e+308)
     """
     values = list(values)
     finite = [v for v in values if 0 < v < math.inf]
-    floor = min(ZERO_FLOOR, 10.0 ** (math.floor(math.log10(min(finite))) - 1)) if finite \
-        else ZERO_FLOOR
+    lowest = max(math.floor(math.log10(min(finite))) - 1, MIN_DECADE) if finite else 0
+    floor = min(ZERO_FLOOR, 10.0 ** lowest) if finite else ZERO_FLOOR
     if not (failed or any(not math.isfinite(v) for v in values)):
         return floor, None
     top = max(math.ceil(math.log10(max(finite, default=1.0))), 0)
-    return floor, 10.0 ** (top + 2)
+    return floor, 10.0 ** min(top + 2, MAX_DECADE)
 
 
 def shown_floor(values: Iterable[float], floor: float) -> float | None:
