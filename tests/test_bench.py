@@ -6,7 +6,8 @@ import json
 import math
 from pathlib import Path
 
-from crosscheck.studies import bench
+from crosscheck.cli import main
+from crosscheck.studies import bench, bench_compare, bench_suite
 
 
 def test_batch_figures_agree_with_the_pure_oracle() -> None:
@@ -47,3 +48,30 @@ def test_bench_json_round_trips(tmp_path: Path) -> None:
     assert data["figures"] == [{"name": "x", "value": 1.5, "unit": "x", "target": ">= 1",
                                 "ok": True, "detail": {"n": 3}, "note": "n"}]
     assert "packages" in data["machine"]
+
+
+def test_compare_refuses_an_unreadable_or_unknown_bench_before_measuring(tmp_path: Path) -> None:
+    future = tmp_path / "bench.json"
+    future.write_text(json.dumps({"format_version": 99, "figures": []}))
+    assert main(["bench", "--quick", "--compare", str(future)]) == 2
+    assert main(["bench", "--quick", "--compare", str(tmp_path / "missing.json")]) == 2
+    assert not (tmp_path / "reports").exists()
+
+
+def test_compare_matches_figures_by_name_and_lists_machine_differences() -> None:
+    old = {"format_version": 1, "machine": {"cpu": "a", "packages": {"numpy": "1"}},
+           "figures": [{"name": "x", "value": 4.0, "unit": "s", "target": "", "ok": False}]}
+    new = {"format_version": 2, "machine": {"cpu": "a", "packages": {"numpy": "2"}},
+           "figures": [{"name": "x", "value": 2.0, "unit": "s", "target": "", "ok": True},
+                       {"name": "y", "value": 1.0, "unit": "s", "target": "", "ok": True}]}
+    result = bench_compare.compare(new, old)
+    assert result.machine == ["numpy: 1 -> 2"]
+    first = result.rows[0]
+    assert (first.name, first.ratio, first.ok_old) == ("x", 0.5, False)
+    assert math.isnan(result.rows[1].ratio) and result.rows[1].ok_old is None
+
+
+def test_spread_and_the_seven_variants_are_registered() -> None:
+    s = bench_suite.spread([3.0, 1.0, 2.0, 4.0])
+    assert (s["median"], s["min"], s["max"], s["n"]) == (2.5, 1.0, 4.0, 4.0)
+    assert set(bench_suite.SEVEN) <= set(bench_suite.available())

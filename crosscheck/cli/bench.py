@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import time
 from pathlib import Path
@@ -10,22 +11,52 @@ from pathlib import Path
 from rich.table import Table
 
 from crosscheck.cli.console import out, say
-from crosscheck.studies.bench import ROOT, measure, write
+from crosscheck.studies.bench import measure, write
+from crosscheck.studies.bench_compare import BenchFileError, Comparison, compare, load
+from crosscheck.studies.benchkit import ROOT, Figure
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
+    try:
+        previous = load(args.compare) if args.compare else None
+    except BenchFileError as exc:
+        say(f"[red]{exc}[/red]")
+        return 2
     figures = measure(args.quick, progress=say)
-    table = Table(title="crosscheck bench" + (" --quick" if args.quick else ""))
+    out.print(_table(figures, args.quick))
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    path = write(figures, args.out or ROOT / "reports" / f"bench-{stamp}", args.quick)
+    say(f"wrote {path}")
+    if previous is not None:
+        _print_comparison(compare(json.loads(path.read_text()), previous), args.compare)
+    return 0
+
+
+def _table(figures: list[Figure], quick: bool) -> Table:
+    table = Table(title="crosscheck bench" + (" --quick" if quick else ""))
     for column in ("figure", "measured", "target", "met", "note"):
         table.add_column(column)
     for f in figures:
         value = f"{f.value:.3g} {f.unit}" if math.isfinite(f.value) else "-"
         table.add_row(f.name, value, f.target, "yes" if f.ok else "NO", f.note)
+    return table
+
+
+def _print_comparison(result: Comparison, old: Path) -> None:
+    if result.machine:
+        say(f"[yellow]the machines differ from {old}; compare with care:[/yellow] "
+            + "; ".join(result.machine))
+    table = Table(title=f"against {old}")
+    for column in ("figure", "before", "now", "now / before", "met before", "met now"):
+        table.add_column(column)
+    for r in result.rows:
+        def shown(x: float, unit: str = r.unit) -> str:
+            return f"{x:.3g} {unit}" if math.isfinite(x) else "-"
+        met = {True: "yes", False: "NO", None: "-"}
+        table.add_row(r.name, shown(r.old), shown(r.new),
+                      f"{r.ratio:.2f}" if math.isfinite(r.ratio) else "-",
+                      met[r.ok_old], met[r.ok_new])
     out.print(table)
-    stamp = time.strftime("%Y%m%d-%H%M%S")
-    path = write(figures, args.out or ROOT / "reports" / f"bench-{stamp}", args.quick)
-    say(f"wrote {path}")
-    return 0
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -33,4 +64,6 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("bench", help="measure the harness's own performance against targets")
     p.add_argument("--out", type=Path, help="output folder (default: reports/bench-<time>/)")
     p.add_argument("--quick", action="store_true", help="smaller sizes, no full-suite run")
+    p.add_argument("--compare", type=Path, metavar="BENCH_JSON",
+                   help="a previous bench.json: print each figure beside it, machines first")
     p.set_defaults(func=cmd_bench)

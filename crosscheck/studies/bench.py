@@ -9,8 +9,9 @@ Five figures, each a ratio or a measurement taken within this one run:
    scoring into records, against the engine's own API in a tight loop
    (:mod:`crosscheck.studies.rawloops`), for FCL and pymunk detection, and for PyBullet
    over a long stream of sphere cases (its bodies are reused);
-3. suite time: ``crosscheck run`` (what ``make run`` runs) and ``--quick``, as
-   subprocesses, wall clock;
+3. suite time: ``crosscheck run`` and ``--quick`` with the seven variants of the
+   targets and with every available engine, ``crosscheck --help`` and the report
+   render, as subprocesses, wall clock (:mod:`crosscheck.studies.bench_suite`);
 4. memory: resident memory over the PyBullet stream (growth after the first
    fifth, bodies left in the client) and the peak RSS of the suite runs;
 5. scale-out: the same cases on a Dask ``LocalCluster`` of 2 worker processes
@@ -23,16 +24,12 @@ pairs) and skips the full-suite run.
 
 from __future__ import annotations
 
-import gc
 import json
 import logging
-import os
-import subprocess
-import sys
 import tempfile
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -48,34 +45,13 @@ from crosscheck.run import environment
 from crosscheck.run.execute import execute
 from crosscheck.run.launch import launch, new_info
 from crosscheck.run.runner import score_case
-from crosscheck.studies import rawloops
+from crosscheck.studies import bench_suite, rawloops
+from crosscheck.studies.benchkit import ROOT, Figure, rss_mb, settle
 from crosscheck.truth import oracle
 from reference_impl.batch import bench_batch, best_of
 
-FORMAT_VERSION = 1
-ROOT = Path(__file__).resolve().parent.parent
-
-
-@dataclass(frozen=True)
-class Figure:
-    """One measured figure: its value, the target, whether it meets it, and details."""
-    name: str
-    value: float
-    unit: str
-    target: str
-    ok: bool
-    detail: dict[str, Any] = field(default_factory=dict)
-    note: str = ""
-
-
-def settle() -> None:
-    """Collect, then freeze what exists (the cases and truths built for timing).
-
-    A worker holds one case at a time; the bench holds all of them, and without
-    this every garbage collection would walk them inside the timed loops.
-    """
-    gc.collect()
-    gc.freeze()
+FORMAT_VERSION = 2
+"""bench.json's version (history: :mod:`crosscheck.studies.bench_compare`)."""
 
 
 def batch_figures(n: int) -> list[Figure]:
@@ -179,12 +155,6 @@ def overhead_figures(n: int) -> list[Figure]:
     return figures
 
 
-def rss_mb() -> float:
-    """This process's resident memory now (MB)."""
-    pages = int(Path("/proc/self/statm").read_text().split()[1])
-    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
-
-
 def pybullet_figures(n: int) -> list[Figure]:
     """Figures 2 (PyBullet stream) and 4 (memory over it).
 
@@ -230,66 +200,6 @@ def pybullet_figures(n: int) -> list[Figure]:
     ]
 
 
-def _cli() -> list[str]:
-    script = Path(sys.executable).parent / "crosscheck"
-    return [str(script)] if script.exists() else [sys.executable, "-m", "crosscheck.cli"]
-
-
-def session_rss_mb(sid: int) -> float:
-    """Proportional resident memory (PSS) of the processes in session ``sid`` now (MB).
-
-    PSS splits each shared page among its sharers, so forked workers are not
-    counted twice for the pages they share with the forkserver.
-    """
-    total_kb = 0
-    for stat in Path("/proc").glob("[0-9]*/stat"):
-        try:
-            fields = stat.read_text().rsplit(")", 1)[1].split()
-            if int(fields[3]) != sid:  # field 6 of stat: the session id
-                continue
-            for line in (stat.parent / "smaps_rollup").read_text().splitlines():
-                if line.startswith("Pss:"):
-                    total_kb += int(line.split()[1])
-        except (OSError, ValueError, IndexError):
-            continue  # the process ended while we looked
-    return total_kb / 1024
-
-
-def run_measured(cmd: Sequence[str]) -> tuple[int, float, float, str]:
-    """Run ``cmd`` in its own session: return code, wall seconds, peak session RSS, stderr tail."""
-    start = time.perf_counter()
-    with tempfile.TemporaryFile("w+") as err:
-        proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=err,
-                                start_new_session=True)
-        peak = 0.0
-        while proc.poll() is None:
-            peak = max(peak, session_rss_mb(proc.pid))
-            time.sleep(0.1)
-        wall = time.perf_counter() - start
-        err.seek(0)
-        tail = err.read()[-300:]
-    return proc.returncode, wall, peak, tail
-
-
-def suite_figures(quick: bool) -> list[Figure]:
-    """Figures 3 and 4: wall time of the suite runs and their peak resident memory."""
-    figures = []
-    runs = [("--quick", ["--quick"], 15.0)] + ([] if quick else [("full (make run)", [], 120.0)])
-    peaks = []
-    for label, extra, limit in runs:
-        with tempfile.TemporaryDirectory() as tmp:
-            code, wall, peak, tail = run_measured([*_cli(), "run", *extra, "--out", f"{tmp}/run"])
-        peaks.append((label, peak))
-        figures.append(Figure(f"suite time, crosscheck run {label}", wall, "s",
-                              f"<= {limit:.0f} s", code == 0 and wall <= limit,
-                              {"returncode": code}, note="" if code == 0 else tail))
-    label, peak = max(peaks, key=lambda p: p[1])
-    figures.append(Figure("peak memory of a suite run (PSS, all processes)", peak, "MB", "reported",
-                          True, {"runs": dict(peaks)},
-                          note=f"largest: {label}; sampled every 0.1 s"))
-    return figures
-
-
 def dask_figure(quick: bool) -> Figure:
     """Figure 5: the same cases on a 2-worker LocalCluster and locally, compared."""
     import dask
@@ -326,12 +236,15 @@ def dask_figure(quick: bool) -> Figure:
 
 def measure(quick: bool, progress: Callable[[str], None] | None = None) -> list[Figure]:
     """Every figure, in order; ``progress`` is told as each group starts and ends."""
+    suite, help_, render = bench_suite.figures(quick)
     steps: list[tuple[str, Callable[[], list[Figure]]]] = [
         ("batch oracle, 1M pairs", lambda: batch_figures(1_000_000)),  # the target's size
         ("harness overhead (fcl, pymunk)",
          lambda: overhead_figures(1_000 if quick else 5_000)),
         ("pybullet stream and memory", lambda: pybullet_figures(10_000 if quick else 100_000)),
-        ("suite time" + (" (--quick only)" if quick else ""), lambda: suite_figures(quick)),
+        ("suite time" + (" (--quick only)" if quick else ""), suite),
+        ("crosscheck --help", help_),
+        ("report render", render),
         ("Dask scale-out", lambda: [dask_figure(quick)])]
     figures: list[Figure] = []
     started = time.perf_counter()
