@@ -5,16 +5,31 @@
 :func:`textbook` runs the faithful float formula (:mod:`reference_impl.formulas`)
 in float64 or float32.  Both answer with the harness's :class:`Observation`,
 so the oracle's answer and an engine's answer are compared like for like.
+:func:`truth_batch` gives the same observations as :func:`truth` for many cases at
+once, settling sphere and response pairs with the vectorised, still exact, batch
+oracle (:mod:`reference_impl.batch_values`, :mod:`reference_impl.batch_response`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from fractions import Fraction
 
+import numpy as np
+
 from crosscheck.core.model import Kind, Observation, Undefined, quantities_of
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.schema import (
+    AabbCase,
+    AnyCase,
+    PairCase,
+    ResponseCase,
+    SceneCase,
+    SphereCase,
+)
 from crosscheck.truth import scenes
 from reference_impl import exact, formulas
+from reference_impl.batch_response import response_values
+from reference_impl.batch_values import sphere_values
 from reference_impl.types import Contact, Response
 
 Precision = formulas.Precision
@@ -59,3 +74,58 @@ def _response(r: Response[float] | Response[Fraction] | Undefined) -> Observatio
     if isinstance(r, Undefined):
         return Observation.undefined(quantities_of(Kind.SPHERE_RESPONSE), r.reason)
     return Observation(v1=tuple(float(x) for x in r.v1), v2=tuple(float(x) for x in r.v2))
+
+
+def truth_batch(cases: Sequence[AnyCase]) -> list[Observation]:
+    """``[truth(c) for c in cases]``, equal value for value, with sphere and response
+    pairs settled together by the batch oracle (pairs it cannot settle, and every other
+    kind, go through :func:`truth`)."""
+    out: list[Observation | None] = [None] * len(cases)
+    for dim in (2, 3):
+        spheres = [i for i, c in enumerate(cases) if isinstance(c, SphereCase)
+                   and len(c.a.center) == len(c.b.center) == dim]
+        responses = [i for i, c in enumerate(cases) if isinstance(c, ResponseCase)
+                     and {len(v) for v in (c.a.center, c.a.velocity, c.b.center,
+                                            c.b.velocity)} == {dim}]
+        _fill(out, cases, spheres, _sphere_batch)
+        _fill(out, cases, responses, _response_batch)
+    return [truth(c) if o is None else o for c, o in zip(cases, out, strict=True)]
+
+
+Batch = Callable[[list[AnyCase]], list[Observation | None]]
+
+
+def _fill(out: list[Observation | None], cases: Sequence[AnyCase], rows: list[int],
+          batch: Batch) -> None:
+    if rows:
+        for i, o in zip(rows, batch([cases[i] for i in rows]), strict=True):
+            out[i] = o
+
+
+def _sphere_batch(cases: list[AnyCase]) -> list[Observation | None]:
+    """Observations of sphere cases; None where the pure path must answer."""
+    sc = [c for c in cases if isinstance(c, SphereCase)]
+    v = sphere_values([c.a.center for c in sc], [c.a.radius for c in sc],
+                      [c.b.center for c in sc], [c.b.radius for c in sc])
+    pure = np.zeros(len(sc), dtype=bool)
+    pure[v.exact_rows] = True
+    coincident = Undefined("coincident centres")
+    return [None if pure[k] else
+            Observation(hit=bool(v.hit[k]), distance=float(v.distance[k]),
+                        normal=coincident if v.coincident[k]
+                        else tuple(float(x) for x in v.normal[k]))
+            for k in range(len(sc))]
+
+
+def _response_batch(cases: list[AnyCase]) -> list[Observation | None]:
+    """Observations of response cases; None where the pure path must answer."""
+    rc = [c for c in cases if isinstance(c, ResponseCase)]
+    v = response_values([c.a.center for c in rc], [c.a.mass for c in rc],
+                        [c.a.velocity for c in rc], [c.b.center for c in rc],
+                        [c.b.mass for c in rc], [c.b.velocity for c in rc],
+                        [c.restitution for c in rc])
+    pure = np.zeros(len(rc), dtype=bool)
+    pure[v.exact_rows] = True
+    return [None if pure[k] else Observation(v1=tuple(float(x) for x in v.v1[k]),
+                                             v2=tuple(float(x) for x in v.v2[k]))
+            for k in range(len(rc))]
