@@ -28,8 +28,10 @@ import inspect
 from collections import Counter
 from dataclasses import dataclass
 from importlib.metadata import EntryPoint, entry_points
+from typing import TYPE_CHECKING
 
-from crosscheck.core.contract import Adapter
+if TYPE_CHECKING:  # the contract (pydantic, numpy) loads with an entry, not with the names
+    from crosscheck.core.contract import Adapter
 
 REGISTRY: dict[str, tuple[str, str]] = {
     "reference": ("adapters.reference", "ReferenceF64"),
@@ -113,6 +115,8 @@ class Entry:
         return self._checked()[1] or None
 
     def _checked(self) -> tuple[type[Adapter] | None, str]:
+        from crosscheck.core.contract import Adapter
+
         if self.clash:
             return None, self.clash
         try:
@@ -135,6 +139,8 @@ def _resolve(target: str) -> object:
 
 def _wrong_class(found: object, name: str) -> str:
     """What is wrong with ``found`` as the adapter class of engine ``name`` ('' if nothing)."""
+    from crosscheck.core.contract import Adapter
+
     if not (isinstance(found, type) and issubclass(found, Adapter)):
         return f"it is not an Adapter subclass (it is {type(found).__name__} {found!r})"
     if inspect.isabstract(found):

@@ -9,10 +9,12 @@ detection and response):
   rational arithmetic, distances and normals correctly rounded to float64.
 
 Both return the value types of :mod:`reference_impl.types`.  This package
-depends only on the standard library and numpy.
+depends only on the standard library and numpy.  ``formulas`` (numpy) is imported
+by name (``from reference_impl import formulas``), not here: the value types load
+without numpy, so ``crosscheck --help`` never imports it.
 """
 
-from . import exact, formulas
+from . import exact
 from .types import Contact, Response, Undefined, Vec
 
-__all__ = ["Contact", "Response", "Undefined", "Vec", "exact", "formulas"]
+__all__ = ["Contact", "Response", "Undefined", "Vec", "exact"]

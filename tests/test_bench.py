@@ -75,3 +75,10 @@ def test_spread_and_the_seven_variants_are_registered() -> None:
     s = bench_suite.spread([3.0, 1.0, 2.0, 4.0])
     assert (s["median"], s["min"], s["max"], s["n"]) == (2.5, 1.0, 4.0, 4.0)
     assert set(bench_suite.SEVEN) <= set(bench_suite.available())
+
+
+def test_values_figure_checks_every_near_pair_bit_for_bit() -> None:
+    figure = bench.values_figure(20_000)
+    d = figure.detail
+    assert d["near"] == 200 and d["checked"] == d["identical"] >= 200
+    assert "near ones included" in figure.note and d["stage_exact"] >= 0

@@ -133,4 +133,4 @@ def test_cli_scheduler_reaches_the_run(cluster: LocalCluster, tmp_path: Path) ->
                  "--out", str(fuzz_out), "--scheduler", address]) == 0
     info = json.loads((fuzz_out / "fuzz.json").read_text(encoding="utf-8"))
     assert info["options"]["scheduler"] == address
-    assert _tasks(cluster) - before == 4
+    assert _tasks(cluster) - before == 1  # a fuzz task is a chunk of up to 1,000 cases

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 import tomllib
 from pathlib import Path
@@ -20,7 +21,7 @@ from crosscheck.cli import main
 from crosscheck.core.model import PAIR_KINDS, Kind
 from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, ResponseCase
 from crosscheck.studies import fuzzgen
-from crosscheck.studies.findings import choose, group_findings, write_findings
+from crosscheck.studies.findings import FINDING_STATUSES, choose, group_findings, write_findings
 from crosscheck.truth import oracle
 from crosscheck.truth.categories import approach_speed
 from reference_impl import exact
@@ -167,7 +168,10 @@ def test_real_run_finds_disagreements_and_writes_valid_case_files(runs: tuple[Pa
         assert "Found by: crosscheck fuzz --kind sphere --n 200 --seed 1" in text
         assert 1 <= text.count("[[case]]") <= 3
     assert main(["validate", str(directory)]) == 0
-    assert (directory / "run" / "results.jsonl").stat().st_size > 0
+    info = json.loads((directory / "fuzz.json").read_text())
+    assert sum(sum(c.values()) for c in info["counts"].values()) == 200 * 3 * len(ENGINES)
+    assert sum(v for c in info["counts"].values() for k, v in c.items()
+               if k.split()[1] in FINDING_STATUSES) == len(rows)  # every finding is listed
 
 
 def test_same_seed_gives_byte_identical_outputs(runs: tuple[Path, Path]) -> None:
@@ -208,7 +212,7 @@ def test_grouping_caps_files_and_cases_per_file(tmp_path: Path) -> None:
     groups = write_findings(tmp_path, {g.case.id: g for g in gens}, frame, "cmd", per_group=4)
     files = list(tmp_path.glob("*.toml"))
     assert len(frame) > 300 and len(groups) < 10 and len(files) <= len(groups)
-    assert sum(len(g.rows) for g in groups) == len(frame)
+    assert sum(g.count for g in groups) == len(frame)
     for g in groups:
         assert len(g.chosen) <= 4
         assert len({(r["engine"], r["quantity"], r["category"]) for r in g.rows}) == 1

@@ -91,7 +91,7 @@ def test_ctrl_c_stops_cleanly_keeps_rows_and_prints_the_resume_hint(tmp_path: Pa
     kept = read_results(out)
     assert len(kept) >= 20
     assert not (kept["status"] == "crash").any(), "a worker's Ctrl-C was taken for a crash"
-    resumed = subprocess.run([*CLI, "run", "--resume", str(out), "--quick"], env=ENV,
+    resumed = subprocess.run([*CLI, "run", "--resume", str(out)], env=ENV,
                              capture_output=True, text=True, timeout=300)
     assert resumed.returncode == 0, resumed.stderr
     final = read_results(out)

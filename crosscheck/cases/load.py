@@ -1,7 +1,9 @@
 """Load and validate case files: TOML -> pydantic models -> semantic checks -> Cases.
 
 Every problem becomes a :class:`CaseError` naming the file, the case id, the
-field and the reason; a bad block never stops the good ones from loading.
+field and the reason; a bad block never stops the good ones from loading.  A file that
+loaded without errors is kept in the case cache (:mod:`crosscheck.cases.cache`, keyed by
+its bytes and the loader's code), so the next run does not validate it again.
 
 >>> import tempfile, pathlib
 >>> p = pathlib.Path(tempfile.mkdtemp()) / "c.toml"
@@ -20,6 +22,7 @@ c.toml:6: case 's1': field a.radius: must be >= 0, got -1.0 (tag the case 'bad-i
 
 from __future__ import annotations
 
+import io
 import itertools
 import math
 import tomllib
@@ -31,6 +34,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from crosscheck.cases import cache as case_cache
 from crosscheck.cases.expand import (
     AXIS_NAMES,
     PLANES,
@@ -102,15 +106,20 @@ def case_files(paths: Iterable[Path | str]) -> list[Path]:
     return out
 
 
-def load_paths(paths: Iterable[Path | str]) -> LoadResult:
-    """Load every case under ``paths``; duplicate ids across files are errors."""
+def load_paths(paths: Iterable[Path | str], *, cache: bool = True) -> LoadResult:
+    """Load every case under ``paths``; duplicate ids across files are errors.
+
+    ``cache``: reuse (and store) the cases of files that loaded without errors before
+    (:mod:`crosscheck.cases.cache`; also off with ``CROSSCHECK_NO_CACHE=1``).
+    """
     result = LoadResult(files=case_files(paths))
+    where = case_cache.folder() if cache else None
     seen: dict[str, str] = {}
     for path in result.files:
-        blocks, errors = load_file(path)
+        blocks, cases, errors = _load_expanded(path, where)
         result.errors.extend(errors)
-        result.blocks += len(blocks)
-        for case in with_swaps(_expanded(path, blocks, result.errors)):
+        result.blocks += blocks
+        for case in cases:
             if case.id in seen:
                 first = seen[case.id]
                 if "swapped" not in case.tags:  # a duplicate's twin is a duplicate too
@@ -120,6 +129,25 @@ def load_paths(paths: Iterable[Path | str]) -> LoadResult:
             seen[case.id] = str(path)
             result.cases.append(case)
     return result
+
+
+def _load_expanded(path: Path, where: Path | None) -> tuple[int, list[AnyCase], list[CaseError]]:
+    """One file's block count, cases (sweeps expanded, twins and swaps added) and errors,
+    from the cache when the same bytes loaded without errors under the same code."""
+    try:
+        data = path.read_bytes()
+        text: str | None = io.TextIOWrapper(io.BytesIO(data), encoding="utf-8").read()
+    except (OSError, UnicodeDecodeError):  # load_file below says so, with the reason
+        data, text = b"", None
+    name = case_cache.key(path, data) if where is not None and text is not None else None
+    stored = case_cache.get(where, name) if where is not None and name is not None else None
+    if stored is not None:
+        return stored.blocks, stored.cases, []
+    blocks, errors = load_file(path) if text is None else load_text(path, text)
+    cases = list(with_swaps(_expanded(path, blocks, errors)))
+    if where is not None and name is not None and not errors:
+        case_cache.put(where, name, len(blocks), cases)
+    return len(blocks), cases, errors
 
 
 def _expanded(path: Path, blocks: list[AnyCase], errors: list[CaseError]) -> list[AnyCase]:
@@ -194,12 +222,18 @@ def _equal(x: object, y: object) -> bool:
 
 def load_file(path: Path) -> tuple[list[AnyCase], list[CaseError]]:
     """Parse one TOML file and validate each ``[[case]]`` block on its own."""
-    name = str(path)
     try:
         text = path.read_text(encoding="utf-8")
-        data = tomllib.loads(text)
     except (OSError, UnicodeDecodeError) as exc:
-        return [], [CaseError(name, "-", "", f"cannot read file: {exc}")]
+        return [], [CaseError(str(path), "-", "", f"cannot read file: {exc}")]
+    return load_text(path, text)
+
+
+def load_text(path: Path, text: str) -> tuple[list[AnyCase], list[CaseError]]:
+    """:func:`load_file` of ``text``, the content of ``path`` as ``read_text`` reads it."""
+    name = str(path)
+    try:
+        data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         return [], [CaseError(name, "-", "", f"TOML syntax error: {exc}")]
     blocks = data.pop("case", None)

@@ -75,13 +75,40 @@ def _problems(text: str) -> list[str]:
                 for e in load_paths([path]).errors if e.field != "description"]
 
 
-def _option_problems(kind: str, case_id: str, a: Mapping[str, Any],
+BODY_KEYS: dict[Kind, frozenset[str]] = {
+    Kind.AABB: frozenset({"center", "half"}),
+    Kind.SPHERE: frozenset({"center", "radius"}),
+    Kind.SPHERE_RESPONSE: frozenset({"center", "radius", "mass", "velocity"})}
+"""The body fields each kind of new case takes (``--a-<field>``, ``--b-<field>``)."""
+
+VECTORS = frozenset({"center", "half", "velocity"})
+"""Body fields that are vectors of ``dim`` numbers (the others are one number)."""
+
+
+def _option_problems(kind: str, dim: int, case_id: str, a: Mapping[str, Any],
                      b: Mapping[str, Any], restitution: float | None) -> list[str]:
+    """Each option that is malformed or does not apply to the kind, named as on the command line.
+
+    >>> for problem in _option_problems("aabb", 2, "x", {"radius": 1.0, "center": [1.0]},
+    ...                                 {}, 0.5):
+    ...     print(problem)
+    --a-center needs 2 numbers (--dim 2), got 1
+    --a-radius applies to sphere, sphere_response cases only, not aabb
+    --restitution applies to sphere_response cases only, not aabb
+    """
     problems = [] if re.fullmatch(ID_PATTERN, case_id) else [
         f"id {case_id!r} must match {ID_PATTERN}"]
+    for side, body in (("a", a), ("b", b)):
+        for key, value in body.items():
+            option = f"--{side}-{key}"
+            if key not in BODY_KEYS[Kind(kind)]:
+                kinds = [k.value for k, keys in BODY_KEYS.items() if key in keys]
+                problems.append(f"{option} applies to {', '.join(kinds)} cases only, not {kind}")
+            elif key in VECTORS and len(value) != dim:
+                problems.append(f"{option} needs {dim} numbers (--dim {dim}), got {len(value)}")
     if restitution is not None and Kind(kind) is not Kind.SPHERE_RESPONSE:
         problems.append(f"--restitution applies to sphere_response cases only, not {kind}")
-    return problems
+    return sorted(problems)
 
 
 def append_case(path: Path, kind: str, dim: int, case_id: str, *,
@@ -94,7 +121,7 @@ def append_case(path: Path, kind: str, dim: int, case_id: str, *,
     used under ``cases/`` or in ``path``, an option that does not apply to the
     kind, or a block that would not validate.
     """
-    problems = _option_problems(kind, case_id, a or {}, b or {}, restitution)
+    problems = _option_problems(kind, dim, case_id, a or {}, b or {}, restitution)
     if problems:
         raise NewCaseError(problems)
     existing = load_paths([p for p in (Path("cases"), path) if p.exists()])

@@ -9,14 +9,17 @@ import argparse
 import json
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.markup import escape
 from rich.table import Table
 
 from crosscheck.cli.console import fail, out, say
 from crosscheck.core.model import Kind
-from crosscheck.report.advise import Advice, EngineAdvice, Envelope, EnvelopeError, advise
-from crosscheck.results.store import StoredRun, StoreError, read_run
+
+if TYPE_CHECKING:
+    from crosscheck.report.advise import Advice, EngineAdvice, Envelope
+    from crosscheck.results.store import StoredRun
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -85,6 +88,8 @@ def _kinds(texts: list[str] | None) -> tuple[str, ...]:
 
 def envelope_of(args: argparse.Namespace) -> Envelope:
     """The envelope the options state; OptionError or EnvelopeError naming a bad option."""
+    from crosscheck.report.advise import Envelope
+
     envelope = Envelope(
         dims=_dims(args.dim), kinds=_kinds(args.kind), scale=_scale(args.scale),
         offset=_number("--offset", args.offset), speed=_number("--speed", args.speed),
@@ -96,6 +101,8 @@ def envelope_of(args: argparse.Namespace) -> Envelope:
 
 
 def _stored(directory: Path) -> StoredRun:
+    from crosscheck.results.store import read_run
+
     if not directory.is_dir():
         raise OptionError(f"RUN_DIR: {directory} is not a folder")
     run = read_run(directory)
@@ -105,6 +112,9 @@ def _stored(directory: Path) -> StoredRun:
 
 
 def cmd_advise(args: argparse.Namespace) -> int:
+    from crosscheck.report.advise import EnvelopeError, advise
+    from crosscheck.results.store import StoreError
+
     try:
         envelope = envelope_of(args)
         run = _stored(args.run_dir)

@@ -11,12 +11,13 @@ from pathlib import Path
 from rich.table import Table
 
 from crosscheck.cli.console import out, say
-from crosscheck.studies.bench import measure, write
 from crosscheck.studies.bench_compare import BenchFileError, Comparison, compare, load
 from crosscheck.studies.benchkit import ROOT, Figure
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
+    from crosscheck.studies.bench import measure, write
+
     try:
         previous = load(args.compare) if args.compare else None
     except BenchFileError as exc:

@@ -5,14 +5,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from crosscheck.cases.load import load_paths
-from crosscheck.cases.newcase import NewCaseError, append_case
 from crosscheck.cli.console import err, fail, out, report_case_errors, say
 from crosscheck.core.model import PAIR_KINDS
-from crosscheck.core.schema import json_schema_text
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
+    from crosscheck.cases.load import load_paths
+
     loaded = load_paths(args.paths or [Path("cases")])
     report_case_errors(loaded)
     if not loaded.files:
@@ -26,7 +25,20 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 
 def _floats(text: str) -> list[float]:
-    return [float(x) for x in text.split(",")]
+    """An argparse type: comma-separated numbers (a vector)."""
+    try:
+        return [float(x) for x in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"must be numbers separated by commas, such as 1,0,0.5, not {text!r}") from None
+
+
+def _float(text: str) -> float:
+    """An argparse type: one number (``1,2`` is refused, not cut to 1)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be one number, not {text!r}") from None
 
 
 def _body(args: argparse.Namespace, side: str) -> dict[str, object]:
@@ -34,11 +46,13 @@ def _body(args: argparse.Namespace, side: str) -> dict[str, object]:
     for key in ("center", "half", "radius", "mass", "velocity"):
         value = getattr(args, f"{side}_{key}")
         if value is not None:
-            body[key] = value[0] if key in ("radius", "mass") else value
+            body[key] = value
     return body
 
 
 def cmd_new_case(args: argparse.Namespace) -> int:
+    from crosscheck.cases.newcase import NewCaseError, append_case
+
     try:
         append_case(args.file, args.kind, args.dim, args.id, description=args.description,
                     tags=args.tag, a=_body(args, "a"), b=_body(args, "b"),
@@ -52,6 +66,8 @@ def cmd_new_case(args: argparse.Namespace) -> int:
 
 
 def cmd_schema(args: argparse.Namespace) -> int:
+    from crosscheck.core.schema import json_schema_text
+
     text = json_schema_text()
     if args.check:
         current = args.output.read_text() if args.output.exists() else ""
@@ -83,7 +99,7 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
             p.add_argument(f"--{side}-{key}", type=_floats, metavar=help_text.split()[-1],
                            help=f"body {side.upper()}: {help_text}")
         for key in ("radius", "mass"):
-            p.add_argument(f"--{side}-{key}", type=_floats, metavar="X",
+            p.add_argument(f"--{side}-{key}", type=_float, metavar="X",
                            help=f"body {side.upper()}: {key}")
     p.set_defaults(func=cmd_new_case)
     p = sub.add_parser("schema", help="write the case-file JSON Schema")

@@ -7,8 +7,8 @@ import math
 import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import pandas as pd
 from rich import box
 from rich.console import Console
 from rich.markup import escape
@@ -22,8 +22,12 @@ from rich.progress import (
 )
 from rich.table import Table
 
-from crosscheck.cases.load import LoadResult
 from crosscheck.core.model import Status
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from crosscheck.cases.load import LoadResult
 
 out = Console(soft_wrap=True)
 err = Console(stderr=True, soft_wrap=True)
@@ -92,6 +96,8 @@ def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
 
 def print_summary(directory: Path) -> None:
     """Print the engine x kind counts from the run's summary.csv (written by the report)."""
+    import pandas as pd
+
     table = pd.read_csv(directory / "summary.csv", keep_default_na=False)
     out.print(summary_table(table, f"summary of {directory}"))
 

@@ -12,13 +12,16 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 from rich.table import Table
 from rich.text import Text
 
 import adapters
 from crosscheck.cli.console import err, out
-from crosscheck.core.contract import Adapter, engine_info
+
+if TYPE_CHECKING:
+    from crosscheck.core.contract import Adapter
 
 UnknownEngine = adapters.UnknownEngine
 
@@ -66,6 +69,8 @@ def _made(name: str) -> Adapter:
 def select(names: Sequence[str] | None) -> list[Adapter]:
     """The named engines, or every available one (with a note for each that cannot be
     used); raises UnknownEngine (or its RefusedEngine) for a bad name."""
+    from crosscheck.core.contract import Adapter
+
     if names:
         _warn_shadowed(names)
         return [_made(name) for name in names]
@@ -82,6 +87,8 @@ def select(names: Sequence[str] | None) -> list[Adapter]:
 def _row(entry: adapters.Entry, settings: bool) -> tuple[list[Text], str | None]:
     """One row of the listing (name, built-in or plug-in, version, availability,
     capabilities[, settings]) and why the entry cannot be used (None: it can)."""
+    from crosscheck.core.contract import engine_info
+
     problem = entry.problem()
     info: dict[str, object] = {}
     if problem is None:

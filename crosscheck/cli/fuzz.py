@@ -1,4 +1,10 @@
-"""``crosscheck fuzz``: the command of the fuzz study (:mod:`crosscheck.studies.fuzz`)."""
+"""``crosscheck fuzz``: the command of the fuzz study (:mod:`crosscheck.studies.fuzz`).
+
+``crosscheck fuzz --kind K --n N --seed S`` starts a campaign; ``crosscheck fuzz --resume
+DIR`` finishes a killed one with the plan stored in it (only ``--jobs`` and ``--scheduler``,
+which say where chunks run, may be given with it: every other option would change the
+campaign, so it is refused by name).
+"""
 
 from __future__ import annotations
 
@@ -6,6 +12,7 @@ import argparse
 import os
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.table import Table
 
@@ -13,26 +20,30 @@ from crosscheck.cli import engines as engine_choice
 from crosscheck.cli.console import fail, out, progress_bar, say
 from crosscheck.core.model import PAIR_KINDS, Kind
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import StoreError
-from crosscheck.studies.findings import Group
-from crosscheck.studies.fuzz import fuzz
+
+if TYPE_CHECKING:
+    from crosscheck.studies.findings import Group
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``fuzz``."""
     p = sub.add_parser("fuzz", help="random cases near failure boundaries; grouped findings")
-    p.add_argument("--kind", required=True, choices=PAIR_KINDS)
-    p.add_argument("--n", type=int, required=True, help="number of cases to generate")
-    p.add_argument("--seed", type=int, required=True, help="seed >= 0; same seed, same cases")
+    p.add_argument("--kind", choices=PAIR_KINDS, help="kind of case (required unless --resume)")
+    p.add_argument("--n", type=int, help="number of cases to generate (required unless --resume)")
+    p.add_argument("--seed", type=int, help="seed >= 0; same seed, same cases (required unless "
+                                           "--resume)")
+    p.add_argument("--resume", type=Path, metavar="DIR",
+                   help="finish the killed campaign in DIR with its own options (only --jobs "
+                        "and --scheduler may be given)")
     p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
                    help=f"engine to run (repeatable; default: every available one): "
                         f"{', '.join(engine_choice.names())}")
     p.add_argument("--out", type=Path, help="output folder (default: reports/fuzz-K-sS-nN/)")
-    p.add_argument("--per-group", type=int, default=5, help="cases written per group (5)")
-    p.add_argument("--jobs", type=int, default=0, help="cases run at once (default: cores)")
-    p.add_argument("--timeout", type=float, default=5.0, help="seconds per case x engine")
+    p.add_argument("--per-group", type=int, help="cases written per group (5)")
+    p.add_argument("--jobs", type=int, help="chunks run at once (default: cores)")
+    p.add_argument("--timeout", type=float, help="seconds per case x engine (5)")
     p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="run cases on this Dask scheduler (e.g. tcp://host:8786)")
+                   help="run chunks on this Dask scheduler (e.g. tcp://host:8786)")
     p.set_defaults(func=cmd_fuzz)
 
 
@@ -41,44 +52,95 @@ def _command(args: argparse.Namespace) -> str:
     return f"crosscheck fuzz --kind {args.kind} --n {args.n} --seed {args.seed}{engines}"
 
 
+CAMPAIGN_OPTIONS = ("kind", "n", "seed", "engine", "out", "per_group", "timeout")
+
+
+def _problem(args: argparse.Namespace) -> str | None:
+    """What is wrong with the command line, naming the option, or None."""
+    if args.jobs is not None and args.jobs < 1:
+        return f"--jobs must be >= 1 (got {args.jobs})"
+    if args.resume is not None:
+        given = [f"--{o.replace('_', '-')}" for o in CAMPAIGN_OPTIONS
+                 if getattr(args, o) is not None]
+        return (f"--resume continues the campaign with its stored options; "
+                f"{', '.join(given)} would change it (only --jobs and --scheduler may "
+                f"be given)") if given else None
+    missing = [f"--{o}" for o in ("kind", "n", "seed") if getattr(args, o) is None]
+    if missing:
+        return f"{', '.join(missing)} required (or --resume DIR)"
+    checks = [(args.n >= 1, f"--n must be >= 1 (got {args.n})"),
+              (args.seed >= 0, f"--seed must be >= 0 (got {args.seed})"),
+              (args.per_group is None or args.per_group >= 1,
+               f"--per-group must be >= 1 (got {args.per_group})"),
+              (args.timeout is None or args.timeout > 0,
+               f"--timeout must be > 0 seconds (got {args.timeout})")]
+    return next((message for ok, message in checks if not ok), None)
+
+
+def _resume(args: argparse.Namespace) -> list[Group]:
+    from crosscheck.studies.fuzz import resume, stored_plan
+
+    plan = stored_plan(args.resume)
+    with progress_bar(int(plan["n"]) * len(plan["engines"]), "fuzz case x engine") as advance:
+        return resume(args.resume, engine_choice.select, args.jobs, advance, args.scheduler)
+
+
+def _directory(args: argparse.Namespace) -> Path:
+    """The campaign's folder: --resume's, --out, or reports/fuzz-K-sS-nN/."""
+    stem = f"fuzz-{str(args.kind).replace('_', '-')}-s{args.seed}-n{args.n}"
+    return Path(args.resume or args.out or Path("reports") / stem)
+
+
+def _start(args: argparse.Namespace) -> tuple[list[Group], Path]:
+    from crosscheck.studies.fuzz import fuzz
+
+    engines = engine_choice.select(args.engine)
+    directory = _directory(args)
+    options = RunOptions(quick=True, jobs=args.jobs or os.cpu_count() or 1,
+                         timeout_s=5.0 if args.timeout is None else args.timeout,
+                         scheduler=args.scheduler)
+    with progress_bar(args.n * len(engines), "fuzz case x engine") as advance:
+        return fuzz(Kind(args.kind), args.n, args.seed, directory, engines, options,
+                    args.per_group or 5, _command(args), advance), directory
+
+
 def cmd_fuzz(args: argparse.Namespace) -> int:
-    if args.n < 1 or args.seed < 0 or args.per_group < 1:
-        fail("need --n >= 1, --seed >= 0 and --per-group >= 1")
+    from crosscheck.studies.fuzz import CampaignError
+
+    problem = _problem(args)
+    if problem:
+        fail(problem)
         return 2
     try:
-        engines = engine_choice.select(args.engine)
-    except engine_choice.UnknownEngine as exc:
+        if args.resume is not None:
+            groups, directory = _resume(args), args.resume
+        else:
+            groups, directory = _start(args)
+    except (engine_choice.UnknownEngine, CampaignError) as exc:
         fail(str(exc.args[0]))
         return 2
-    stem = f"fuzz-{args.kind.replace('_', '-')}-s{args.seed}-n{args.n}"
-    directory = args.out or Path("reports") / stem
-    options = RunOptions(quick=True, jobs=args.jobs or os.cpu_count() or 1,
-                         timeout_s=args.timeout, scheduler=args.scheduler)
-    try:
-        with progress_bar(args.n * len(engines), "fuzz case x engine") as advance:
-            groups = fuzz(Kind(args.kind), args.n, args.seed, directory, engines, options,
-                          args.per_group, _command(args), advance)
-    except (FileExistsError, StoreError) as exc:
-        fail(str(exc))
-        return 2
+    except KeyboardInterrupt:
+        fail(f"interrupted: the finished chunks are kept; finish with "
+             f"'crosscheck fuzz --resume {_directory(args)}'")
+        return 130
     print_groups(groups)
-    say(f"output: {directory}  (check: crosscheck validate {directory}; "
-        f"inspect: crosscheck report {directory / 'run'})")
+    say(f"output: {directory}  (check: crosscheck validate {directory}; every finding: "
+        f"{directory / 'findings.csv'}; counts and speed: {directory / 'fuzz.json'})")
     return 0
 
 
 def print_groups(groups: Sequence[Group], limit: int = 30) -> None:
     """The groups, largest first, as a table (``limit`` rows)."""
-    title = f"{sum(len(g.rows) for g in groups)} findings in {len(groups)} groups"
+    title = f"{sum(g.count for g in groups)} findings in {len(groups)} groups"
     table = Table(title=title)
     for column in ("engine", "quantity", "status", "category", "family", "driver", "decade",
                    "findings", "written"):
         table.add_column(column, justify="right" if column in ("findings", "written")
                          else "left", no_wrap=column == "engine")
-    ranked = sorted(groups, key=lambda g: (-len(g.rows), g.slug))
+    ranked = sorted(groups, key=lambda g: (-g.count, g.slug))
     for g in ranked[:limit]:
         table.add_row(g.engine, g.quantity, g.status, g.category, g.family, g.driver,
-                      g.decade, str(len(g.rows)), str(len(g.chosen)))
+                      g.decade, str(g.count), str(len(g.chosen)))
     if len(ranked) > limit:
         table.caption = f"... and {len(ranked) - limit} smaller groups: see findings.csv"
     out.print(table)

@@ -6,13 +6,12 @@ import argparse
 from pathlib import Path
 
 from crosscheck.cli.console import err, fail, say
-from crosscheck.report.compare import compare
-from crosscheck.report.compare_timing import ALPHA, MIN_EFFECT
-from crosscheck.report.render import markdown_summary, render
-from crosscheck.results.store import StoreError, read_results
 
 
 def cmd_report(args: argparse.Namespace) -> int:
+    from crosscheck.report.render import markdown_summary, render
+    from crosscheck.results.store import StoreError, read_results
+
     try:
         paths = render(args.directory)
     except (OSError, StoreError) as exc:
@@ -25,6 +24,10 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
+    from crosscheck.report.compare import compare
+    from crosscheck.report.compare_timing import ALPHA, MIN_EFFECT
+    from crosscheck.results.store import StoreError
+
     target = args.out or Path("reports") / f"compare-{args.a.name}-vs-{args.b.name}"
     try:
         result = compare(args.a, args.b, target)

@@ -11,10 +11,12 @@ import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from crosscheck.cli.console import fail, say
-from crosscheck.results.store import StoreError, read_run
-from crosscheck.studies.repro import ReproError, Script, scripts
+
+if TYPE_CHECKING:
+    from crosscheck.studies.repro import Script
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -45,6 +47,9 @@ def targets(made: Sequence[Script], out: Path | None) -> list[Path]:
 
 
 def cmd_repro(args: argparse.Namespace) -> int:
+    from crosscheck.results.store import StoreError, read_run
+    from crosscheck.studies.repro import ReproError, scripts
+
     try:
         made = scripts(read_run(args.run_dir), args.case_id, args.engine)
     except (StoreError, ReproError) as exc:

@@ -3,15 +3,16 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import shlex
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from datetime import UTC, datetime
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from crosscheck.cases.load import load_paths
 from crosscheck.cli import engines as engine_choice
 from crosscheck.cli.console import (
     err,
@@ -22,14 +23,13 @@ from crosscheck.cli.console import (
     report_case_errors,
     say,
 )
-from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import AnyCase
-from crosscheck.report.render import render
-from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import ResultsStore, StoreError, read_run
-from crosscheck.run.launch import launch, new_info
-from crosscheck.studies.repro import write_run_scripts
+
+if TYPE_CHECKING:  # the library loads when a command runs, not for --help (tests/test_startup)
+    from crosscheck.core.contract import Adapter
+    from crosscheck.core.schema import AnyCase
+    from crosscheck.results.runinfo import RunInfo
+    from crosscheck.results.store import ResultsStore
 
 
 def run_dir(base: Path, prefix: str = "") -> Path:
@@ -44,53 +44,135 @@ def run_dir(base: Path, prefix: str = "") -> Path:
 def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
            options: RunOptions, info: RunInfo) -> int:
     """Run what is left with a progress bar, then render and summarise; the exit code."""
+    from crosscheck.results.store import StoreError
+    from crosscheck.run.distributed import ClusterLost
+    from crosscheck.run.launch import launch
+    from crosscheck.studies.repro import write_run_scripts
+
     started = time.monotonic()
     say(f"running {len(cases)} cases x {len(engines)} engines "
         f"({', '.join(a.name for a in engines)}) -> {store.directory}")
+    hint = f"crosscheck run --resume {store.directory}"
     try:
         with phase_bars() as phases:
             launch(store, cases, engines, options, info, phases=phases)
     except KeyboardInterrupt:
-        err.print(f"interrupted; finished rows are kept. Resume with: "
-                  f"crosscheck run --resume {store.directory}", markup=False, highlight=False)
+        err.print(f"interrupted; finished rows are kept. Resume with: {hint}",
+                  markup=False, highlight=False)
         return 130
+    except (StoreError, ClusterLost, OSError) as exc:  # a full disk, a lost Dask scheduler
+        fail(f"the run stopped: {exc}. Finished rows are kept; resume with: {hint}")
+        return 1
     write_run_scripts(store.directory)  # repro/<case>_<engine>.py, linked from the report
-    paths = render(store.directory)
+    if not _render(store.directory):
+        return 1
     print_summary(store.directory)
-    out.print(f"report: {paths['report']}", markup=False, highlight=False)
     say(f"finished in {time.monotonic() - started:.0f} s")
     return 0
 
 
+def _render(directory: Path) -> bool:
+    """Render the run's report; on failure say so (the results are kept) and how to retry."""
+    from crosscheck.report.render import render
+
+    try:
+        paths = render(directory)
+    except Exception as exc:  # any fault of the report must not cost the run's results
+        fail(f"the results are complete in {directory}, but its report failed to render "
+             f"({type(exc).__name__}: {exc}); retry with: crosscheck report {directory}")
+        return False
+    out.print(f"report: {paths['report']}", markup=False, highlight=False)
+    return True
+
+
+CHANGES_THE_RUN = ("paths", "engine", "out", "quick", "timing_cases", "timing_seed", "samples",
+                   "min_sample", "scene_repeats", "no_pin", "timeout", "jobs", "no_isolation",
+                   "scheduler", "worker_memory")
+"""The options of ``run`` that ``--resume`` refuses: a resumed run keeps those it started with."""
+
+_PARSER_DEFAULTS: dict[str, object] = {}
+"""The parser's default of each option in CHANGES_THE_RUN (filled by :func:`register`)."""
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     if args.resume:
+        given = [f"--{name.replace('_', '-')}" if name != "paths" else "case paths"
+                 for name in CHANGES_THE_RUN
+                 if getattr(args, name) not in (_PARSER_DEFAULTS.get(name), None, [])]
+        if given:
+            fail(f"--resume runs {args.resume} with the cases, engines and options it started "
+                 f"with; it takes no other option, but was given {', '.join(given)} "
+                 "(drop them, or start a new run with --out)")
+            return 2
         return resume(args.resume)
+    return start(args)
+
+
+def start(args: argparse.Namespace) -> int:
+    """A new run: every option checked before any folder is made or any case runs."""
+    from crosscheck.cases.load import load_paths
+    from crosscheck.results.store import ResultsStore, StoreError
+    from crosscheck.run.launch import new_info
+
+    problem = _path_problem(args.paths)
+    if problem:
+        fail(problem)
+        return 2
     loaded = load_paths(args.paths or [Path("cases")])
     report_case_errors(loaded)
+    if not loaded.cases:
+        fail("no valid case in the case files (see the errors above): nothing to run")
+        return 2
     try:  # a listed engine that cannot be used (a broken plug-in) is refused, with its reason
         engines = engine_choice.select(args.engine)
     except engine_choice.UnknownEngine as exc:
         fail(str(exc))
         return 2
     directory = args.out or run_dir(Path("reports"))
+    options = _options(args)
+    info = new_info(directory, shlex.join(["crosscheck", *sys.argv[1:]]), options, engines,
+                    loaded.cases, loaded.files, [e.message for e in loaded.errors])
     try:
         store = ResultsStore(directory)
     except StoreError as exc:
         fail(str(exc))
         return 2
-    options = RunOptions(quick=args.quick, min_sample_s=args.min_sample, samples=args.samples,
-                         timeout_s=args.timeout, timing_cases=args.timing_cases,
-                         timing_seed=args.timing_seed, scene_repeats=args.scene_repeats,
-                         pin=not args.no_pin, isolate=not args.no_isolation,
-                         jobs=args.jobs or os.cpu_count() or 1, scheduler=args.scheduler)
-    info = new_info(directory, shlex.join(["crosscheck", *sys.argv[1:]]), options, engines,
-                    loaded.cases, loaded.files, [e.message for e in loaded.errors])
     code = finish(store, loaded.cases, engines, options, info)
     return code or (1 if loaded.errors else 0)
 
 
+def _path_problem(paths: Sequence[Path]) -> str | None:
+    """Why these case paths (none: ``cases/``) hold no case file to run, or None."""
+    from crosscheck.cases.load import case_files
+
+    missing = [str(p) for p in paths if not p.exists()]
+    if missing:
+        return f"no such case file or folder: {', '.join(missing)}"
+    searched = list(paths) or [Path("cases")]
+    if not case_files(p for p in searched if p.exists()):
+        where = ", ".join(f"{p}/" if p.is_dir() or not paths else str(p) for p in searched)
+        return f"no case files found under {where}: run from the project root or pass a path"
+    return None
+
+
+def _options(args: argparse.Namespace) -> RunOptions:
+    """The run's options from the command line."""
+    return RunOptions(quick=args.quick, min_sample_s=args.min_sample, samples=args.samples,
+                      timeout_s=args.timeout, timing_cases=args.timing_cases,
+                      timing_seed=args.timing_seed, scene_repeats=args.scene_repeats,
+                      pin=not args.no_pin, isolate=not args.no_isolation,
+                      jobs=args.jobs or os.cpu_count() or 1, scheduler=args.scheduler,
+                      worker_memory_mb=args.worker_memory)
+
+
 def resume(directory: Path) -> int:
     """Finish a stopped run in ``directory`` with its own cases, engines and options."""
+    from crosscheck.results.store import ResultsStore, StoreError, read_run
+
+    problem = _unresumable(directory)
+    if problem:
+        fail(f"cannot resume {directory}: {problem}")
+        return 2
     try:
         stored = read_run(directory)
         engines = engine_choice.select(stored.info.engine_names)
@@ -104,6 +186,35 @@ def resume(directory: Path) -> int:
                   stored.info.resume())
 
 
+def _unresumable(directory: Path) -> str | None:
+    """Why ``directory`` holds no run to resume (a run killed before it wrote run.json), or None."""
+    again = (f"start it again with the same command and --out {directory} "
+             "(the folder is reused)")
+    if not directory.is_dir():
+        return f"no such folder; the run was killed before it made it: {again}"
+    if not (directory / "run.json").exists():
+        return (f"it has no run.json: the run was killed before it started, so no result "
+                f"was lost; {again}")
+    return None
+
+
+def _number(kind: type[int] | type[float], low: float, inclusive: bool
+            ) -> Callable[[str], float]:
+    """An argparse type: a finite ``kind`` above ``low`` (or equal, if ``inclusive``)."""
+    bound = f">= {low:g}" if inclusive else f"> {low:g}"
+    name = "an integer" if kind is int else "a number"
+
+    def check(text: str) -> float:
+        try:
+            value = kind(text)
+        except ValueError:
+            value = math.nan
+        if not (math.isfinite(value) and (value >= low if inclusive else value > low)):
+            raise argparse.ArgumentTypeError(f"must be {name} {bound}, not {text!r}")
+        return value
+    return check
+
+
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``run``."""
     defaults = RunOptions()
@@ -115,27 +226,34 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
     p.add_argument("--quick", action="store_true",
                    help="no timing phase; scenes over 1,000 steps skipped")
-    p.add_argument("--timing-cases", type=int, default=defaults.timing_cases, metavar="N",
+    p.add_argument("--timing-cases", type=_number(int, 0, True), metavar="N",
+                   default=defaults.timing_cases,
                    help="cases timed per engine x kind, drawn at random (0: no timing phase; "
                         f"default {defaults.timing_cases})")
     p.add_argument("--timing-seed", type=int, default=defaults.timing_seed,
                    help="seed of the timing sample")
-    p.add_argument("--samples", type=int, default=defaults.samples,
+    p.add_argument("--samples", type=_number(int, 1, True), default=defaults.samples,
                    help=f"timing samples kept per case (default {defaults.samples})")
-    p.add_argument("--min-sample", type=float, default=defaults.min_sample_s,
+    p.add_argument("--min-sample", type=_number(float, 0, False), default=defaults.min_sample_s,
                    help=f"seconds per timing sample (default {defaults.min_sample_s:g})")
-    p.add_argument("--scene-repeats", type=int, default=defaults.scene_repeats,
+    p.add_argument("--scene-repeats", type=_number(int, 1, True), default=defaults.scene_repeats,
                    help=f"runs of each timed scene (default {defaults.scene_repeats})")
     p.add_argument("--no-pin", action="store_true",
                    help="do not pin the timed engine and the harness to separate cores")
-    p.add_argument("--timeout", type=float, default=3.0,
+    p.add_argument("--timeout", type=_number(float, 0, False), default=3.0,
                    help="seconds allowed per case x engine before it is marked timeout")
-    p.add_argument("--jobs", type=int, default=0,
+    p.add_argument("--jobs", type=_number(int, 1, True), default=0,
                    help="cases run at once, each lane with its own workers (default: cores)")
     p.add_argument("--resume", type=Path, metavar="DIR",
                    help="finish a stopped run in DIR without redoing what is done")
     p.add_argument("--no-isolation", action="store_true",
                    help="run engines in this process (faster start, no crash or hang safety)")
+    p.add_argument("--worker-memory", type=_number(float, 0, False), metavar="MB",
+                   default=defaults.worker_memory_mb,
+                   help="resident memory an engine's worker may reach: past it between cases "
+                        "the worker is recycled, during a case that case is a crash "
+                        f"(\"memory limit\"; default {defaults.worker_memory_mb:g})")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run cases on this Dask scheduler (e.g. tcp://host:8786)")
     p.set_defaults(func=cmd_run)
+    _PARSER_DEFAULTS.update({name: p.get_default(name) for name in CHANGES_THE_RUN})

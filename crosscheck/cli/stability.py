@@ -10,19 +10,18 @@ from __future__ import annotations
 import argparse
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import pandas as pd
 from rich.markup import escape
 from rich.table import Table
 
-from crosscheck.cases.load import load_paths
 from crosscheck.cli import engines as engine_choice
 from crosscheck.cli.console import fail, out, report_case_errors, say
 from crosscheck.cli.run import finish, run_dir
 from crosscheck.core.options import RunOptions
-from crosscheck.report.stability import analyse, save
-from crosscheck.results.store import ResultsStore, StoreError
-from crosscheck.run.launch import new_info
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 SWEEPS = Path("cases/sweeps.toml")
 
@@ -42,6 +41,10 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
 
 def run_sweeps(directory: Path, engine_names: list[str] | None) -> int:
     """Run the sweeps, quick, through the normal launch and report; the exit code."""
+    from crosscheck.cases.load import load_paths
+    from crosscheck.results.store import ResultsStore, StoreError
+    from crosscheck.run.launch import new_info
+
     loaded = load_paths([SWEEPS])
     report_case_errors(loaded)
     if not loaded.cases:
@@ -80,6 +83,8 @@ def print_table(table: pd.DataFrame) -> None:
 
 
 def cmd_stability(args: argparse.Namespace) -> int:
+    from crosscheck.report.stability import analyse, save
+
     directory = args.directory
     if directory is None:
         directory = args.out or run_dir(Path("reports"), "stability-")

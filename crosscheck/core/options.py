@@ -31,6 +31,10 @@ class RunOptions:
     ``min_sample_s`` seconds after a warm-up, scenes run ``scene_repeats``
     times; ``pin`` pins the engine's worker and this process to different
     cores where the OS allows it.
+
+    ``worker_memory_mb`` is the resident memory an engine's worker may reach: past it
+    between cases the worker is recycled, past it during a case the worker is killed
+    and the case is ``crash`` ("memory limit"); see ``crosscheck.run.worker``.
     """
 
     quick: bool = False
@@ -44,6 +48,7 @@ class RunOptions:
     scene_repeats: int = 10
     pin: bool = True
     scheduler: str | None = None
+    worker_memory_mb: float = 2048.0
 
     def to_json(self) -> dict[str, Any]:
         """The options as plain JSON values."""

@@ -39,8 +39,8 @@ def render(directory: Path) -> dict[str, Path]:
     """Write results (CSV and typed Parquet), summary, disagreements and asymmetries CSV
     files and report.html."""
     view = RunView(read_run(directory))
-    paths = {"results": write_csv(view.frame, directory),
-             "parquet": write_parquet(view.frame, directory)}
+    paths = {"results": write_csv(view.stored.results, directory),
+             "parquet": write_parquet(view.stored.results, directory)}
     for name, table in (("summary", view.summary), ("disagreements", view.disagreements),
                         ("asymmetries", view.asymmetries)):
         paths[name] = directory / f"{name}.csv"

@@ -208,10 +208,23 @@ def _breaks(at: float, status: str, category: str, first: bool,
 
 def walk(rows: pd.DataFrame) -> dict[str, Any]:
     """The threshold of one sweep walk x engine x quantity (rows: its points, any order)."""
-    first = rows.iloc[0]
+    return _walk(rows.to_dict("records"))
+
+
+def _easy_first(points: list[dict[Hashable, Any]], up: bool) -> list[dict[Hashable, Any]]:
+    """``points`` by value (descending unless ``up``), ties in their order, NaN last: as
+    pandas' stable ``sort_values``."""
+    nan = [p for p in points if math.isnan(p["value"])]
+    return sorted((p for p in points if not math.isnan(p["value"])),
+                  key=lambda p: p["value"], reverse=not up) + nan
+
+
+def _walk(points: list[dict[Hashable, Any]]) -> dict[str, Any]:
+    """:func:`walk` of records, in plain Python (a DataFrame per walk costs ~4x)."""
+    first = points[0]
     way = _direction(str(first["param"]), str(first["direction"]))
-    ordered = rows.sort_values("value", ascending=way.harder_up, kind="stable")
-    values, statuses = ordered["value"].tolist(), ordered["status"].tolist()
+    ordered = _easy_first(points, way.harder_up)
+    values, statuses = [p["value"] for p in ordered], [p["status"] for p in ordered]
     judged = [i for i, s in enumerate(statuses) if s not in NEUTRAL]
     agreed = [i for i in judged if statuses[i] == "agree"]
     broken = next((i for i in judged if statuses[i] in BREAKING), None)
@@ -224,7 +237,7 @@ def walk(rows: pd.DataFrame) -> dict[str, Any]:
     again = next((values[i] for i in agreed if i > broken), None)
     reached = sum(i < broken for i in judged) / len(judged)
     return out | {"reached": reached} | _breaks(
-        values[broken], statuses[broken], ordered["category"].iloc[broken], broken == 0, again)
+        values[broken], statuses[broken], ordered[broken]["category"], broken == 0, again)
 
 
 def thresholds(points: pd.DataFrame) -> pd.DataFrame:
@@ -234,9 +247,13 @@ def thresholds(points: pd.DataFrame) -> pd.DataFrame:
     (:func:`_shown`); a 2-D twin's rows come after its 3-D sweep's.
     """
     rows = []
-    keys = ["sweep", "direction", "engine", "quantity"]
-    for (sweep, direction, engine, quantity), group in points.groupby(keys, sort=False):
-        first = group.iloc[0]
+    walks: dict[tuple[Any, ...], list[dict[Hashable, Any]]] = {}  # groupby's, in plain Python
+    for point in points.to_dict("records"):
+        key = (point["sweep"], point["direction"], point["engine"], point["quantity"])
+        if not any(isinstance(k, float) and math.isnan(k) for k in key):
+            walks.setdefault(key, []).append(point)
+    for (sweep, direction, engine, quantity), group in walks.items():
+        first = group[0]
         way = _direction(str(first["param"]), str(direction))
         family = str(first.get("family", sweep))
         rows.append({
@@ -245,7 +262,7 @@ def thresholds(points: pd.DataFrame) -> pd.DataFrame:
             "harder": f"{'larger' if way.harder_up else 'smaller'} is harder",
             "kind": str(first["kind"]), "dim": first["dim"], "engine": engine,
             "quantity": quantity, "headline": False,
-            "column": f"{family} ({direction})", **walk(group)})
+            "column": f"{family} ({direction})", **_walk(group)})
     table = pd.DataFrame(rows, columns=TABLE_COLUMNS)
     table = table.iloc[(table["sweep"] != table["family"]).argsort(kind="stable")]
     return _shown(table.reset_index(drop=True))
@@ -255,14 +272,18 @@ def _shown(table: pd.DataFrame) -> pd.DataFrame:
     """Mark (``headline``) the row the matrix shows for each engine x column; name its dimension
     and the quantity in its verdict when the column holds more than one walk or falls back.
     """
-    for _, cell in table.groupby(["engine", "column"], sort=False):
-        walks: list[dict[Hashable, Any]] = cell.to_dict("records")
+    records: list[dict[Hashable, Any]] = table.to_dict("records")
+    cells: dict[tuple[Any, Any], list[int]] = {}  # groupby's, in plain Python
+    for i, record in enumerate(records):
+        cells.setdefault((record["engine"], record["column"]), []).append(i)
+    headline, verdicts = table["headline"].tolist(), table["verdict"].tolist()
+    for rows in cells.values():
+        walks = [records[i] for i in rows]
         kind = str(walks[0]["kind"])
         chosen = _choice(walks, kind)
-        label = cell.index[chosen]
-        table.at[label, "headline"] = True
-        table.at[label, "verdict"] = _cell_verdict(walks[chosen], walks, kind)
-    return table
+        headline[rows[chosen]] = True
+        verdicts[rows[chosen]] = _cell_verdict(walks[chosen], walks, kind)
+    return table.assign(headline=headline, verdict=verdicts)
 
 
 def _choice(walks: list[dict[Hashable, Any]], kind: str) -> int:
@@ -328,10 +349,12 @@ def _hover(row: dict[Hashable, Any]) -> str:
     return "<br>".join(html.escape(line) for line in lines)
 
 
-def _trace(rows: pd.DataFrame, index: int, panel: int, first: bool) -> dict[str, Any]:
-    """One engine's line on the sweep panel ``panel`` (1, 2, ...), at the drawn ``x``, ``y``."""
-    engine = html.escape(str(rows["engine"].iloc[0]))
-    shown = rows.sort_values("value").to_dict("records")
+def _trace(rows: list[dict[Hashable, Any]], index: int, panel: int,
+           first: bool) -> dict[str, Any]:
+    """One engine's line on the sweep panel ``panel`` (1, 2, ...), at the drawn ``x``, ``y``
+    (``rows``: its points as records; values are unique per line, so the order is pandas')."""
+    engine = html.escape(str(rows[0]["engine"]))
+    shown = sorted(rows, key=lambda r: (math.isnan(r["value"]), r["value"]))
     colour = COLOURS[index % len(COLOURS)]
     return {
         "type": "scatter", "xaxis": f"x{panel}", "yaxis": f"y{panel}", "name": engine,
@@ -411,9 +434,11 @@ def figure(rows: pd.DataFrame, quantity: str, order: list[str]) -> dict[str, Any
         drawn = _drawn(on[~on["status"].isin(NEUTRAL)], (floor, ceiling),
                        (span[1] - span[0], y_axis["range"][1] - y_axis["range"][0]))
         shown = {trace["name"] for trace in data}
-        data += [_trace(group, order.index(str(engine)), n,
-                        html.escape(str(engine)) not in shown)
-                 for engine, group in drawn.groupby("engine", sort=False)]
+        lines: dict[str, list[dict[Hashable, Any]]] = {}
+        for point in drawn.to_dict("records"):
+            lines.setdefault(str(point["engine"]), []).append(point)
+        data += [_trace(line, order.index(engine), n, html.escape(engine) not in shown)
+                 for engine, line in lines.items()]
     return {"data": data, "layout": layout}
 
 

@@ -19,6 +19,7 @@ import json
 from importlib import resources
 from typing import Any
 
+import plotly.graph_objects as go
 import plotly.io as pio
 from jinja2 import Environment, PackageLoader, select_autoescape
 
@@ -59,6 +60,14 @@ def plotly_template() -> dict[str, Any]:
         layout[name] = {**layout.get(name, {}), **chart_axis()}
     template["layout"] = layout
     return template
+
+
+@functools.cache
+def validated_template() -> dict[str, Any]:
+    """:func:`plotly_template` exactly as a ``go.Figure`` writes it (merged into plotly's
+    default template, in its key order), built once: validating it costs ~0.3 s a figure."""
+    layout = go.Figure().update_layout(template=plotly_template()).to_plotly_json()["layout"]
+    return dict(layout["template"])
 
 
 def chart_axis() -> dict[str, Any]:

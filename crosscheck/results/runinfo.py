@@ -25,6 +25,10 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   tokens, which strict JSON rejects).  ``read_results`` upgrades older rows
   as it reads them; run.json itself is unchanged.
 
+A run.json of a later format (a newer crosscheck wrote it) is refused by
+:func:`migrate` with its version and how to upgrade; ``tests/data/format3-run``
+is a stored run of format 3 that ``report`` and ``compare`` must keep reading.
+
 >>> info = RunInfo(run_id="r", command="crosscheck run", options=RunOptions(quick=True),
 ...                machine={}, engines=(), started="2026-01-01T00:00:00+00:00")
 >>> RunInfo.from_json(info.to_json()) == info
@@ -138,9 +142,13 @@ def migrate(data: dict[str, Any]) -> dict[str, Any]:
     """run.json's content brought to :data:`FORMAT_VERSION`, one step at a time."""
     version = data.get("format_version")
     while version != FORMAT_VERSION:
+        readable = f"this harness reads formats {', '.join(map(str, [*_UPDATES, FORMAT_VERSION]))}"
+        if isinstance(version, int) and version > FORMAT_VERSION:
+            raise FormatError(f"run.json has format {version}; {readable}; a newer crosscheck "
+                              "wrote it: upgrade crosscheck (git pull, then pip install -e .) "
+                              "to read it")
         if not isinstance(version, int) or version not in _UPDATES:
-            raise FormatError(f"run.json has format {version!r}; this harness reads formats "
-                              f"{', '.join(map(str, [*_UPDATES, FORMAT_VERSION]))}")
+            raise FormatError(f"run.json has format {version!r}; {readable}")
         data = _UPDATES[version](data)
         version = data["format_version"]
     return data

@@ -12,6 +12,12 @@
 - ``results.csv``: the tidy table, written from ``results.jsonl``.
 
 Running writes these; reporting only reads them, through :func:`read_run`.
+
+A write that fails (a full disk: ENOSPC, a quota) raises :class:`StoreError`
+saying so; the rows written before it stay loadable (a half-written last line
+is skipped by every reader and dropped by ``--resume``), and the run can be
+resumed once there is space.  ``cases.jsonl`` is written before ``run.json``,
+so a folder with a run.json always has the cases to resume.
 """
 
 from __future__ import annotations
@@ -40,6 +46,12 @@ class StoreError(RuntimeError):
     """The results directory cannot be used."""
 
 
+def open_append(path: Path) -> IO[str]:
+    """The results file, opened to append (the one place the store opens it: tests can
+    replace it with a writer that fails, as a full disk does)."""
+    return path.open("a", encoding="utf-8")
+
+
 class ResultsStore:
     """Append-only writer for one run directory.
 
@@ -59,7 +71,8 @@ class ResultsStore:
             raise StoreError(f"{directory} already holds results: resume it with "
                              f"'crosscheck run --resume {directory}' or choose another --out")
         self.done: set[tuple[str, str]] = _keep_finished(results) if resume else set()
-        self._results: IO[str] = results.open("a", encoding="utf-8")
+        self._results: IO[str] = open_append(results)
+        self._case_ids: list[str] | None = None  # the cases last written to cases.jsonl
         if resume:  # drop a half-written last line, so that appends start on a line of their own
             _replace_if_exists(directory / TIMINGS)
         timings = read_timings(directory) if resume else None
@@ -69,14 +82,33 @@ class ResultsStore:
         """The (case id, engine) pairs the timing phase has already measured."""
 
     def add_cases(self, cases: Iterable[AnyCase]) -> None:
-        """Record the inputs of every case of the run, in suite order (replacing any)."""
+        """Record the inputs of every case of the run, in suite order (replacing any; the
+        same cases again, as launch then the runner give them, are not written twice)."""
+        cases = list(cases)
+        ids = [case.id for case in cases]
+        if ids == self._case_ids:
+            return
         lines = [json.dumps(case.model_dump() | {"source": case.source}) for case in cases]
         _replace(self.directory / "cases.jsonl", lines)
+        self._case_ids = ids
 
     def append(self, records: Iterable[Record]) -> None:
-        """Append finished records in one write and flush them to disk."""
-        self._results.write("".join(json.dumps(r.row()) + "\n" for r in records))
-        self._results.flush()
+        """Append finished records in one write and flush them to disk.
+
+        Raises :class:`StoreError` if the write fails (a full disk); what was
+        written before stays readable, and ``--resume`` drops any half-written line.
+        """
+        self.append_lines("".join(json.dumps(r.row()) + "\n" for r in records))
+
+    def append_lines(self, text: str) -> None:
+        """Append finished rows already written as JSON lines (each ending in a newline, as
+        :meth:`append` writes them: columnar scoring makes them from columns) and flush."""
+        try:
+            self._results.write(text)
+            self._results.flush()
+        except OSError as exc:
+            raise StoreError(f"cannot write results to {self.directory / 'results.jsonl'}: "
+                             f"{exc.strerror or exc}") from exc
 
     def append_timing(self, record: TimingRecord) -> None:
         """Append one case x engine's timing samples to ``timings.jsonl`` and flush."""
@@ -89,8 +121,13 @@ class ResultsStore:
         _replace(self.directory / "run.json", [json.dumps(info.to_json(), indent=2)])
 
     def close(self) -> None:
-        self._results.close()
-        self._lock.close()  # closing the file releases the lock
+        """Close the results file and release the folder (also after a failed write)."""
+        try:
+            self._results.close()
+        except OSError:
+            pass  # the write that failed has raised already; its rows were never on disk
+        finally:
+            self._lock.close()  # closing the file releases the lock
 
 
 def _lock(directory: Path) -> IO[str]:

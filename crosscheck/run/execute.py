@@ -1,7 +1,8 @@
 """Executing one case on one adapter: prepare (untimed), query, and the calibrated timing loop.
 
 This is what a worker process does for each task (see :mod:`crosscheck.run.worker`);
-it also runs in-process for tests and for ``--no-isolation``.  An exception
+it also runs in-process for tests and for ``--no-isolation``, where Ctrl-C waits for
+the cases in flight (:func:`stop_between_items`).  An exception
 raised by the engine becomes an ``error`` outcome with its reason.  With ``skip``
 (quantities an adapter declares as hanging, see
 :meth:`~crosscheck.core.contract.Adapter.hanging_quantities`) the query is
@@ -10,9 +11,13 @@ raised by the engine becomes an ``error`` outcome with its reason.  With ``skip`
 
 from __future__ import annotations
 
+import contextlib
 import math
+import signal
+import threading
 import time
 import traceback
+import types
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Any, Protocol, TypeVar
@@ -29,8 +34,9 @@ class Outcome:
     """What executing one case on one adapter gave: an observation, or a status and reason.
 
     ``hung``: quantities that a declared known hang kept from being answered (recorded
-    ``timeout`` with ``hang_reason``); the others are in ``observation`` or share
-    ``status``.
+    ``hang_status`` with ``hang_reason``: ``timeout`` when the probe timed out, ``skip``
+    when the run is in-process and never starts them); the others are in ``observation``
+    or share ``status``.
     """
 
     observation: Observation | None
@@ -40,6 +46,7 @@ class Outcome:
     timing: Timing | None = None
     hung: frozenset[str] = frozenset()
     hang_reason: str = ""
+    hang_status: Status = Status.TIMEOUT
 
 
 def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = False,
@@ -135,3 +142,25 @@ class Lanes(Protocol):
     def __exit__(self, *exc: object) -> None: ...
 
     def map(self, fn: Callable[[T, Executor], R], items: Iterable[T]) -> Iterator[R]: ...
+
+
+@contextlib.contextmanager
+def stop_between_items(defer: bool) -> Iterator[threading.Event]:
+    """While ``defer`` (and in the main thread): the first SIGINT only sets the event yielded,
+    and puts the previous handler back, so that a second one acts at once."""
+    stop = threading.Event()
+    previous = signal.getsignal(signal.SIGINT)
+    if not defer or threading.current_thread() is not threading.main_thread() \
+            or previous in (signal.SIG_IGN, None):
+        yield stop
+        return
+
+    def first(signum: int, frame: types.FrameType | None) -> None:
+        stop.set()
+        signal.signal(signal.SIGINT, previous)
+
+    signal.signal(signal.SIGINT, first)
+    try:
+        yield stop
+    finally:
+        signal.signal(signal.SIGINT, previous)

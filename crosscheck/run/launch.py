@@ -2,7 +2,8 @@
 
 Every command that runs cases (``run``, ``run --resume``, ``stability``,
 ``fuzz``, ``bench``'s scale-out figure) goes through :func:`launch`: write
-``run.json``, run every case x engine pair not yet done into the results
+``cases.jsonl`` then ``run.json`` (so a folder with a run.json can always be
+resumed), run every case x engine pair not yet done into the results
 store, mark the run finished, close the store.  Rendering a report is a
 separate step (``crosscheck.report``), in the manner of asv's run and publish.
 
@@ -72,6 +73,7 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     ``crosscheck run --resume`` completes it.
     """
     try:
+        store.add_cases(cases)  # before run.json: a folder with a run.json can be resumed
         store.write_run_info(info)
         if progress is None and phases is not None:
             progress = phases("verdicts", pending(cases, engines, store))

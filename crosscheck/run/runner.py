@@ -5,6 +5,16 @@ executed (:mod:`crosscheck.run.execute`) in that engine's worker process
 (:mod:`crosscheck.run.worker`), then scored quantity by quantity.  An engine that
 raises yields ``error`` rows, one that dies ``crash`` rows, one that hangs
 ``timeout`` rows; the run goes on.
+
+Scoring is columnar by default: lanes return the unscored outcomes of each case
+(:class:`Executed`), and the parent judges them in chunks of up to
+:data:`CHUNK_CASES` cases, one engine at a time, with
+:func:`crosscheck.truth.columnar.judge_batch`, then writes their JSON lines straight
+from the columns (:func:`score_lines`), without a Record per row.  A chunk is
+written when it is full, :data:`FLUSH_S` after the last write, and when the run
+ends or is interrupted, so an interrupted run keeps every outcome it received.
+``run(..., columnar=False)`` scores record by record in the lanes (:func:`score_case`),
+as before; ``tests/test_columnar.py`` checks that both write the same rows.
 """
 
 from __future__ import annotations
@@ -12,6 +22,7 @@ from __future__ import annotations
 import json
 import math
 import threading
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
@@ -19,13 +30,15 @@ from typing import Any
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
 from crosscheck.core.model import Observation, Record, Status, quantities_of
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import AnyCase, SceneCase
+from crosscheck.core.schema import AnyCase, PairCase, SceneCase
 from crosscheck.core.values import encode
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome
+from crosscheck.run.rowtext import ColumnLines
 from crosscheck.run.worker import LocalLanes
 from crosscheck.truth import oracle
+from crosscheck.truth.columnar import judge_batch
 from crosscheck.truth.score import Verdict, judge
 
 
@@ -77,23 +90,47 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
 
     This is the verdict pass: nothing is timed here but a scene's one run (the
     timing phase, :mod:`crosscheck.run.timing_phase`, measures afterwards in quiet).
-    Quantities a declared hang kept from answering (``Outcome.hung``) are ``timeout``
-    rows with the hang's reason; the others are scored as usual.
+    Quantities a declared hang kept from answering (``Outcome.hung``) are rows of its
+    ``hang_status`` (``timeout``, or ``skip`` in-process) with the hang's reason; the others
+    are scored as usual.
     """
+    executed = execute_case(case, adapters, executor, options, done)
+    return [record for k, outcome in executed.outcomes
+            for record in score_outcome(case, adapters[k], outcome, executed.truth)]
+
+
+@dataclass(frozen=True)
+class Executed:
+    """One case run on the engines of a job, not yet scored: what a lane returns when the
+    parent scores in columns."""
+
+    case: AnyCase
+    truth: Observation
+    outcomes: tuple[tuple[int, Outcome], ...]
+    """(index of the adapter in the job's adapters, its outcome) for each pair not done."""
+
+
+def execute_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
+                 options: RunOptions, done: Pairs = frozenset()) -> Executed:
+    """The truth of ``case`` once, then its outcome on each adapter not already done."""
     skipped = _quick_skip(case) if options.quick else None
     truth = oracle.truth(case) if skipped is None else Observation()
-    records: list[Record] = []
-    for adapter in adapters:
-        if (case.id, adapter.name) not in done:
-            outcome = skipped or _execute(executor, adapter, case, options)
-            scored = score_case(case, adapter, outcome, truth)
-            if outcome.hung:
-                stuck = Outcome(None, Status.TIMEOUT, outcome.hang_reason)
-                timeouts = score_case(case, adapter, stuck, truth)
-                scored = [t if r.quantity in outcome.hung else r
-                          for r, t in zip(scored, timeouts, strict=True)]
-            records += scored
-    return records
+    return Executed(case, truth, tuple(
+        (k, skipped or _execute(executor, adapter, case, options))
+        for k, adapter in enumerate(adapters) if (case.id, adapter.name) not in done))
+
+
+def score_outcome(case: AnyCase, adapter: Adapter, outcome: Outcome,
+                  truth: Observation) -> list[Record]:
+    """:func:`score_case`, with the quantities a declared hang kept from answering
+    (``outcome.hung``) as rows of its ``hang_status`` and reason."""
+    scored = score_case(case, adapter, outcome, truth)
+    if outcome.hung:
+        stuck = Outcome(None, outcome.hang_status, outcome.hang_reason)
+        timeouts = score_case(case, adapter, stuck, truth)
+        scored = [t if r.quantity in outcome.hung else r
+                  for r, t in zip(scored, timeouts, strict=True)]
+    return scored
 
 
 _instances: dict[type[Adapter], Adapter] = {}
@@ -118,17 +155,22 @@ class CaseJob:
 
     adapters: tuple[Adapter, ...]
     options: RunOptions
+    columnar: bool = False
+    """Return the case's :class:`Executed` outcomes, for the parent to score in columns."""
 
-    def __call__(self, item: tuple[AnyCase, Pairs], executor: Executor) -> list[Record]:
+    def __call__(self, item: tuple[AnyCase, Pairs], executor: Executor) -> list[Record] | Executed:
         case, done = item
+        if self.columnar:
+            return execute_case(case, self.adapters, executor, self.options, done)
         return run_case(case, self.adapters, executor, self.options, done)
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return _case_job, (tuple(type(a) for a in self.adapters), self.options)
+        return _case_job, (tuple(type(a) for a in self.adapters), self.options, self.columnar)
 
 
-def _case_job(classes: Sequence[type[Adapter]], options: RunOptions) -> CaseJob:
-    return CaseJob(tuple(_instance(cls) for cls in classes), options)
+def _case_job(classes: Sequence[type[Adapter]], options: RunOptions,
+              columnar: bool = False) -> CaseJob:
+    return CaseJob(tuple(_instance(cls) for cls in classes), options, columnar)
 
 
 QUICK_SCENE_STEPS = 1000
@@ -148,12 +190,16 @@ def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOp
     The full query is probed first (a fixed engine answers it).  If the probe times out
     and the adapter names only some quantities as hanging, the query runs again without
     them under the run's limit; they are marked ``hung`` (the rest is its outcome).
+    In-process (``isolate`` False) nothing could stop a hang, so the declared hanging
+    quantities are never started (:func:`_skip_declared_hang`).
     """
     hang = adapter.known_hang(case)
     if isinstance(case, SceneCase):  # stepping takes seconds, not microseconds
         options = replace(options, timeout_s=max(options.timeout_s, SCENE_TIMEOUT_S))
     if hang is None:
         return executor(adapter, case, options)
+    if not options.isolate:
+        return _skip_declared_hang(executor, adapter, case, options, hang)
     limit = min(options.timeout_s, HANG_PROBE_S)
     outcome = executor(adapter, case, replace(options, timeout_s=limit), False)
     if outcome.status is not Status.TIMEOUT:
@@ -167,12 +213,27 @@ def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOp
     return replace(rest, hung=hanging, hang_reason=reason)
 
 
+def _skip_declared_hang(executor: Executor, adapter: Adapter, case: AnyCase,
+                        options: RunOptions, hang: str) -> Outcome:
+    """In-process: the declared hanging quantities are ``skip`` rows naming the declaration;
+    the others come from ``query_without`` them (all ``skip`` when every quantity hangs)."""
+    reason = (f"declared known hang, not run in-process (--no-isolation has no time limit "
+              f"to stop it): {hang}")
+    every = frozenset(quantities_of(case.kind_enum))
+    hanging = adapter.hanging_quantities(case) & every
+    if not hanging or hanging == every:
+        return Outcome(None, Status.SKIP, reason)
+    rest = executor(adapter, case, options, False, hanging)
+    return replace(rest, hung=hanging, hang_reason=reason, hang_status=Status.SKIP)
+
+
 SCENE_TIMEOUT_S = 300.0
 """Time limit for one scene x engine (the run's --timeout if larger)."""
 
 
 def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
-        options: RunOptions | None = None, progress: Progress | None = None) -> int:
+        options: RunOptions | None = None, progress: Progress | None = None,
+        columnar: bool = True) -> int:
     """Run every case on every adapter, appending records to ``store``; return the count.
 
     Engines run in worker processes unless ``options.isolate`` is False, so a
@@ -180,7 +241,8 @@ def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsSto
     cases run concurrently in that many lanes, each with its own workers.
     Pairs in ``store.done`` (a resumed run) are not run again.  With
     ``options.scheduler``, cases run as tasks on that Dask cluster instead
-    (:mod:`crosscheck.run.distributed`).
+    (:mod:`crosscheck.run.distributed`).  ``columnar`` (the default) scores in the
+    parent in chunks (see the module docstring); False scores record by record.
     """
     options = options or RunOptions()
     store.add_cases(cases)
@@ -189,12 +251,107 @@ def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsSto
     for pair in store.done:
         done.setdefault(pair[0], set()).add(pair)
     items = ((case, frozenset(done.get(case.id, ()))) for case in todo)
-    count = 0
     lanes: Lanes = DaskLanes(options) if options.scheduler else LocalLanes(options)
+    chunk = _Chunk(store, adapters)
     with lanes:
-        for records in lanes.map(CaseJob(tuple(adapters), options), items):
-            store.append(records)
-            count += len(records)
-            if progress:
-                progress(len(adapters))
-    return count
+        try:
+            for result in lanes.map(CaseJob(tuple(adapters), options, columnar), items):
+                chunk.add(result)
+                if progress:
+                    progress(len(adapters))
+        finally:  # also on Ctrl-C or a failed write: what was received is written
+            chunk.flush()
+    return chunk.count
+
+
+CHUNK_CASES = 256
+"""Columnar scoring: cases scored and written together, at most."""
+FLUSH_S = 0.5
+"""Columnar scoring: the longest a received outcome waits to be written (checked as the
+next case arrives)."""
+
+
+class _Chunk:
+    """The received, not yet written cases of a columnar run (and the records of a
+    per-record one, written at once)."""
+
+    def __init__(self, store: ResultsStore, adapters: Sequence[Adapter]) -> None:
+        self.store, self.adapters = store, adapters
+        self.pending: list[Executed] = []
+        self.count = 0
+        self.written = time.monotonic()
+
+    def add(self, result: list[Record] | Executed) -> None:
+        if isinstance(result, list):
+            self.store.append(result)
+            self.count += len(result)
+            return
+        self.pending.append(result)
+        if len(self.pending) >= CHUNK_CASES or time.monotonic() - self.written > FLUSH_S:
+            self.flush()
+
+    def flush(self) -> None:
+        pending, self.pending = self.pending, []
+        self.written = time.monotonic()
+        for k, adapter in enumerate(self.adapters):
+            mine = [(e.case, outcome, e.truth) for e in pending for j, outcome in e.outcomes
+                    if j == k]
+            if mine:
+                cases, outcomes, truths = zip(*mine, strict=True)
+                text = score_lines(cases, adapter, outcomes, truths)
+                self.store.append_lines(text)
+                self.count += text.count("\n")
+
+
+def score_lines(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence[Outcome],
+                truths: Sequence[Observation]) -> str:
+    """The JSON lines of ``cases`` on ``adapter``, as :meth:`ResultsStore.append` writes
+    the records of :func:`score_outcome`: pair cases with an observation judged in columns
+    (:func:`~crosscheck.truth.columnar.judge_batch`), the rest record by record."""
+    plain = [k for k, (case, outcome) in enumerate(zip(cases, outcomes, strict=True))
+             if outcome.observation is not None and not outcome.hung
+             and not isinstance(case, SceneCase)]
+    columns = judge_batch([_pair(cases[k]) for k in plain], adapter.conventions,
+                          [_observed(outcomes[k]) for k in plain], [truths[k] for k in plain])
+    rows = ColumnLines(columns)
+    lines: list[str] = []
+    marked = set(plain)
+    for k, case in enumerate(cases):
+        if k in marked:
+            lines += rows.lines(case, adapter.name, outcomes[k], truths[k])
+        else:
+            lines += [json.dumps(r.row()) + "\n"
+                      for r in score_outcome(case, adapter, outcomes[k], truths[k])]
+    return "".join(lines)
+
+
+def score_records(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence[Outcome],
+                  truths: Sequence[Observation]) -> list[Record]:
+    """The records of :func:`score_outcome` for every case, judged in columns as in
+    :func:`score_lines` (for a caller that keeps records rather than writing lines)."""
+    plain = [k for k, (case, outcome) in enumerate(zip(cases, outcomes, strict=True))
+             if outcome.observation is not None and not outcome.hung
+             and not isinstance(case, SceneCase)]
+    columns = judge_batch([_pair(cases[k]) for k in plain], adapter.conventions,
+                          [_observed(outcomes[k]) for k in plain], [truths[k] for k in plain])
+    marked, row, records = set(plain), 0, []
+    for k, case in enumerate(cases):
+        if k not in marked:
+            records += score_outcome(case, adapter, outcomes[k], truths[k])
+            continue
+        observation = _observed(outcomes[k])
+        for quantity in quantities_of(case.kind_enum):
+            records.append(_record(case, adapter.name, quantity, observation.get(quantity),
+                                   truths[k], columns.verdict(row), outcomes[k]))
+            row += 1
+    return records
+
+
+def _pair(case: AnyCase) -> PairCase:
+    assert not isinstance(case, SceneCase)
+    return case
+
+
+def _observed(outcome: Outcome) -> Observation:
+    assert outcome.observation is not None
+    return outcome.observation

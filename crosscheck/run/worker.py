@@ -1,13 +1,28 @@
-"""Isolation: each engine runs in its own worker process, so a crash or hang costs one case.
+"""Isolation: each engine library runs in its own worker process, so a crash or hang costs one case.
 
-A :class:`WorkerPool` keeps one long-lived worker per adapter (engine clients
-such as a PyBullet connection live there and are reused across cases).  Each
-task is sent over a pipe; the parent waits at most ``timeout_s``:
+A :class:`WorkerPool` keeps one long-lived worker per engine library, shared by
+its variants (engine clients such as a PyBullet connection live there and are
+reused across cases).  Each task is sent over a pipe; the parent waits at most
+``timeout_s``:
 
 - an answer: the :class:`~crosscheck.run.execute.Outcome` of the case;
 - the pipe closes (the worker died: segfault, abort, ``os._exit``): a
   ``crash`` outcome naming the signal or exit code;
-- no answer in time: the worker is killed and the outcome is ``timeout``.
+- no answer in time: the worker is killed and the outcome is ``timeout``;
+- the case blows ``worker_memory_mb`` on its own (it grows the worker by more
+  than a fresh worker, its engine loaded, may grow under the limit): the worker
+  is killed and the outcome is ``crash`` with the reason "memory limit" (a
+  watchdog in the parent reads ``/proc/<pid>/statm`` every :data:`WATCH_S` while
+  it waits; an answer that comes sooner costs nothing).
+
+A worker whose resident memory is over the limit after it answered (an engine
+leaking case after case) is recycled before the next case; the case during
+which a leak piles past the limit is not blamed for it.  Resident memory is
+watched rather than capped with ``RLIMIT_AS``/``RLIMIT_DATA``: numpy, OpenBLAS and
+the engines reserve far more address space than they touch, so a cap on virtual
+memory fails imports and turns an engine's ``std::bad_alloc`` into an abort,
+while RSS is what a leak actually costs the machine.  Where ``/proc`` is missing
+the limit is not enforced.
 
 A dead or killed worker is replaced on the next task.  Workers are started by
 the ``forkserver`` method, which is safe with the parent's threads (the
@@ -18,11 +33,13 @@ progress bar) and cheap to restart.  Their C-level stdout and stderr go to
 from __future__ import annotations
 
 import contextlib
+import math
 import multiprocessing as mp
 import os
 import signal
 import sys
 import threading
+import time
 import types
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, as_completed, wait
@@ -34,7 +51,7 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.run.execute import Executor, Outcome, execute, probe_binding
+from crosscheck.run.execute import Executor, Outcome, execute, probe_binding, stop_between_items
 from crosscheck.run.timing import Timing
 
 _CONTEXT = mp.get_context("forkserver")
@@ -48,6 +65,14 @@ Task = tuple[type[Adapter], AnyCase | str | None, RunOptions, bool, frozenset[st
 
 STARTUP_TIMEOUT_S = 120.0
 """Time a new worker may take to start and load its engine; not charged to any case."""
+
+WATCH_S = 0.05
+"""How often the parent reads a busy worker's resident memory while it waits for an answer."""
+
+RECHECK_S = 0.1
+"""Between cases, resident memory is read at most this often (a read costs ~5 us)."""
+
+_PAGE_MB = os.sysconf("SC_PAGE_SIZE") / 2**20 if hasattr(os, "sysconf") else 4 / 1024
 
 
 def _silence_output() -> None:
@@ -109,41 +134,96 @@ def _death(code: int | None) -> str:
     return f"worker exited with code {code}"
 
 
-class _Worker:
-    """One worker process and its pipe."""
+def memory_limit(what: str, limit_mb: float) -> str:
+    """The reason of a ``crash`` for a worker over ``--worker-memory``."""
+    return f"memory limit: {what}, past --worker-memory {limit_mb:g} MB"
 
-    def __init__(self) -> None:
+
+class _Worker:
+    """One worker process and its pipe, its resident memory watched against ``memory_mb``."""
+
+    def __init__(self, memory_mb: float) -> None:
+        self.memory_mb = memory_mb
         self.conn, child = _CONTEXT.Pipe()
         self.process: BaseProcess = _CONTEXT.Process(target=_serve, args=(child,), daemon=True)
         with _START_LOCK, _without_main():
             self.process.start()
         child.close()
+        self._statm: int | None = None
+        with contextlib.suppress(OSError):
+            self._statm = os.open(f"/proc/{self.process.pid}/statm", os.O_RDONLY)
+        self.last_mb = 0.0  # at the last check: after the last answer, so as a case begins
+        self.checked = -math.inf  # time.monotonic() of that check
+        self.warmed: set[type[Adapter]] = set()  # adapters warmed up in this process
+        self.fresh_mb = 0.0  # once its engine was loaded
+
+    def resident_mb(self) -> float:
+        """The worker's resident memory in MB (0 where /proc cannot tell)."""
+        if self._statm is None:
+            return 0.0
+        try:
+            return int(os.pread(self._statm, 128, 0).split()[1]) * _PAGE_MB
+        except (OSError, IndexError, ValueError):
+            return 0.0
+
+    def over_limit(self, unless_within_s: float = 0.0) -> bool:
+        """Whether the worker's resident memory is over its limit (kept as ``last_mb``); not
+        read again if it was read less than ``unless_within_s`` ago."""
+        now = time.monotonic()
+        if now - self.checked >= unless_within_s:
+            self.last_mb, self.checked = self.resident_mb(), now
+        return self.last_mb > self.memory_mb
 
     def call(self, task: Task, timeout_s: float) -> Any:
         try:
             self.conn.send(task)
-            if not self.conn.poll(timeout_s):
-                self.kill()
-                return Outcome(None, Status.TIMEOUT, f"no answer within {timeout_s:g} s")
-            return self.conn.recv()
+            stopped = self._wait(timeout_s)
+            return stopped if stopped is not None else self.conn.recv()
         except (EOFError, OSError, BrokenPipeError):
             self.process.join(timeout=2)
             return Outcome(None, Status.CRASH, _death(self.process.exitcode))
 
+    def _wait(self, timeout_s: float) -> Outcome | None:
+        """None once an answer is ready; else the worker is killed and the outcome says why:
+        no answer within ``timeout_s``, or the case alone grew the worker by more than a fresh
+        one may grow (checked every WATCH_S).  A smaller growth past the limit (a leak piling
+        up) finishes the case and is recycled after it: RSS stays under twice the limit."""
+        deadline = time.monotonic() + timeout_s
+        while not self.conn.poll(max(0.0, min(WATCH_S, deadline - time.monotonic()))):
+            resident = self.resident_mb()
+            if resident - self.last_mb > self.memory_mb - self.fresh_mb:
+                self.kill()
+                what = (f"this case alone grew the worker from {self.last_mb:.0f} to "
+                        f"{resident:.0f} MB (a fresh one holds {self.fresh_mb:.0f} MB)"
+                        if self.fresh_mb else
+                        f"the worker reached {resident:.0f} MB while loading its engine")
+                return Outcome(None, Status.CRASH, memory_limit(what, self.memory_mb))
+            if time.monotonic() >= deadline:
+                self.kill()
+                return Outcome(None, Status.TIMEOUT, f"no answer within {timeout_s:g} s")
+        return None
+
     def alive(self) -> bool:
         return self.process.is_alive()
+
+    def _forget_statm(self) -> None:
+        if self._statm is not None:
+            os.close(self._statm)
+        self._statm = None
 
     def kill(self) -> None:
         if self.process.is_alive():
             self.process.kill()
         self.process.join(timeout=5)
         self.conn.close()
+        self._forget_statm()
 
     def close(self) -> None:
         self.conn.close()
         self.process.join(timeout=2)
         if self.process.is_alive():
             self.kill()
+        self._forget_statm()
 
 
 def pin(pid: int, cpu: int | None) -> bool:
@@ -158,26 +238,53 @@ def pin(pid: int, cpu: int | None) -> bool:
 
 
 class WorkerPool:
-    """One worker per adapter, restarted after a crash or timeout (pinned to ``cpu`` if given)."""
+    """One worker per engine library, shared by its variants (``pybullet`` and
+    ``pybullet-default`` run in one process); restarted after a crash or timeout (pinned to
+    ``cpu`` if given), recycled between cases when its resident memory passes
+    ``options.worker_memory_mb`` (``recycled`` counts those; ``started`` counts every
+    worker process started).
+
+    Variants of one engine share its crash modes, so sharing their worker keeps a crash
+    or hang to one case x engine variant (the task in flight) while the library is
+    imported and the process started once per lane instead of once per variant.  Each
+    variant is warmed up in the worker the first time it is used there, outside any
+    case's time.
+    """
 
     def __init__(self, options: RunOptions, cpu: int | None = None) -> None:
         self.options = options
         self.cpu = cpu
+        self.recycled = 0
+        self.started = 0
         self._workers: dict[str, _Worker] = {}
 
     def _worker(self, adapter: Adapter, options: RunOptions) -> _Worker | Outcome:
-        """The adapter's live worker, started (and warmed up) if need be; or why it cannot."""
-        worker = self._workers.get(adapter.name)
+        """The engine's live worker, started and the adapter warmed up in it if need be; or
+        why it cannot."""
+        worker = self._workers.get(adapter.engine)
         if worker is None or not worker.alive():
-            worker = self._workers[adapter.name] = _Worker()
+            worker = self._workers[adapter.engine] = _Worker(options.worker_memory_mb)
+            self.started += 1
             pin(worker.process.pid or 0, self.cpu)
-            started = worker.call((type(adapter), None, options, False, frozenset()),
-                                  STARTUP_TIMEOUT_S)
-            if started is not None:  # the worker could not even start: that case's outcome
-                del self._workers[adapter.name]
-                assert isinstance(started, Outcome)
-                return started
+        if type(adapter) in worker.warmed:
+            return worker
+        started = worker.call((type(adapter), None, options, False, frozenset()),
+                              STARTUP_TIMEOUT_S)
+        if started is None and worker.over_limit():  # the engine alone is over the limit
+            started = Outcome(None, Status.CRASH, memory_limit(
+                f"the worker holds {worker.last_mb:.0f} MB once its engine is loaded",
+                worker.memory_mb))
+        if started is not None:  # the worker could not even start: that case's outcome
+            self._drop(adapter)
+            assert isinstance(started, Outcome)
+            return started
+        worker.fresh_mb = worker.last_mb
+        worker.warmed.add(type(adapter))
         return worker
+
+    def _drop(self, adapter: Adapter) -> None:
+        """Kill the adapter's worker (a fresh one starts on its engine's next task)."""
+        self._workers.pop(adapter.engine).kill()
 
     def binding(self, adapter: Adapter, options: RunOptions) -> Timing | str:
         """The cost of the cheapest call into the adapter's engine, measured in its worker."""
@@ -187,8 +294,7 @@ class WorkerPool:
         answer = worker.call((type(adapter), BINDING, options, True, frozenset()),
                              options.timeout_s)
         if isinstance(answer, Outcome):  # it hung or died
-            worker.kill()
-            del self._workers[adapter.name]
+            self._drop(adapter)
             return answer.reason
         assert isinstance(answer, Timing | str)
         return answer
@@ -203,8 +309,10 @@ class WorkerPool:
         outcome = worker.call((type(adapter), case, options, timed, skip), options.timeout_s)
         assert isinstance(outcome, Outcome)
         if outcome.status in (Status.CRASH, Status.TIMEOUT):
-            worker.kill()
-            del self._workers[adapter.name]
+            self._drop(adapter)
+        elif worker.over_limit(RECHECK_S):  # it answered, but leaked past the limit: recycle
+            self._drop(adapter)
+            self.recycled += 1
         return outcome
 
     def close(self) -> None:
@@ -253,18 +361,40 @@ class LocalLanes:
         return fn(item, self._executor())
 
     def map(self, fn: Callable[[T, Executor], R], items: Iterable[T]) -> Iterator[R]:
-        """Yield ``fn(item, executor)`` for every item, as they finish."""
+        """Yield ``fn(item, executor)`` for every item, as they finish.
+
+        In-process (``isolate`` False), Ctrl-C stops between items: the first SIGINT lets
+        the items in flight finish and be yielded, starts no other, then raises
+        KeyboardInterrupt; a second SIGINT raises at once.  (A worker process can be
+        killed at any moment, an engine in this process cannot: interrupted mid-query it
+        may be left half-changed, and one stuck in C never sees the signal at all.)
+        """
         jobs = max(1, self.options.jobs)
-        if jobs == 1:
-            for item in items:
-                yield fn(item, self._executor())
-            return
+        with stop_between_items(not self.options.isolate) as stop:
+            if jobs == 1:
+                for item in items:
+                    if stop.is_set():
+                        break
+                    yield fn(item, self._executor())
+            else:
+                yield from self._threaded(fn, items, jobs, stop)
+            if stop.is_set():
+                raise KeyboardInterrupt
+
+    def _threaded(self, fn: Callable[[T, Executor], R], items: Iterable[T], jobs: int,
+                  stop: threading.Event) -> Iterator[R]:
         with ThreadPoolExecutor(max_workers=jobs) as threads:
             pending: set[Future[R]] = set()
             for item in items:
+                if stop.is_set():
+                    break
                 pending.add(threads.submit(self._call, fn, item))
                 if len(pending) >= 2 * jobs:
                     finished, pending = wait(pending, return_when=FIRST_COMPLETED)
                     yield from (f.result() for f in finished)
+            if stop.is_set():  # items not started yet stay for --resume
+                for future in pending:
+                    future.cancel()
             for future in as_completed(pending):
-                yield future.result()
+                if not future.cancelled():
+                    yield future.result()

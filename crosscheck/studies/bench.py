@@ -44,10 +44,11 @@ from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.run import environment
 from crosscheck.run.execute import execute
 from crosscheck.run.launch import launch, new_info
-from crosscheck.run.runner import score_case
+from crosscheck.run.runner import score_lines
 from crosscheck.studies import bench_suite, rawloops
 from crosscheck.studies.benchkit import ROOT, Figure, rss_mb, settle
 from crosscheck.truth import oracle
+from reference_impl import batch_values
 from reference_impl.batch import bench_batch, best_of
 
 FORMAT_VERSION = 2
@@ -67,6 +68,25 @@ def batch_figures(n: int) -> list[Figure]:
                   f"M pairs/s; agreement {r['agreement']:.0%} of {r['checked']:.0f}; "
                   f"{r['refined']:.0f} refined, {r['fallbacks']:.0f} to Fractions")))
     return figures
+
+
+def values_figure(n: int) -> Figure:
+    """Figure 1b: correctly rounded sphere distances and normals in batch (double-double and
+    a rounding test, :mod:`reference_impl.batch_values`) against the naive float64 formula."""
+    r = batch_values.benchmark(n=n, seed=0)
+    same = r["identical"] == r["checked"]
+    return Figure(
+        "batch exact values sphere (distance, normal): throughput / naive float64", r["ratio"],
+        "x", ">= 0.25 and every checked value bit-identical to the pure oracle",
+        r["ratio"] >= 0.25 and same and r["checked"] >= 20_000, {"pairs": n, **r},
+        note=(f"{r['batch_pairs_per_s'] / 1e6:.2f} vs {r['naive_pairs_per_s'] / 1e6:.1f} M pairs/s;"
+              f" {r['identical']:.0f} of {r['checked']:.0f} identical (all {r['near']:.0f} near "
+              f"ones included); settled: {_stages(r)}"))
+
+
+def _stages(r: dict[str, float]) -> str:
+    return ", ".join(f"{k.removeprefix('stage_')} {v:.0f}" for k, v in r.items()
+                     if k.startswith("stage_"))
 
 
 def sphere_pairs(n: int, dim: int, seed: int, radii: Sequence[float]) -> list[tuple[Any, ...]]:
@@ -99,8 +119,10 @@ def as_cases(pairs: Sequence[tuple[Any, ...]], boxes: bool) -> list[Any]:
 def harness(engine: str, cases: Sequence[Any]) -> tuple[Any, Callable[[int, int], None]]:
     """The adapter, and a function running cases ``[lo, hi)`` as the harness does.
 
-    Per case: ``execute`` (prepare, query, release) and scoring into records; the
-    exact truths are computed here, once, outside anything timed.
+    Per case: ``execute`` (prepare, query, release); then the slice is scored as the
+    runner scores it, in columns into the JSON lines it writes
+    (:func:`~crosscheck.run.runner.score_lines`); the exact truths are computed here,
+    once, outside anything timed.
     """
 
     adapter = adapters.get(engine)
@@ -108,8 +130,8 @@ def harness(engine: str, cases: Sequence[Any]) -> tuple[Any, Callable[[int, int]
     options = RunOptions(quick=True)
 
     def run_slice(lo: int, hi: int) -> None:
-        for case, truth in zip(cases[lo:hi], truths[lo:hi], strict=True):
-            score_case(case, adapter, execute(adapter, case, options), truth)
+        outcomes = [execute(adapter, case, options) for case in cases[lo:hi]]
+        score_lines(cases[lo:hi], adapter, outcomes, truths[lo:hi])
 
     return adapter, run_slice
 
@@ -239,6 +261,7 @@ def measure(quick: bool, progress: Callable[[str], None] | None = None) -> list[
     suite, help_, render = bench_suite.figures(quick)
     steps: list[tuple[str, Callable[[], list[Figure]]]] = [
         ("batch oracle, 1M pairs", lambda: batch_figures(1_000_000)),  # the target's size
+        ("batch exact values, 1M pairs", lambda: [values_figure(1_000_000)]),
         ("harness overhead (fcl, pymunk)",
          lambda: overhead_figures(1_000 if quick else 5_000)),
         ("pybullet stream and memory", lambda: pybullet_figures(10_000 if quick else 100_000)),

@@ -1,16 +1,26 @@
-"""Fuzz findings grouped into ready-to-commit case files, and ``findings.csv``.
+"""Fuzz findings grouped into ready-to-commit case files, and ``findings.csv``, in bounded memory.
 
 Every disagree, error, crash or timeout row of a fuzz run is grouped by
 engine, kind, quantity, status, category and generator family; each group
 beyond the engine's declared tolerance becomes one case file of up to
 ``per_group`` representatives, written by :mod:`crosscheck.cases.writer`.
+
+A million-case campaign has millions of findings, so nothing here holds them
+all: :class:`Groups` counts each group's findings as they stream in and keeps
+only its :data:`KEEP` largest errors (the candidates a file can choose from);
+:func:`write_stream` reads the findings twice from their source (once to group
+and choose, once to write ``findings.csv`` in case order and to collect the
+chosen cases' findings), so memory stays flat however many there are.  A
+finding row (:func:`finding_row`) is the record's fields plus where its case
+came from (family, modifiers, driver, its value and decade, the case index).
 """
 
 from __future__ import annotations
 
 import csv
+import heapq
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol, cast
@@ -26,7 +36,19 @@ DRIVER_SLUG = {"relative gap": "gap", "scale": "scale", "offset": "offset", "mas
 CSV_COLUMNS = ("group", "file", "case_id", "engine", "kind", "dim", "quantity", "status",
                "category", "family", "modifiers", "driver", "decade", "driver_value", "value",
                "truth", "error", "tolerance", "reason")
+FINDING_COLUMNS = (*CSV_COLUMNS[2:], "index")
+"""A finding row's fields, in this order when stored as a list (see :func:`as_list`)."""
+RECORD_FIELDS = ("case_id", "engine", "kind", "dim", "quantity", "status", "category", "value",
+                 "truth", "error", "tolerance", "reason")
+"""The fields of a record that a finding keeps."""
+KEEP_GROUPS = 100
+"""Each group keeps ``per_group * KEEP_GROUPS`` candidates.  A group loses at most
+``per_group`` cases to each other group (a case goes to one file only), so the choice
+equals the one made from every finding as long as there are at most this many groups
+(the seven engine variants on spheres make about 40)."""
 Row = dict[str, Any]
+Key = tuple[str, str, str, str, str, str, str, str]
+"""engine, kind, quantity, status, category, family, driver, decade ("": all decades)."""
 
 
 class Provenance(Protocol):
@@ -48,6 +70,25 @@ class Provenance(Protocol):
     def decade(self) -> str: ...
 
 
+def finding_row(record: Mapping[str, Any], gen: Provenance) -> Row:
+    """A record's row (``Record.row()`` or a results row) with its case's provenance."""
+    row = {name: record[name] for name in RECORD_FIELDS}
+    row["category"] = _text(row["category"])
+    row["reason"] = _text(row["reason"])
+    return row | {"index": gen.index, "family": gen.family, "modifiers": " ".join(gen.parts[1:]),
+                  "driver": gen.driver, "driver_value": gen.value, "decade": gen.decade}
+
+
+def as_list(row: Row) -> list[Any]:
+    """A finding row as a list in :data:`FINDING_COLUMNS` order (compact to store)."""
+    return [row[c] for c in FINDING_COLUMNS]
+
+
+def from_list(values: Sequence[Any]) -> Row:
+    """A finding row stored by :func:`as_list`."""
+    return dict(zip(FINDING_COLUMNS, values, strict=True))
+
+
 @dataclass
 class Group:
     """Similar findings: same engine, kind, quantity, status, category and family.
@@ -65,9 +106,18 @@ class Group:
     driver: str
     decade: str
     rows: list[Row] = field(default_factory=list)
-    """The findings, largest error first, ties by case index."""
+    """The candidates: the group's largest errors (at most ``per_group * KEEP_GROUPS``),
+    largest first, ties by case index."""
+    count: int = 0
+    """How many findings the group has (``rows`` keeps the candidates only)."""
     chosen: list[str] = field(default_factory=list)
     """Ids of the cases written in this group's file (at most ``per_group``)."""
+
+    @property
+    def key(self) -> Key:
+        """What its findings share (the grouping key)."""
+        return (self.engine, self.kind, self.quantity, self.status, self.category,
+                self.family, self.driver, self.decade)
 
     @property
     def slug(self) -> str:
@@ -87,18 +137,56 @@ def _error(row: Row) -> float:
     return -1.0 if err is None or math.isnan(err) else float(err)
 
 
-def group_findings(frame: pd.DataFrame, meta: Mapping[str, Provenance]) -> list[Group]:
+def _key(row: Row) -> Key:
+    return (row["engine"], row["kind"], row["quantity"], row["status"], row["category"],
+            row["family"], row["driver"], "")  # decades: findings.csv
+
+
+class Groups:
+    """Findings grouped as they stream in: a count and the top candidates per group."""
+
+    def __init__(self, per_group: int) -> None:
+        self.keep = per_group * KEEP_GROUPS
+        self._groups: dict[Key, Group] = {}
+        self._heaps: dict[Key, list[tuple[float, int, int, Row]]] = {}
+        self._seen = 0
+
+    def add(self, row: Row) -> None:
+        """Count ``row`` in its group; keep it if it is among the group's largest errors."""
+        key = _key(row)
+        group = self._groups.get(key)
+        if group is None:
+            group = self._groups[key] = Group(*key)
+            self._heaps[key] = []
+        group.count += 1
+        self._seen += 1
+        heap = self._heaps[key]  # a min-heap: its root is the weakest candidate
+        item = (_error(row), -int(row["index"]), self._seen, row)
+        if len(heap) < self.keep:
+            heapq.heappush(heap, item)
+        elif item[:2] > heap[0][:2]:
+            heapq.heapreplace(heap, item)
+
+    def result(self) -> list[Group]:
+        """The groups by slug, each with its candidates largest error first, ties by index."""
+        for key, group in self._groups.items():
+            best = sorted(self._heaps[key], key=lambda item: (-item[0], -item[1]))
+            group.rows = [item[3] for item in best]
+        return sorted(self._groups.values(), key=lambda g: g.slug)
+
+
+def group_findings(frame: pd.DataFrame, meta: Mapping[str, Provenance],
+                   per_group: int = 5) -> list[Group]:
     """Every disagree, error, crash or timeout row of a run, grouped; groups by slug."""
-    groups: dict[tuple[str, ...], Group] = {}
+    groups = Groups(per_group)
+    for row in _frame_rows(frame, meta):
+        groups.add(row)
+    return groups.result()
+
+
+def _frame_rows(frame: pd.DataFrame, meta: Mapping[str, Provenance]) -> list[Row]:
     rows = cast(list[Row], frame[frame["status"].isin(FINDING_STATUSES)].to_dict("records"))
-    for row in rows:
-        gen = meta[row["case_id"]]
-        key = (row["engine"], row["kind"], row["quantity"], row["status"],
-               _text(row["category"]), gen.family, gen.driver, "")  # decades: findings.csv
-        groups.setdefault(key, Group(*key)).rows.append(row)
-    for group in groups.values():
-        group.rows.sort(key=lambda r: (-_error(r), meta[r["case_id"]].index))
-    return sorted(groups.values(), key=lambda g: g.slug)
+    return [finding_row(row, meta[row["case_id"]]) for row in rows]
 
 
 LISTED_ONLY = frozenset({"tolerance"})
@@ -115,7 +203,7 @@ def choose(groups: Sequence[Group], per_group: int) -> dict[str, Group]:
     slug; within a group the largest errors come first, ties by case index.
     """
     owner: dict[str, Group] = {}
-    for group in sorted(groups, key=lambda g: (len(g.rows), g.slug)):
+    for group in sorted(groups, key=lambda g: (g.count, g.slug)):
         if group.category in LISTED_ONLY:
             continue
         for row in group.rows:
@@ -142,52 +230,76 @@ def _header(group: Group, command: str) -> str:
             f"engine {group.engine}, kind {group.kind}, quantity {group.quantity}, "
             f"status {group.status}{category},\n"
             f"family {group.family} (driving parameter: {group.driver}).\n"
-            f"Findings in this group: {len(group.rows)}; representative cases here: "
+            f"Findings in this group: {group.count}; representative cases here: "
             f"{len(group.chosen)}\n(largest errors first, ties by index; "
             f"a case of several groups is written once only).\n"
             f"Found by: {command}")
 
 
-def _description(gen: Provenance, group: Group, rows: list[Row]) -> str:
+def _description(case: AnyCase, group: Group, rows: list[Row]) -> str:
     """The generator's description, then every finding of the case (this group's first)."""
-    mine = {id(r) for r in group.rows}
-    own = "; ".join(finding_text(r) for r in rows if id(r) in mine)
-    more = ", ".join(finding_text(r, full=False) for r in rows if id(r) not in mine)
-    return f"{gen.case.description}. Found: {own}" + (f"; also {more}" if more else "")
+    own = "; ".join(finding_text(r) for r in rows if _key(r) == group.key)
+    more = ", ".join(finding_text(r, full=False) for r in rows if _key(r) != group.key)
+    return f"{case.description}. Found: {own}" + (f"; also {more}" if more else "")
+
+
+Batches = Callable[[], Iterable[list[Row]]]
+"""Gives the finding rows again each time it is called, in batches in case order."""
 
 
 def write_findings(directory: Path, meta: Mapping[str, Provenance], frame: pd.DataFrame,
                    command: str, per_group: int) -> list[Group]:
-    """Write one case file per group that has cases of its own, and ``findings.csv``."""
-    groups = group_findings(frame, meta)
+    """:func:`write_stream` of the findings of one results table held in memory."""
+    rows = _frame_rows(frame, meta)
+    return write_stream(directory, lambda: [rows], lambda ids: {i: meta[i].case for i in ids},
+                        command, per_group)
+
+
+def write_stream(directory: Path, batches: Batches,
+                 cases: Callable[[set[str]], Mapping[str, AnyCase]], command: str,
+                 per_group: int) -> list[Group]:
+    """Write one case file per group that has cases of its own, and ``findings.csv``.
+
+    ``batches`` is read twice; ``cases(ids)`` gives the chosen cases.
+    """
+    streamed = Groups(per_group)
+    for batch in batches():
+        for row in batch:
+            streamed.add(row)
+    groups = streamed.result()
     owner = choose(groups, per_group)
-    rows = sorted((r for g in groups for r in g.rows),
-                  key=lambda r: (meta[r["case_id"]].index, r["engine"], r["quantity"]))
-    by_case: dict[str, list[Row]] = {}
-    for row in rows:
-        by_case.setdefault(row["case_id"], []).append(row)
+    by_case = _write_csv(directory / "findings.csv", batches(), owner)
+    chosen = cases(set(owner))
     for group in groups:
         if group.chosen:
-            blocks = [case_block(meta[cid].case,
-                                 description=_description(meta[cid], group, by_case[cid]))
+            blocks = [case_block(chosen[cid], description=_description(chosen[cid], group,
+                                                                        by_case[cid]))
                       for cid in group.chosen]
             text = case_file(blocks, _header(group, command))
             (directory / f"{group.slug}.toml").write_text(text, encoding="utf-8")
-    group_of = {id(r): g for g in groups for r in g.rows}
-    _write_csv(directory / "findings.csv", [(group_of[id(r)], r) for r in rows], meta, owner)
     return groups
 
 
-def _write_csv(path: Path, rows: list[tuple[Group, Row]], meta: Mapping[str, Provenance],
-               owner: Mapping[str, Group]) -> None:
+def _order(row: Row) -> tuple[int, str, str]:
+    return int(row["index"]), row["engine"], row["quantity"]
+
+
+def _write_csv(path: Path, batches: Iterable[list[Row]],
+               owner: Mapping[str, Group]) -> dict[str, list[Row]]:
+    """Write every finding in case order; return the findings of the chosen cases."""
+    by_case: dict[str, list[Row]] = {}
+    slugs: dict[Key, str] = {}
     with path.open("w", encoding="utf-8", newline="") as handle:
         writer = csv.writer(handle, lineterminator="\n")
         writer.writerow(CSV_COLUMNS)
-        for group, row in rows:
-            gen, where = meta[row["case_id"]], owner.get(row["case_id"])
-            extra = {"group": group.slug, "file": f"{where.slug}.toml" if where else "",
-                     "family": gen.family, "modifiers": " ".join(gen.parts[1:]),
-                     "driver": gen.driver, "decade": gen.decade,
-                     "driver_value": repr(gen.value), "category": _text(row["category"]),
-                     "reason": _text(row["reason"])}
-            writer.writerow([extra.get(c, row.get(c)) for c in CSV_COLUMNS])
+        for batch in batches:
+            for row in sorted(batch, key=_order):
+                where = owner.get(row["case_id"])
+                if where is not None:
+                    by_case.setdefault(row["case_id"], []).append(row)
+                key = _key(row)
+                slug = slugs.get(key) or slugs.setdefault(key, Group(*key).slug)
+                writer.writerow([slug, f"{where.slug}.toml" if where else "",
+                                 *(row[c] for c in CSV_COLUMNS[2:13]), repr(row["driver_value"]),
+                                 *(row[c] for c in CSV_COLUMNS[14:])])
+    return by_case

@@ -13,9 +13,14 @@ drives it), the others modify it (its tags are ``fuzz`` and every part):
 Responses always draw an approach speed of 10^U(-3, 1), a restitution in
 {0, 0.5, 1} and, half the time, tangential velocities.  Each family has a
 *driving parameter*: the exact relative gap (signed distance / touching
-distance, from the oracle), the scale, the offset or the mass ratio.  Only
-``numpy.random.default_rng(seed)`` draws, case after case, so a seed gives the
-same cases byte for byte (and the first N of a longer run).
+distance, from the oracle), the scale, the offset or the mass ratio.
+
+Cases come in chunks of :data:`CHUNK`: chunk ``k`` (cases ``k*CHUNK`` onwards)
+draws from its own generator, seeded by ``(seed, k)``, case after case.  So a
+seed gives the same cases byte for byte (and the first N of a longer run), and
+any chunk can be generated alone, without the chunks before it: a campaign
+generates them lazily, in parallel, and a resumed one regenerates exactly the
+chunks it has not finished.
 
 :mod:`crosscheck.studies.fuzz` runs them and :mod:`crosscheck.cases.writer` writes the
 grouped findings.
@@ -75,10 +80,30 @@ def case_id(kind: Kind, seed: int, index: int) -> str:
     return f"fuzz-{kind.value.replace('_', '-')}-s{seed}-{index}"
 
 
+CHUNK = 1000
+"""Cases per chunk.  Part of the definition of a seed's cases: changing it changes them."""
+
+
+def chunk_count(n: int) -> int:
+    """How many chunks ``n`` cases take (the last one may be short)."""
+    return -(-n // CHUNK)
+
+
+def chunk_rng(seed: int, chunk: int) -> Rng:
+    """The generator of chunk ``chunk`` of ``seed``: independent of every other chunk."""
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(chunk,)))
+
+
+def generate_chunk(kind: Kind, seed: int, chunk: int, n: int) -> list[Generated]:
+    """Chunk ``chunk`` of the first ``n`` cases of ``seed``: indices ``chunk*CHUNK`` onwards."""
+    rng = chunk_rng(seed, chunk)
+    first = chunk * CHUNK
+    return [_one(rng, kind, seed, index) for index in range(first, min(n, first + CHUNK))]
+
+
 def generate(kind: Kind, n: int, seed: int) -> list[Generated]:
     """``n`` valid cases of ``kind`` from ``seed``, each in its family's regime."""
-    rng = np.random.default_rng(seed)
-    return [_one(rng, kind, seed, index) for index in range(n)]
+    return [g for chunk in range(chunk_count(n)) for g in generate_chunk(kind, seed, chunk, n)]
 
 
 def _one(rng: Rng, kind: Kind, seed: int, index: int) -> Generated:

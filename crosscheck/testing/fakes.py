@@ -3,11 +3,13 @@
 Shipped with the conformance kit so that an engine's own tests can drive the runner with
 them too.  :class:`Conforming` passes :func:`crosscheck.testing.check_adapter` (its sources
 are the harness's own oracle, so ``public_sources=False``); the others break one promise
-each on purpose: wrong answers, exceptions, hangs, aborts, segfaults, missing quantities.
+each on purpose: wrong answers, exceptions, hangs, aborts, segfaults, missing quantities,
+slowness that ignores Ctrl-C, memory leaks and runaway allocations.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import time
@@ -217,3 +219,61 @@ class BusyLoopTwice(BusyLoop):
     """The same engine, twice as slow: for ``compare`` to catch (same name as BusyLoop)."""
 
     ITERATIONS: ClassVar[int] = 2 * BusyLoop.ITERATIONS
+
+
+class SlowWithDeclaredHang(_Fake):
+    """Right answers after ``DELAY_S`` each (a slow engine); on the case with id 'stuck',
+    which it declares a known hang, it loops and ignores Ctrl-C, as an engine stuck in C
+    does (FCL's signed distance on coincident spheres)."""
+
+    name: ClassVar[str] = "fake-slow"
+    DELAY_S: ClassVar[float] = 0.1
+
+    def known_hang(self, case: AnyCase) -> str | None:
+        return "loops on 'stuck', deaf to Ctrl-C" if case.id == "stuck" else None
+
+    def query(self, prepared: Any) -> Observation:
+        while prepared.id == "stuck":
+            with contextlib.suppress(KeyboardInterrupt):
+                time.sleep(0.05)
+        time.sleep(self.DELAY_S)
+        return oracle.truth(prepared)
+
+
+def _touched(mb: int) -> bytes:
+    """``mb`` MB of memory, every page written (resident, not merely reserved)."""
+    return b"\xa5" * (mb << 20)
+
+
+class Leaks(_Fake):
+    """Right answers after ``PAUSE_S`` (longer than the harness's memory watch), but each query
+    then keeps ``LEAK_MB`` more memory for good, as an engine leaking case after case."""
+
+    name: ClassVar[str] = "fake-leaks"
+    LEAK_MB: ClassVar[int] = 100
+    PAUSE_S: ClassVar[float] = 0.3
+    kept: ClassVar[list[bytes]] = []
+
+    def query(self, prepared: Any) -> Observation:
+        time.sleep(self.PAUSE_S)
+        self.kept.append(_touched(self.LEAK_MB))
+        return oracle.truth(prepared)
+
+
+class Hogs(_Fake):
+    """Right answers, except on the case with id 'hog': there it allocates ``CHUNK_MB`` after
+    ``CHUNK_MB`` without end (stopping with MemoryError at ``CEILING_MB``, so that a harness
+    without a memory limit does not take the machine down)."""
+
+    name: ClassVar[str] = "fake-hogs"
+    CHUNK_MB: ClassVar[int] = 25
+    CEILING_MB: ClassVar[int] = 3000
+
+    def query(self, prepared: Any) -> Observation:
+        held: list[bytes] = []
+        while prepared.id == "hog":
+            if len(held) * self.CHUNK_MB >= self.CEILING_MB:
+                raise MemoryError(f"the fake stopped at its ceiling of {self.CEILING_MB} MB")
+            held.append(_touched(self.CHUNK_MB))
+            time.sleep(0.02)
+        return oracle.truth(prepared)
