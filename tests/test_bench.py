@@ -82,3 +82,10 @@ def test_values_figure_checks_every_near_pair_bit_for_bit() -> None:
     d = figure.detail
     assert d["near"] == 200 and d["checked"] == d["identical"] >= 200
     assert "near ones included" in figure.note and d["stage_exact"] >= 0
+
+
+def test_campaign_figure_reports_every_engine_and_memory() -> None:
+    figure = bench.campaign_figure(1_000, ["reference", "pymunk"])
+    assert set(figure.detail["engine_cases_per_s"]) == {"reference", "pymunk"}
+    assert figure.detail["n"] == 1_000 and figure.detail["peak_parent_mb"] > 0
+    assert figure.unit == "min" and math.isfinite(figure.value)

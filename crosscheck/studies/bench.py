@@ -45,7 +45,7 @@ from crosscheck.run import environment
 from crosscheck.run.execute import execute
 from crosscheck.run.launch import launch, new_info
 from crosscheck.run.runner import score_lines
-from crosscheck.studies import bench_suite, rawloops
+from crosscheck.studies import bench_suite, fuzz, rawloops
 from crosscheck.studies.benchkit import ROOT, Figure, rss_mb, settle
 from crosscheck.truth import oracle
 from reference_impl import batch_values
@@ -82,6 +82,21 @@ def values_figure(n: int) -> Figure:
         note=(f"{r['batch_pairs_per_s'] / 1e6:.2f} vs {r['naive_pairs_per_s'] / 1e6:.1f} M pairs/s;"
               f" {r['identical']:.0f} of {r['checked']:.0f} identical (all {r['near']:.0f} near "
               f"ones included); settled: {_stages(r)}"))
+
+
+def campaign_figure(n: int, engines: Sequence[str]) -> Figure:
+    """Figure 6: a fuzz campaign of ``n`` sphere cases, extrapolated to a million (cases/s per
+    engine are each engine's own lane time, scoring included)."""
+    r = fuzz.campaign_throughput(n, [adapters.get(e) for e in engines])
+    million_min = 1_000_000 / r["cases_per_s"] / 60
+    per_engine = ", ".join(f"{e} {v:,.0f}" for e, v in r["engine_cases_per_s"].items())
+    return Figure(
+        f"fuzz campaign, sphere, {len(engines)} engines: 1,000,000 cases extrapolated from {n:,}",
+        million_min, "min", "<= 15 min", million_min <= 15.0,
+        {key: value for key, value in r.items() if key != "memory"},
+        note=(f"{r['cases_per_s']:.0f} cases/s; per engine (cases/s of its own time): "
+              f"{per_engine}; peak memory parent {r['peak_parent_mb']:.0f} MB, lanes "
+              f"{r['peak_lanes_mb']:.0f} MB"))
 
 
 def _stages(r: dict[str, float]) -> str:
@@ -268,7 +283,9 @@ def measure(quick: bool, progress: Callable[[str], None] | None = None) -> list[
         ("suite time" + (" (--quick only)" if quick else ""), suite),
         ("crosscheck --help", help_),
         ("report render", render),
-        ("Dask scale-out", lambda: [dask_figure(quick)])]
+        ("Dask scale-out", lambda: [dask_figure(quick)]),
+        ("fuzz campaign", lambda: [campaign_figure(2_000 if quick else 20_000,
+                                                   bench_suite.SEVEN)])]
     figures: list[Figure] = []
     started = time.perf_counter()
     for n, (label, step) in enumerate(steps, start=1):
