@@ -21,7 +21,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     try:
         previous = load(args.compare) if args.compare else None
     except BenchFileError as exc:
-        say(f"[red]{exc}[/red]")
+        say(str(exc))
         return 2
     figures = measure(args.quick, progress=say)
     out.print(_table(figures, args.quick))
@@ -45,7 +45,7 @@ def _table(figures: list[Figure], quick: bool) -> Table:
 
 def _print_comparison(result: Comparison, old: Path) -> None:
     if result.machine:
-        say(f"[yellow]the machines differ from {old}; compare with care:[/yellow] "
+        say(f"the machines differ from {old}; compare with care: "
             + "; ".join(result.machine))
     table = Table(title=f"against {old}")
     for column in ("figure", "before", "now", "now / before", "met before", "met now"):
