@@ -5,7 +5,9 @@ from __future__ import annotations
 import base64
 import gzip
 import json
+import os
 import re
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -14,6 +16,12 @@ import pytest
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 
 ROOT = Path(__file__).resolve().parent.parent
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Tests keep the case cache (crosscheck/cases/cache.py) in a folder of their own, so a
+    test run never reads or fills the user's ~/.cache/crosscheck."""
+    os.environ.setdefault("CROSSCHECK_CACHE", tempfile.mkdtemp(prefix="crosscheck-test-cache-"))
 
 
 def sphere(a: float, b: float, ra: float = 0.5, rb: float = 0.5, dim: int = 3,
