@@ -100,6 +100,19 @@ def _remote(fn: Callable[[T, Executor], R], item: T, options: RunOptions) -> R:
 
 # --- on the client --------------------------------------------------------------------------
 
+class _OneLine(logging.Filter):
+    """Keep the Dask client's own log lines, without their tracebacks: a lost connection is
+    reported by :class:`ClusterLost`, in one message with the resume hint."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        record.exc_info, record.exc_text = None, None
+        return True
+
+
+_QUIET = _OneLine()
+_CLIENT_LOGGERS = ("distributed.client", "distributed.comm", "distributed.core")
+
+
 class DaskLanes:
     """Lanes on a Dask cluster: every item is a task on ``options.scheduler``.
 
@@ -122,6 +135,8 @@ class DaskLanes:
         except OSError as exc:
             raise ClusterLost(f"cannot reach the Dask scheduler {self.address}: {exc}") from exc
         self._client = client
+        for name in _CLIENT_LOGGERS:
+            logging.getLogger(name).addFilter(_QUIET)
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -129,6 +144,8 @@ class DaskLanes:
             with contextlib.suppress(OSError, TimeoutError):  # a lost scheduler: nothing to close
                 self._client.close(timeout=5)  # type: ignore[no-untyped-call]
             self._client = None
+        for name in _CLIENT_LOGGERS:  # after closing: closing a lost client logs its retries
+            logging.getLogger(name).removeFilter(_QUIET)
 
     def _window(self, client: Client) -> int:
         threads: dict[str, int] = client.nthreads()  # type: ignore[no-untyped-call]
