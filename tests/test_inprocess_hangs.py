@@ -182,6 +182,7 @@ def test_ctrl_c_stops_an_in_process_run_with_a_declared_hang_and_resume_finishes
             process.wait()
     assert process.returncode == 130, stderr
     assert f"crosscheck run --resume {out}" in stderr.replace("\n", "")
+    assert "stopping after the cases in flight (Ctrl-C again to stop at once)" in stderr
     kept = whole_cases(out)
     assert set(kept.values()) == {3} and 8 <= len(kept) < 120  # whole cases; it stopped
     stuck = read_results(out).query("case_id == 'stuck'")

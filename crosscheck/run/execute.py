@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import signal
 import threading
 import time
@@ -144,6 +145,10 @@ class Lanes(Protocol):
     def map(self, fn: Callable[[T, Executor], R], items: Iterable[T]) -> Iterator[R]: ...
 
 
+STOPPING = "stopping after the cases in flight (Ctrl-C again to stop at once)\n"
+"""What the first Ctrl-C of an in-process run prints."""
+
+
 @contextlib.contextmanager
 def stop_between_items(defer: bool) -> Iterator[threading.Event]:
     """While ``defer`` (and in the main thread): the first SIGINT only sets the event yielded,
@@ -158,6 +163,7 @@ def stop_between_items(defer: bool) -> Iterator[threading.Event]:
     def first(signum: int, frame: types.FrameType | None) -> None:
         stop.set()
         signal.signal(signal.SIGINT, previous)
+        os.write(2, STOPPING.encode())  # at once, from the handler: the cases may take a while
 
     signal.signal(signal.SIGINT, first)
     try:
