@@ -129,7 +129,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from crosscheck.core.contract import Adapter, Capability, Conventions
+from crosscheck.core.contract import Adapter, Capability, Conventions, import_problem
 from crosscheck.core.geometry import Vec
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
@@ -388,11 +388,7 @@ class Box2dTuned(Adapter):
         return f"{b2.__version__} (Box2D {v.major}.{v.minor}.{v.revision})"
 
     def available(self) -> str | None:
-        try:
-            engine()
-        except ImportError as exc:
-            return str(exc)
-        return None
+        return import_problem(engine, "Box2D")
 
     def binding_call(self) -> Callable[[], object]:
         """A zero ``b2Vec2``: one object made through pybox2d's SWIG binding."""

@@ -103,7 +103,14 @@ from typing import Any, ClassVar
 import numpy as np
 
 from crosscheck.core import geometry
-from crosscheck.core.contract import FEATURES, Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.contract import (
+    FEATURES,
+    Adapter,
+    Capability,
+    Conventions,
+    all_capabilities,
+    import_problem,
+)
 from crosscheck.core.geometry import Vec, to3
 from crosscheck.core.model import Kind, Observation, Undefined, quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
@@ -273,11 +280,7 @@ class CoalTuned(Adapter):
         return str(engine().__version__)
 
     def available(self) -> str | None:
-        try:
-            engine()
-        except ImportError as exc:
-            return str(exc)
-        return None
+        return import_problem(engine, "coal")
 
     def binding_call(self) -> Callable[[], object]:
         """An identity ``coal.Transform3s()``: one C++ object made through the binding."""

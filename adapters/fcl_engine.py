@@ -74,7 +74,14 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from crosscheck.core import geometry
-from crosscheck.core.contract import FEATURES, Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.contract import (
+    FEATURES,
+    Adapter,
+    Capability,
+    Conventions,
+    all_capabilities,
+    import_problem,
+)
 from crosscheck.core.geometry import Vec, to3
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
@@ -186,11 +193,7 @@ class Fcl(Adapter):
         return str(engine().__version__)
 
     def available(self) -> str | None:
-        try:
-            engine()
-        except ImportError as exc:
-            return str(exc)
-        return None
+        return import_problem(engine, "fcl")
 
     def binding_call(self) -> Callable[[], object]:
         """An identity ``fcl.Transform()``: one C++ object made through the Cython binding."""

@@ -93,7 +93,13 @@ import numpy as np
 
 from adapters import mujoco_response as response
 from adapters.mujoco_setup import Mass, Pair, compile_pair, engine, guarded, refusal, set_sizes
-from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.contract import (
+    Adapter,
+    Capability,
+    Conventions,
+    all_capabilities,
+    import_problem,
+)
 from crosscheck.core.geometry import Vec, Vec3, to3, z_half
 from crosscheck.core.model import Kind, Observation, quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
@@ -275,11 +281,7 @@ class MujocoDefault(Adapter):
         return str(engine().mj_versionString())
 
     def available(self) -> str | None:
-        try:
-            engine()
-        except ImportError as exc:
-            return f"mujoco not importable: {exc}"
-        return None
+        return import_problem(engine, "mujoco")
 
     def binding_call(self) -> Callable[[], object]:
         """``mj_version()``: one call through the pybind11 binding into libmujoco."""

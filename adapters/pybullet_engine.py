@@ -136,7 +136,13 @@ from typing import Any, ClassVar
 from adapters import pybullet_scene, stepping
 from adapters.pybullet_scene import Tuning
 from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD, connect, engine, quiet
-from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
+from crosscheck.core.contract import (
+    Adapter,
+    Capability,
+    Conventions,
+    all_capabilities,
+    import_problem,
+)
 from crosscheck.core.geometry import Vec3, approach_speed, to3, z_half
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
@@ -400,11 +406,7 @@ class PyBulletTuned(Adapter):
         return metadata.version("pybullet")
 
     def available(self) -> str | None:
-        try:
-            engine()
-        except ImportError as exc:
-            return f"pybullet not importable: {exc}"
-        return None
+        return import_problem(engine, "pybullet")
 
     def binding_call(self) -> Callable[[], object]:
         """``getNumBodies`` on the variant's detection client: one call into the C API."""

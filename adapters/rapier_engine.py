@@ -94,6 +94,7 @@ Faults measured here (and pinned in tests/test_adapter_rapier.py):
 
 from __future__ import annotations
 
+import importlib
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -101,7 +102,7 @@ from importlib import metadata
 from typing import TYPE_CHECKING, Any, ClassVar
 
 from adapters.rapier_response import APPROACH_RTOL, Response, respond
-from crosscheck.core import geometry
+from crosscheck.core import contract, geometry
 from crosscheck.core.contract import FEATURES, Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.geometry import Vec3, to3
 from crosscheck.core.model import Kind, Observation, Undefined
@@ -314,11 +315,7 @@ class RapierTuned(Adapter):
         return metadata.version("rapier3d")
 
     def available(self) -> str | None:
-        try:  # rapier3d is imported lazily, where it is used
-            import rapier3d  # noqa: F401
-        except ImportError as exc:
-            return f"rapier3d not importable: {exc}"
-        return None
+        return contract.import_problem(lambda: importlib.import_module("rapier3d"), "rapier3d")
 
     def binding_call(self) -> Callable[[], object]:
         """``Vec3.zeros()``: one float32 vector made through the PyO3 binding."""

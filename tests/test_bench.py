@@ -6,6 +6,8 @@ import json
 import math
 from pathlib import Path
 
+import pytest
+
 from crosscheck.cli import main
 from crosscheck.studies import bench, bench_compare, bench_suite
 
@@ -50,7 +52,12 @@ def test_bench_json_round_trips(tmp_path: Path) -> None:
     assert "packages" in data["machine"]
 
 
-def test_compare_refuses_an_unreadable_or_unknown_bench_before_measuring(tmp_path: Path) -> None:
+def test_compare_refuses_an_unreadable_or_unknown_bench_before_measuring(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    def measured(*args: object, **kwargs: object) -> None:
+        pytest.fail("the bench started measuring before checking --compare")
+
+    monkeypatch.setattr(bench, "measure", measured)
     future = tmp_path / "bench.json"
     future.write_text(json.dumps({"format_version": 99, "figures": []}))
     assert main(["bench", "--quick", "--compare", str(future)]) == 2

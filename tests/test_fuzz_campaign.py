@@ -3,7 +3,6 @@ findings grouped in bounded memory, and the command line checked before any work
 
 from __future__ import annotations
 
-import argparse
 import csv
 import json
 import logging
@@ -19,7 +18,6 @@ import dask
 import pytest
 from distributed import LocalCluster
 
-from crosscheck.cli import fuzz as fuzz_command
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
@@ -28,6 +26,7 @@ from crosscheck.studies import fuzz, fuzzgen
 from crosscheck.studies.findings import Groups
 from crosscheck.testing.fakes import AlwaysRight, OffByOne
 from tests.conftest import ROOT
+from tests.test_fuzz import fuzz_cli
 
 
 def index(case: AnyCase) -> int:
@@ -159,14 +158,6 @@ def test_streamed_groups_keep_the_largest_errors_and_count_every_finding(
     assert group.count == 500
     expected = sorted(range(500), key=lambda i: (-errors[i], i))[:6]
     assert [r["index"] for r in group.rows] == expected
-
-
-def fuzz_cli(*argv: str) -> int:
-    parser = argparse.ArgumentParser(prog="crosscheck")
-    fuzz_command.register(parser.add_subparsers(dest="command", required=True))
-    args = parser.parse_args(["fuzz", *argv])
-    code: int = args.func(args)
-    return code
 
 
 @pytest.mark.parametrize(("argv", "message"), [

@@ -129,6 +129,21 @@ def describe(capabilities: frozenset[Capability]) -> list[str]:
     return [f"{kind} {'/'.join(f'{d}-D' for d in ds)}" for kind, ds in dims.items()]
 
 
+def import_problem(load: Callable[[], object], name: str) -> str | None:
+    """Why an engine's module cannot be imported (None: it can), for :meth:`Adapter.available`.
+
+    >>> import_problem(lambda: None, "fine") is None
+    True
+    >>> import_problem(lambda: __import__("no_such_engine_module"), "nosuch")
+    "nosuch not importable: No module named 'no_such_engine_module'"
+    """
+    try:
+        load()
+    except ImportError as exc:
+        return f"{name} not importable: {exc}"
+    return None
+
+
 HANG_PROBE_S = 0.25
 """Time limit for a case an adapter declares as a known hang (see Adapter.known_hang)."""
 

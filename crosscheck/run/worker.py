@@ -107,8 +107,8 @@ def _serve(conn: Connection) -> None:
 
 
 @contextlib.contextmanager
-def _without_main() -> Iterator[None]:
-    """Start a worker without telling it the parent's main module.
+def without_main() -> Iterator[None]:
+    """Start a worker (or any process) without telling it the parent's main module.
 
     A new process normally re-imports ``__main__`` (for the CLI: the whole CLI,
     pandas included, ~0.4 s per worker start or restart after a crash).  A
@@ -146,7 +146,7 @@ class _Worker:
         self.memory_mb = memory_mb
         self.conn, child = _CONTEXT.Pipe()
         self.process: BaseProcess = _CONTEXT.Process(target=_serve, args=(child,), daemon=True)
-        with _START_LOCK, _without_main():
+        with _START_LOCK, without_main():
             self.process.start()
         child.close()
         self._statm: int | None = None

@@ -1,14 +1,16 @@
 """``crosscheck bench``: the harness's own performance figures, each beside its target.
 
-Five figures, each a ratio or a measurement taken within this one run:
+The figures, each a ratio or a measurement taken within this one run:
 
-1. batch oracle: throughput of :mod:`reference_impl.batch` over the naive numpy
-   float64 formula on N pairs, 1% within a few ulps of touching, and agreement
-   with the pure exact oracle on every near pair plus a random sample;
+1. batch oracle: throughput of :mod:`reference_impl.batch` (verdicts) and of
+   :mod:`reference_impl.batch_values` (correctly rounded sphere distances and
+   normals) over the naive numpy float64 formula on 1M pairs, 1% within a few
+   ulps of touching, and agreement with the pure exact oracle on every near
+   pair plus a random sample;
 2. harness overhead: per case, ``execute`` (prepare, query, release) plus
-   scoring into records, against the engine's own API in a tight loop
-   (:mod:`crosscheck.studies.rawloops`), for FCL and pymunk detection, and for PyBullet
-   over a long stream of sphere cases (its bodies are reused);
+   columnar scoring into result lines, against the engine's own API in a tight
+   loop (:mod:`crosscheck.studies.rawloops`), for FCL and pymunk detection, and
+   for PyBullet over a long stream of sphere cases (its bodies are reused);
 3. suite time: ``crosscheck run`` and ``--quick`` with the seven variants of the
    targets and with every available engine, ``crosscheck --help`` and the report
    render, as subprocesses, wall clock (:mod:`crosscheck.studies.bench_suite`);
@@ -16,7 +18,9 @@ Five figures, each a ratio or a measurement taken within this one run:
    fifth, bodies left in the client) and the peak RSS of the suite runs;
 5. scale-out: the same cases on a Dask ``LocalCluster`` of 2 worker processes
    and locally; results must be identical (Dask is imported there only, as in
-   :mod:`crosscheck.run.distributed`).
+   :mod:`crosscheck.run.distributed`);
+6. a fuzz campaign on the seven variants, extrapolated to a million cases, with
+   cases per second per engine (:func:`crosscheck.studies.fuzz.campaign_throughput`).
 
 ``--quick`` uses smaller sizes (not for the batch oracle, whose target is set on 1M
 pairs) and skips the full-suite run.

@@ -30,13 +30,11 @@ import multiprocessing as mp
 import os
 import pickle
 import signal
-import sys
 import threading
 import time
-import types
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from contextlib import contextmanager, suppress
+from contextlib import suppress
 from dataclasses import dataclass, field
 from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
@@ -49,6 +47,7 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Outcome, execute
 from crosscheck.run.runner import score_case
+from crosscheck.run.worker import without_main
 from crosscheck.studies import fuzzgen
 from crosscheck.studies.findings import FINDING_STATUSES, Row, finding_row
 from crosscheck.truth import oracle
@@ -203,17 +202,6 @@ Finished = Callable[[int, int, list[Block]], None]
 """Called in the parent with (chunk, its number of cases, one Block per engine)."""
 
 
-@contextmanager
-def _without_main() -> Iterator[None]:
-    """Start a process without re-running the caller's ``__main__`` (a script) in it."""
-    saved = sys.modules["__main__"]
-    sys.modules["__main__"] = types.ModuleType("__main__")
-    try:
-        yield
-    finally:
-        sys.modules["__main__"] = saved
-
-
 class Lane:
     """One lane process, its pipe, its marker and the chunk it works on."""
 
@@ -223,7 +211,7 @@ class Lane:
         self.conn, child = _CONTEXT.Pipe()
         self.process: BaseProcess = _CONTEXT.Process(target=_lane, args=(child, self.marker, plan),
                                                      daemon=True)
-        with _without_main():
+        with without_main():
             self.process.start()
         child.close()
         self.work: ChunkWork | None = None
