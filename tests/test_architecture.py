@@ -76,7 +76,7 @@ def test_no_function_level_import_but_optional_engines(path: Path) -> None:
     assert _function_imports(tree, _name(path)) == []
 
 
-@pytest.mark.parametrize("path", [*MODULES, *sorted((ROOT / "tests").glob("*.py"))], ids=_name)
+@pytest.mark.parametrize("path", [*MODULES, *sorted((ROOT / "tests").rglob("*.py"))], ids=_name)
 def test_no_import_of_another_modules_private_name(path: Path) -> None:
     tree = ast.parse(path.read_text(encoding="utf-8"))
     assert _private_imports(tree) == []

@@ -92,7 +92,7 @@ def timed_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A synthetic run folder with timings (timings.jsonl and run.json's timing), rendered."""
     needs_chromium()
     from crosscheck.report.render import render
-    from tests.test_report import timed_run
+    from tests.report.test_report import timed_run
 
     folder = timed_run(tmp_path_factory.mktemp("browser-timed") / "run")
     render(folder)
@@ -156,7 +156,7 @@ def suite_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     from dataclasses import replace
 
     from crosscheck.report.render import render
-    from tests.test_report import detection, write_run
+    from tests.report.test_report import detection, write_run
 
     rows = []
     for i in range(770):

@@ -18,7 +18,7 @@ from crosscheck.cli import main
 from crosscheck.cli.console import summary_table
 from crosscheck.results.runinfo import FORMAT_VERSION
 from tests.conftest import ROOT, embedded
-from tests.test_cases import sphere_text
+from tests.cases.test_load import sphere_text
 
 EVIL = "<script>alert('pwned')</script>"
 

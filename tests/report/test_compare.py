@@ -25,7 +25,7 @@ from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore
 from crosscheck.results.timings import MIN_SAMPLES, TimingRecord
 
-FORMAT1 = Path(__file__).parent / "data" / "format1-run"
+FORMAT1 = Path(__file__).resolve().parent.parent / "data" / "format1-run"
 ENGINES = ("e1", "e2")
 MEDIANS = (2e-6, 5e-6, 1e-5, 4e-5, 1e-3)
 """The medians of the synthetic samples; :func:`median` picks one per case."""
@@ -246,7 +246,7 @@ def test_verdict_changes_are_status_and_category_changes_of_shared_rows() -> Non
 
 
 def test_compare_cli_writes_csv_and_html(tmp_path: Path) -> None:
-    case_file = str(Path(__file__).resolve().parent.parent / "cases" / "sphere.toml")
+    case_file = str(Path(__file__).resolve().parents[2] / "cases" / "sphere.toml")
     for name, engine in (("a", "reference"), ("b", "reference-f32")):
         assert main(["run", case_file, "--quick", "--engine", engine,
                      "--out", str(tmp_path / name)]) == 0

@@ -26,7 +26,7 @@ from crosscheck.studies import fuzz, fuzzgen
 from crosscheck.studies.findings import Groups
 from crosscheck.testing.fakes import AlwaysRight, OffByOne
 from tests.conftest import ROOT
-from tests.test_fuzz import fuzz_cli
+from tests.studies.test_fuzz import fuzz_cli
 
 
 def index(case: AnyCase) -> int:

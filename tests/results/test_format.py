@@ -32,7 +32,7 @@ from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import embedded, sphere
 
-FORMAT1 = Path(__file__).parent / "data" / "format1-run"
+FORMAT1 = Path(__file__).resolve().parent.parent / "data" / "format1-run"
 NEW_COLUMNS = ("origin", "coords", "twin_of", "error_at_contact")
 
 

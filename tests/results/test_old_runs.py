@@ -28,7 +28,7 @@ from crosscheck.core.values import decode
 from crosscheck.results.store import read_results, read_run_info
 from tests.conftest import ROOT
 
-FORMAT3 = Path(__file__).parent / "data" / "format3-run"
+FORMAT3 = Path(__file__).resolve().parent.parent / "data" / "format3-run"
 
 
 def copy_of(source: Path, target: Path) -> Path:
