@@ -11,7 +11,7 @@ separate step (``crosscheck.report``), in the manner of asv's run and publish.
 >>> from pathlib import Path
 >>> from crosscheck.core.schema import CASE_ADAPTER
 >>> from crosscheck.results.store import ResultsStore, read_run
->>> from tests.fakes import AlwaysRight
+>>> from crosscheck.testing.fakes import AlwaysRight
 >>> case = CASE_ADAPTER.validate_python({"id": "s", "description": "d", "kind": "sphere",
 ...     "dim": 2, "a": {"center": [0, 0], "radius": 0.5}, "b": {"center": [2, 0], "radius": 0.5}})
 >>> folder = Path(tempfile.mkdtemp()) / "run"

@@ -8,6 +8,14 @@ or half-width 0.5; B sits on the +x axis (or the -y axis) of A.
 'sphere 2-D, B 0.75 from A along +x (overlap 0.25)'
 >>> gap(Kind.AABB, 3, axis=1, sign=-1.0).case.b.center
 (0.0, -1.5, 0.0)
+
+Two builders make a pair anywhere, for examples and tests of the library (its doctests use
+them): :func:`sphere_pair` puts two spheres on the x axis, :func:`box_pair` two boxes.
+
+>>> sphere_pair(0.0, 2.0, dim=2).b.center
+(2.0, 0.0)
+>>> box_pair([0.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.5, 0.5]).b.half
+(0.5, 0.5)
 """
 
 from __future__ import annotations
@@ -16,7 +24,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from crosscheck.core.model import Kind
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase
+from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, SphereCase
 
 AXES = "xyz"
 
@@ -89,3 +97,26 @@ def first(kind: Kind, dim: int) -> Sample:
     if kind is Kind.SPHERE_SCENE:
         return scene(dim)
     return overlap(kind, dim)
+
+
+def sphere_pair(a: float, b: float, ra: float = 0.5, rb: float = 0.5,
+                dim: int = 3) -> SphereCase:
+    """A sphere detection pair with A's centre at ``a`` and B's at ``b`` on the x axis, radii
+    ``ra`` and ``rb``, in ``dim`` dimensions."""
+    pad = [0.0] * (dim - 1)
+    case = CASE_ADAPTER.validate_python({
+        "id": "sphere-pair", "description": "two spheres on the x axis", "kind": "sphere",
+        "dim": dim, "a": {"center": [a, *pad], "radius": ra},
+        "b": {"center": [b, *pad], "radius": rb}})
+    assert isinstance(case, SphereCase)
+    return case
+
+
+def box_pair(ca: list[float], ha: list[float], cb: list[float], hb: list[float]) -> AabbCase:
+    """An AABB detection pair: A centred at ``ca`` with half-widths ``ha``, B at ``cb`` with
+    ``hb`` (the dimension is ``len(ca)``)."""
+    case = CASE_ADAPTER.validate_python({
+        "id": "box-pair", "description": "two boxes", "kind": "aabb", "dim": len(ca),
+        "a": {"center": ca, "half": ha}, "b": {"center": cb, "half": hb}})
+    assert isinstance(case, AabbCase)
+    return case

@@ -24,15 +24,15 @@ scene.  A case may set its own tolerance instead.
 - **hit** 0: a verdict is right or wrong.
 
 The constants are upper bounds with room to spare over these operation counts;
-``tests/test_bounds.py`` checks that the float64 textbook formula stays within
+``tests/truth/test_bounds.py`` checks that the float64 textbook formula stays within
 them on the whole case suite, every sweep and random cases, except the hit
 verdicts that flip at touching.  A tiny absolute floor (``K * 2**-1074``)
 covers subnormal results.
 
->>> from tests.conftest import sphere
->>> bound(sphere(0.0, 2.0), "distance") == K_LENGTH * U * 3.0
+>>> from crosscheck.testing.samples import sphere_pair
+>>> bound(sphere_pair(0.0, 2.0), "distance") == K_LENGTH * U * 3.0
 True
->>> bound(sphere(1e15, 1e15 + 2.0), "distance") == bound(sphere(0.0, 2.0), "distance")
+>>> bound(sphere_pair(1e15, 1e15 + 2.0), "distance") == bound(sphere_pair(0.0, 2.0), "distance")
 True
 """
 

@@ -79,8 +79,8 @@ def _feature(case: PairCase, axes: int) -> str:
 def touch_feature(case: PairCase) -> str:
     """Where two exactly touching bodies meet: ``sphere``, or a box ``face``/``edge``/``corner``.
 
-    >>> from tests.conftest import aabb
-    >>> touch_feature(aabb([0.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.5, 0.5]))
+    >>> from crosscheck.testing.samples import box_pair
+    >>> touch_feature(box_pair([0.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.5, 0.5]))
     'corner'
     """
     return _feature(case, _features_apart(case, True) if isinstance(case, AabbCase) else 0)
@@ -93,10 +93,10 @@ def nearest_feature(case: PairCase) -> str:
     at an edge (a corner in 2-D), along three at a corner; overlapping boxes
     meet across a face.
 
-    >>> from tests.conftest import aabb
-    >>> nearest_feature(aabb([0.0, 0.0], [0.5, 0.5], [2.0, 3.0], [0.5, 0.5]))
+    >>> from crosscheck.testing.samples import box_pair
+    >>> nearest_feature(box_pair([0.0, 0.0], [0.5, 0.5], [2.0, 3.0], [0.5, 0.5]))
     'corner'
-    >>> nearest_feature(aabb([0.0, 0.0], [0.5, 0.5], [0.5, 0.2], [0.5, 0.5]))
+    >>> nearest_feature(box_pair([0.0, 0.0], [0.5, 0.5], [0.5, 0.2], [0.5, 0.5]))
     'face'
     """
     return _feature(case, _features_apart(case, False) if isinstance(case, AabbCase) else 0)
