@@ -40,7 +40,7 @@ until no contact is active and the spheres no longer approach.
 
 Conventions (sources in ``SOURCES``: docs of 4.0.0; source files linked at main and read at
 commit a7255075, a 3.12.1 development snapshot, the newest one mirrored here; each rule
-measured on the installed 4.0.0 and pinned in tests/test_adapter_mujoco.py):
+measured on the installed 4.0.0 and pinned in tests/adapters/test_mujoco.py):
 
 - box geom size is the half-sizes [XMLreference]; normal from geom[0] to geom[1]
   (``mjContact.frame``; ``fromto`` from geom1 to geom2) [engine_support.c]: A to B, no flip.

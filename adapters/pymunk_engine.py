@@ -71,7 +71,7 @@ velocity impulse, so both variants declare margin 0.  rtol 2^-49: float64
 throughout (cpFloat is double); the worst distance error measured on 20 000
 random 2-D box and circle pairs (offsets up to 1e6) was 7.6e-16 x the size.
 
-Measured native behaviour (pinned in tests/test_adapter_pymunk.py): touching
+Measured native behaviour (pinned in tests/adapters/test_pymunk.py): touching
 boxes (edge, corner, face) collide with distance 0; touching circles do not
 (``distsq < mindist^2``); coincident equal boxes and zero-size boxes report a
 contact with a zero normal (0, -0) and distance 0, even 2^-30 apart, and

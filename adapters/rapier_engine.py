@@ -73,7 +73,7 @@ Conventions (declared in ``TUNED`` and ``DEFAULT``):
   from a unit ball reads 0.25 apart (0.75 - 1 + 0.5), a cuboid with half-width -1 on x
   answers as the literal per-axis formula (measured).
 
-Faults measured here (and pinned in tests/test_adapter_rapier.py):
+Faults measured here (and pinned in tests/adapters/test_rapier.py):
 
 - NaN anywhere, or an infinite centre or size, is ignored without a word (no contact pair,
   hit False; a NaN mass: no contact; a NaN restitution: no bounce).  ``check_inputs`` raises

@@ -8,7 +8,7 @@ Function-level imports are allowed in three places only:
   (``crosscheck.*`` below the CLI) and pandas (:data:`CLI_LAZY`): each command imports what
   it runs inside its ``cmd_*`` function, so that building the parser (``crosscheck --help``,
   ``crosscheck <cmd> --help``) imports no pandas, numpy, pydantic, plotly, jinja2 or Dask
-  (``tests/test_startup.py`` checks the module set);
+  (``tests/cli/test_startup.py`` checks the module set);
 - the adapter contract inside the registry (:data:`LAZY_AT`): listing engine names, which
   every ``--help`` of a command that takes ``--engine`` does, must not load pydantic and numpy.
 """

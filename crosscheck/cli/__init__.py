@@ -8,7 +8,7 @@ it does is callable from Python without rich.
 Building the parser must stay cheap (``crosscheck --help`` in about 0.15 s instead of 3 s):
 a family module imports at its top only what ``register`` needs (argparse, rich, the
 engine names, the option defaults); each ``cmd_*`` function imports the library it runs
-(pandas, the loader, launch, the report).  ``tests/test_startup.py`` checks that no
+(pandas, the loader, launch, the report).  ``tests/cli/test_startup.py`` checks that no
 ``--help`` imports pandas, numpy, pydantic, plotly, jinja2, Dask or an engine, and
 ``tests/test_architecture.py`` allows those function-level imports in this package only.
 """

@@ -25,7 +25,7 @@ from crosscheck.cli.console import (
 )
 from crosscheck.core.options import RunOptions
 
-if TYPE_CHECKING:  # the library loads when a command runs, not for --help (tests/test_startup)
+if TYPE_CHECKING:  # the library loads per command, not for --help (tests/cli/test_startup)
     from crosscheck.core.contract import Adapter
     from crosscheck.core.schema import AnyCase
     from crosscheck.results.runinfo import RunInfo

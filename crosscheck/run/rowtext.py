@@ -2,7 +2,7 @@
 
 :class:`ColumnLines` gives, case after case, byte for byte the line that
 ``json.dumps(record.row())`` gives for the record :func:`crosscheck.run.runner.score_case`
-would build (``tests/test_columnar.py`` compares them): keys in
+would build (``tests/truth/test_columnar.py`` compares them): keys in
 :data:`~crosscheck.core.model.COLUMNS` order, strings escaped by json's own escaper,
 floats as ``float.__repr__`` and NaN and the infinities as json.dumps' bare tokens.
 """

@@ -14,7 +14,7 @@ from the columns (:func:`score_lines`), without a Record per row.  A chunk is
 written when it is full, :data:`FLUSH_S` after the last write, and when the run
 ends or is interrupted, so an interrupted run keeps every outcome it received.
 ``run(..., columnar=False)`` scores record by record in the lanes (:func:`score_case`),
-as before; ``tests/test_columnar.py`` checks that both write the same rows.
+as before; ``tests/truth/test_columnar.py`` checks that both write the same rows.
 """
 
 from __future__ import annotations

@@ -243,7 +243,7 @@ def dot(a, b):
 """)
 # The textbook formulas of reference_impl/formulas.py, written out as script text on purpose:
 # a reproduction script must run with numpy alone, without this package.  The repro test
-# (tests/test_repro.py) runs them and checks they print the recorded values bit for bit,
+# (tests/studies/test_repro.py) runs them and checks they print the recorded values bit for bit,
 # so the two cannot drift apart unnoticed.
 REFERENCE_AABB = """\
 def overlap_normal(overlaps, dc):

@@ -3,7 +3,7 @@
 ``check_adapter(MyAdapter)`` raises :class:`ConformanceError` listing every failure, each
 with the adapter, the check, the case in words and what was expected;
 :func:`conformance_failures` returns them.  The built-in adapters are checked the same way
-(``tests/test_adapter_contract.py``).  The checks, in order (a failure of the first three
+(``tests/adapters/test_conformance.py``).  The checks, in order (a failure of the first three
 stops the kit, since nothing else can be asked):
 
 - ``declared``: a concrete Adapter subclass with a ``name`` (the registered name if one is

@@ -1,7 +1,7 @@
 """Columnar judging: one engine's answers on a batch of pair cases, judged as numpy columns.
 
 :func:`judge_batch` gives the same verdicts as :func:`crosscheck.truth.score.judge`
-called row by row (``tests/test_columnar.py`` checks every field on the whole
+called row by row (``tests/truth/test_columnar.py`` checks every field on the whole
 suite), at a fraction of the cost: the per-record path spends 35-65 us per case
 in Python (norms with ``math.fsum``, Fractions for box bounds, one Verdict per
 quantity), more than fast engines take to answer.

@@ -147,7 +147,7 @@ DISTRIBUTIONS = {
         "not-adapter": "json:dumps",
         "misnamed": "crosscheck.testing.fakes:Conforming",
         "twice": "crosscheck.testing.fakes:AlwaysRight",
-        "fake-needs-argument": "tests.test_adapter_contract:NeedsArgument"},
+        "fake-needs-argument": "tests.adapters.test_conformance:NeedsArgument"},
     ("crosscheck-twin", "3.0"): {"twice": "crosscheck.testing.fakes:OffByOne"},
     ("crosscheck-fakes", "0.0.1"): {"fake-conforming": "crosscheck.testing.fakes:Conforming"},
 }
@@ -187,7 +187,7 @@ REFUSALS = {
     "misnamed": "is refused: its class declares the name 'fake-conforming', not 'misnamed'",
     "twice": "from distribution crosscheck-broken 2.0 (crosscheck.testing.fakes:AlwaysRight) "
              "is refused: crosscheck-twin 3.0 also declare(s) 'twice': neither is used",
-    "fake-needs-argument": "(tests.test_adapter_contract:NeedsArgument) is refused: it fails: "
+    "fake-needs-argument": "(tests.adapters.test_conformance:NeedsArgument) is refused: it fails: "
                            "TypeError: NeedsArgument.__init__() missing 1 required positional "
                            "argument: 'path'",
     "ghost": "built-in engine 'ghost' (adapters.ghost_engine:Ghost) is unavailable: import "

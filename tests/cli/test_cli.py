@@ -81,7 +81,7 @@ def test_report_escapes_case_text(small_suite: Path, tmp_path: Path) -> None:
     html = (out / "report.html").read_text()
     assert EVIL not in html  # not as markup: the case text travels as data, packed
     cases = embedded(html, "results-data")
-    assert EVIL in json.dumps(cases)  # and the page inserts it as text (tests/test_browser.py)
+    assert EVIL in json.dumps(cases)  # and the page shows it as text (tests/report/test_browser)
 
 
 def test_report_rerenders_without_running_engines(small_suite: Path, tmp_path: Path,

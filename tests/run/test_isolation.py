@@ -1,6 +1,6 @@
 """Isolation: engines that hang or die cost one case x engine, never the run.
 
-Fakes with known behaviour test the mechanism; tests/test_engine_faults.py
+Fakes with known behaviour test the mechanism; tests/guarantees/test_engine_faults.py
 checks it with real engine inputs that crash or hang today.
 """
 
