@@ -5,7 +5,7 @@ where the textbook formula in floating point disagrees with exact truth: near
 touching, at large offsets and, for float32 (the textbook's ``float``), almost
 everywhere a size is not a power of two.
 
-Conventions (source: the textbook text in ``shared/reference/`` and
+Conventions (sources: the two textbook blog posts of :data:`TEXTBOOK` and
 :mod:`reference_impl.formulas`): half-widths; normal from A to B; AABB
 touching overlaps, spheres touching do not collide; no margin; the relative
 tolerance is the rounding of a handful of operations in the declared precision.
@@ -25,7 +25,13 @@ from crosscheck.core.model import Kind, Observation
 from crosscheck.core.schema import AnyCase
 from crosscheck.truth import oracle
 
-TEXTBOOK = "shared/reference/blog-posts-aabb-and-sphere-collision.xml"
+TEXTBOOK = (
+    "http://wp.freya.no/3d-math-and-physics/simple-aabb-vs-aabb-collision-detection/",
+    "http://wp.freya.no/3d-math-and-physics/"
+    "simple-sphere-sphere-collision-detection-and-collision-response/",
+)
+"""The textbook: the blog posts that give the AABB and the sphere formulas, at their public
+addresses (the sources of both reference variants' conventions)."""
 
 
 class ReferenceF64(Adapter):
@@ -45,7 +51,7 @@ class ReferenceF64(Adapter):
         zero_mass="",
         negative_extents="",
         notes="Faithful textbook code; float64 throughout.",
-        sources=(TEXTBOOK,),
+        sources=TEXTBOOK,
     )
 
     def version(self) -> str:
@@ -72,5 +78,5 @@ class ReferenceF32(ReferenceF64):
         zero_mass="",
         negative_extents="",
         notes="Inputs rounded to float32, every operation in float32.",
-        sources=(TEXTBOOK,),
+        sources=TEXTBOOK,
     )
