@@ -1,6 +1,6 @@
 """The adapter registry: the built-in table of engine adapters, and plug-ins.
 
-Two routes lead to an engine (README, "Adding an engine"):
+Two routes lead to an engine (docs/adding-an-engine.md):
 
 - built-in: one module in this package and one line of :data:`REGISTRY`;
 - plug-in: a distribution declares an entry point in the ``crosscheck.adapters``

@@ -4,7 +4,7 @@ A real plug-in distribution (``tests/data/plugin_engine``) is pip-installed into
 of its own, never the shared venv, and driven through the CLI in subprocesses: it is
 listed with its distribution, passes the kit, runs and is reported.  Broken plug-ins are
 written as bare ``.dist-info`` folders: each is listed with its reason and refused by
-name, and none replaces a built-in.  The README's plug-in is the tested one.
+name, and none replaces a built-in.  The plug-in docs/adding-an-engine.md shows is the tested one.
 """
 
 from __future__ import annotations
@@ -108,29 +108,29 @@ def test_an_installed_plugin_is_discovered_run_and_reported(site: Path, tmp_path
     assert "numpy-spheres" in (out / "report.html").read_text(encoding="utf-8")
 
 
-def readme_section() -> str:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    return text.split("\n## Adding an engine\n", 1)[1].split("\n## ", 1)[0]
+def docs_page() -> str:
+    """The docs page that shows the plug-in: docs/adding-an-engine.md."""
+    return (ROOT / "docs" / "adding-an-engine.md").read_text(encoding="utf-8")
 
 
-def readme_blocks(language: str) -> list[str]:
-    return re.findall(rf"```{language}\n(.*?)```", readme_section(), flags=re.DOTALL)
+def docs_blocks(language: str) -> list[str]:
+    return re.findall(rf"```{language}\n(.*?)```", docs_page(), flags=re.DOTALL)
 
 
-def test_the_readme_ci_example_runs_the_kit_on_the_installed_plugin(site: Path,
-                                                                    tmp_path: Path) -> None:
-    example = next(block for block in readme_blocks("python") if "check_adapter(" in block)
+def test_the_docs_ci_example_runs_the_kit_on_the_installed_plugin(site: Path,
+                                                                  tmp_path: Path) -> None:
+    example = next(block for block in docs_blocks("python") if "check_adapter(" in block)
     test = re.search(r"def (test_\w+)\(", example)
     assert test
     ran = python(site, "-c", f"{example}\n{test.group(1)}()\nprint('conforms')", cwd=tmp_path)
     assert ran.returncode == 0 and "conforms" in ran.stdout, ran.stderr
 
 
-def test_the_readme_shows_the_tested_plugin_in_under_40_lines() -> None:
+def test_the_docs_show_the_tested_plugin_in_under_40_lines() -> None:
     module = MODULE.read_text(encoding="utf-8")
-    assert module in readme_blocks("python")
+    assert module in docs_blocks("python")
     assert module.count("\n") < 40
-    (shown,) = readme_blocks("toml")
+    (shown,) = docs_blocks("toml")
     tested = tomllib.loads((PLUGIN / "pyproject.toml").read_text(encoding="utf-8"))
     assert tomllib.loads(shown) == {"project": tested["project"]}
     points = tested["project"]["entry-points"][adapters.ENTRY_POINT_GROUP]
