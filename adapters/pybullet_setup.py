@@ -2,7 +2,7 @@
 
 What it is for: one place for what the pair adapter (:mod:`adapters.pybullet_engine`), the
 scene runner (:mod:`adapters.pybullet_scene`), the raw engine loops
-(:mod:`crosscheck.studies.rawloops`) and the bench (:mod:`crosscheck.studies.bench`) all
+(:mod:`crosscheck.studies.bench.rawloops`) and the bench (:mod:`crosscheck.studies.bench`) all
 need, so none of them imports another for it:
 
 - ``engine()``: the pybullet module, imported once, lazily (pybullet is an optional engine:

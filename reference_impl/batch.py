@@ -58,7 +58,6 @@ with the exact oracle (NaN for undefined); they are vectorized in interface only
 from __future__ import annotations
 
 import math
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
@@ -300,7 +299,9 @@ def sphere_distances(pa: npt.ArrayLike, ra: npt.ArrayLike, pb: npt.ArrayLike,
 
 def near_pairs(kind: str, n: int, dim: int, rng: np.random.Generator, scale: float = 1.0,
                offset: float = 0.0, max_ulps: int = 3) -> tuple[FloatArray, ...]:
-    """``n`` pairs within ``max_ulps`` ulps of touching along one axis.
+    """``n`` pairs within ``max_ulps`` ulps of touching along one axis: the hard cases the
+    batch paths are checked on (their tests, and the bench's figures in
+    ``crosscheck/studies/bench/oracle.py``).
 
     B's centre on that axis is ``fl(A + fl(ha + hb))`` (or ``fl(ra + rb)``), nudged
     by ``k`` ulps (``-max_ulps <= k <= max_ulps``) with :func:`numpy.nextafter`.
@@ -330,39 +331,3 @@ def oracle(kind: str, x: tuple[FloatArray, ...], i: int) -> bool:
     a, h, b, k = (v[i].tolist() for v in x)
     c = exact.aabb_contact(a, h, b, k) if kind == "aabb" else exact.sphere_contact(a, h, b, k)
     return isinstance(c, Contact) and c.hit
-
-
-def best_of(f: Callable[[], object], repeat: int = 3) -> float:
-    """The shortest of ``repeat`` wall-clock runs of ``f`` (seconds)."""
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t0)
-    return min(times)
-
-
-def bench_batch(n: int = 1_000_000, near_fraction: float = 0.01, seed: int = 0,
-                kind: str = "aabb", dim: int = 3) -> dict[str, float]:
-    """Time the batch path against the naive formula and check it against the oracle."""
-    rng = np.random.default_rng(seed)
-    m = int(n * near_fraction)
-    near = near_pairs(kind, m, dim, rng)
-    far = near_pairs(kind, n - m, dim, rng, max_ulps=0)
-    far[2][:] = far[0] + rng.uniform(-15, 15, far[0].shape)
-    x = tuple(np.ascontiguousarray(np.concatenate([p, q])) for p, q in zip(near, far, strict=True))
-    batch = aabb_batch if kind == "aabb" else sphere_batch
-    naive = naive_aabb_verdicts if kind == "aabb" else naive_sphere_verdicts
-    t_batch = best_of(lambda: batch(*x))
-    t_naive = best_of(lambda: naive(*x))
-    result = batch(*x)
-    sample = np.concatenate([np.arange(m), rng.choice(np.arange(m, n), min(10_000, n - m),
-                                                      replace=False)])
-    agree = sum(bool(result.hit[i]) == oracle(kind, x, i) for i in sample.tolist())
-    naive_hit = naive(*x)
-    return {"batch_pairs_per_s": n / t_batch, "naive_pairs_per_s": n / t_naive,
-            "ratio": t_naive / t_batch, "fallbacks": result.fallbacks,
-            "refined": result.refined,
-            "checked": len(sample), "agreement": agree / len(sample),
-            "naive_wrong_near": float(sum(bool(naive_hit[i]) != oracle(kind, x, i)
-                                          for i in range(m)))}

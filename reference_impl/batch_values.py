@@ -49,14 +49,12 @@ bounds' slack; a certified distance is never subnormal either, as its bound
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 import numpy.typing as npt
 
 from . import exact
-from .batch import best_of, near_pairs
 from .ddouble import norm2, split, sqrt_dd, top, vec_sum, ziv
 from .expansion import EPS, products_exact, sum_sign, two_product, two_sum
 from .types import Contact
@@ -274,36 +272,3 @@ def same_as_oracle(v: SphereValues, x: tuple[FloatArray, ...], i: int) -> bool:
     want = [c.distance, *(c.normal if isinstance(c.normal, tuple) else [])]
     return (bool(v.hit[i]) == c.hit and bool(v.coincident[i]) != isinstance(c.normal, tuple)
             and np.array_equal(np.asarray(got).view(np.int64), np.asarray(want).view(np.int64)))
-
-
-def benchmark(n: int = 1_000_000, seed: int = 0, near_fraction: float = 0.01,
-              dim: int = 3, sample: int = 20_000) -> dict[str, float]:
-    """Throughput of :func:`sphere_values` against :func:`naive_values`, in one process.
-
-    Pairs as in :func:`reference_impl.batch.bench_batch`: ``near_fraction`` of them within
-    3 ulps of touching, the rest at random.  Every near pair and ``sample`` others are
-    checked against the pure oracle.
-    """
-    rng = np.random.default_rng(seed)
-    m = int(n * near_fraction)
-    near = near_pairs("sphere", m, dim, rng)
-    far = near_pairs("sphere", n - m, dim, rng, max_ulps=0)
-    far[2][:] = far[0] + rng.uniform(-15, 15, far[0].shape)
-    x = tuple(np.ascontiguousarray(np.concatenate([p, q])) for p, q in zip(near, far, strict=True))
-    t_naive, t_batch = _interleaved(lambda: naive_values(*x), lambda: sphere_values(*x))
-    v = sphere_values(*x)
-    rows = np.concatenate([np.arange(m), m + rng.choice(n - m, min(sample, n - m), replace=False)])
-    identical = sum(same_as_oracle(v, x, i) for i in rows.tolist())
-    return {"batch_pairs_per_s": n / t_batch, "naive_pairs_per_s": n / t_naive,
-            "ratio": t_naive / t_batch, **{f"stage_{k}": float(c) for k, c in v.stages.items()},
-            "checked": float(len(rows)), "identical": float(identical), "near": float(m)}
-
-
-def _interleaved(*fs: Callable[[], object], rounds: int = 5) -> list[float]:
-    """Best wall time of each function over ``rounds`` interleaved repetitions."""
-    best = [float("inf")] * len(fs)
-    for _ in range(rounds):
-        for k, f in enumerate(fs):
-            best[k] = min(best[k], best_of(f, 1))
-    return best
-

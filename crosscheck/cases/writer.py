@@ -1,7 +1,7 @@
 """The one TOML writer: ``[[case]]`` blocks that load back into the very same cases.
 
 New cases (:mod:`crosscheck.cases.newcase`) and fuzz findings
-(:mod:`crosscheck.studies.findings`) are both written through it.
+(:mod:`crosscheck.studies.fuzz.findings`) are both written through it.
 
 Floats are written with ``repr`` (through tomli_w), the shortest text that
 parses back to the same binary double, so a written case round-trips exactly.

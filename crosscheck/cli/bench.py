@@ -7,16 +7,18 @@ import json
 import math
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from rich.table import Table
 
 from crosscheck.cli.console import out, say
-from crosscheck.studies.bench_compare import BenchFileError, Comparison, compare, load
-from crosscheck.studies.benchkit import ROOT, Figure
+
+if TYPE_CHECKING:
+    from crosscheck.studies.bench import Comparison, Figure
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    from crosscheck.studies.bench import measure, write
+    from crosscheck.studies.bench import ROOT, BenchFileError, compare, load, measure, write
 
     try:
         previous = load(args.compare) if args.compare else None

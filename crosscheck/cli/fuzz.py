@@ -22,7 +22,7 @@ from crosscheck.core.model import PAIR_KINDS, Kind
 from crosscheck.core.options import RunOptions
 
 if TYPE_CHECKING:
-    from crosscheck.studies.findings import Group
+    from crosscheck.studies.fuzz import Group
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:

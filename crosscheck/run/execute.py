@@ -20,13 +20,13 @@ import time
 import traceback
 import types
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Protocol, TypeVar
 
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Observation, Status
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import AnyCase
+from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.run.timing import Timing, measure
 
 
@@ -48,6 +48,24 @@ class Outcome:
     hung: frozenset[str] = frozenset()
     hang_reason: str = ""
     hang_status: Status = Status.TIMEOUT
+
+
+SCENE_TIMEOUT_S = 300.0
+"""Time limit for one scene x engine (the run's --timeout if larger)."""
+
+
+def case_options(case: AnyCase, options: RunOptions) -> RunOptions:
+    """The options ``case`` runs under: the run's, with a scene's time limit at least
+    :data:`SCENE_TIMEOUT_S` (stepping takes seconds, not microseconds).  The one place the
+    time limit of a case is set: the verdict pass and the timing phase both ask it.
+
+    >>> from crosscheck.testing.samples import sphere_pair
+    >>> case_options(sphere_pair(0.0, 2.0), RunOptions(timeout_s=5.0)).timeout_s
+    5.0
+    """
+    if isinstance(case, SceneCase) and options.timeout_s < SCENE_TIMEOUT_S:
+        return replace(options, timeout_s=SCENE_TIMEOUT_S)
+    return options
 
 
 def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = False,

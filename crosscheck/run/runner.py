@@ -34,7 +34,7 @@ from crosscheck.core.schema import AnyCase, PairCase, SceneCase
 from crosscheck.core.values import encode
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
-from crosscheck.run.execute import Executor, Lanes, Outcome
+from crosscheck.run.execute import Executor, Lanes, Outcome, case_options
 from crosscheck.run.rowtext import ColumnLines
 from crosscheck.run.worker import LocalLanes
 from crosscheck.truth import oracle
@@ -194,8 +194,7 @@ def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOp
     quantities are never started (:func:`_skip_declared_hang`).
     """
     hang = adapter.known_hang(case)
-    if isinstance(case, SceneCase):  # stepping takes seconds, not microseconds
-        options = replace(options, timeout_s=max(options.timeout_s, SCENE_TIMEOUT_S))
+    options = case_options(case, options)
     if hang is None:
         return executor(adapter, case, options)
     if not options.isolate:
@@ -225,10 +224,6 @@ def _skip_declared_hang(executor: Executor, adapter: Adapter, case: AnyCase,
         return Outcome(None, Status.SKIP, reason)
     rest = executor(adapter, case, options, False, hanging)
     return replace(rest, hung=hanging, hang_reason=reason, hang_status=Status.SKIP)
-
-
-SCENE_TIMEOUT_S = 300.0
-"""Time limit for one scene x engine (the run's --timeout if larger)."""
 
 
 def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,

@@ -23,7 +23,6 @@ import os
 import random
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -32,11 +31,10 @@ import pandas as pd
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import AnyCase, SceneCase
+from crosscheck.core.schema import AnyCase
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.results.timings import TimingRecord, spread
-from crosscheck.run.execute import Outcome, execute, probe_binding
-from crosscheck.run.runner import SCENE_TIMEOUT_S
+from crosscheck.run.execute import Outcome, case_options, execute, probe_binding
 from crosscheck.run.timing import Timing, measure
 from crosscheck.run.worker import WorkerPool, pin
 
@@ -153,8 +151,7 @@ class _Measurer:
             pin(0, cpu)
 
     def case(self, adapter: Adapter, case: AnyCase) -> Outcome:
-        limit = SCENE_TIMEOUT_S if isinstance(case, SceneCase) else self.options.timeout_s
-        options = replace(self.options, timeout_s=max(self.options.timeout_s, limit))
+        options = case_options(case, self.options)
         if self.pool is None:
             return execute(adapter, case, options, True)
         return self.pool.execute(adapter, case, options, True)

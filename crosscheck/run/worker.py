@@ -27,20 +27,17 @@ the limit is not enforced.
 A dead or killed worker is replaced on the next task.  Workers are started by
 the ``forkserver`` method, which is safe with the parent's threads (the
 progress bar) and cheap to restart.  Their C-level stdout and stderr go to
-/dev/null, so engine banners and warnings never reach the CLI.
+/dev/null, so engine banners and warnings never reach the CLI.  (How a worker process
+is started, silenced, watched and told dead is :mod:`crosscheck.run.processes`, shared
+with the fuzz lanes.)
 """
 
 from __future__ import annotations
 
-import contextlib
 import math
-import multiprocessing as mp
 import os
-import signal
-import sys
 import threading
 import time
-import types
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, as_completed, wait
 from multiprocessing.connection import Connection
@@ -52,11 +49,10 @@ from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.run.execute import Executor, Outcome, execute, probe_binding, stop_between_items
+from crosscheck.run.processes import CONTEXT, Resident, death, quiet_child, start
 from crosscheck.run.timing import Timing
 
-_CONTEXT = mp.get_context("forkserver")
-_CONTEXT.set_forkserver_preload(["crosscheck.run.execute"])
-_START_LOCK = threading.Lock()
+CONTEXT.set_forkserver_preload(["crosscheck.run.execute"])
 
 BINDING = "binding"
 Task = tuple[type[Adapter], AnyCase | str | None, RunOptions, bool, frozenset[str]]
@@ -72,24 +68,15 @@ WATCH_S = 0.05
 RECHECK_S = 0.1
 """Between cases, resident memory is read at most this often (a read costs ~5 us)."""
 
-_PAGE_MB = os.sysconf("SC_PAGE_SIZE") / 2**20 if hasattr(os, "sysconf") else 4 / 1024
-
-
-def _silence_output() -> None:
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    for fd in (1, 2):
-        os.dup2(devnull, fd)
-    os.close(devnull)
-
 
 def _serve(conn: Connection) -> None:
     """Worker main loop: run tasks until the parent closes the pipe.
 
     Ctrl-C is the parent's to handle: a worker ignores SIGINT, so an
-    interrupted run never records a worker's death as an engine crash.
+    interrupted run never records a worker's death as an engine crash
+    (:func:`~crosscheck.run.processes.quiet_child`).
     """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _silence_output()
+    quiet_child()
     adapters: dict[type[Adapter], Adapter] = {}
     while True:
         try:
@@ -106,34 +93,6 @@ def _serve(conn: Connection) -> None:
             conn.send(execute(adapter, case, options, timed, skip))
 
 
-@contextlib.contextmanager
-def without_main() -> Iterator[None]:
-    """Start a worker (or any process) without telling it the parent's main module.
-
-    A new process normally re-imports ``__main__`` (for the CLI: the whole CLI,
-    pandas included, ~0.4 s per worker start or restart after a crash).  A
-    worker needs only :func:`_serve`, importable by name, so it is started while
-    ``__main__`` is a bare module.
-    """
-    saved = sys.modules["__main__"]
-    sys.modules["__main__"] = types.ModuleType("__main__")
-    try:
-        yield
-    finally:
-        sys.modules["__main__"] = saved
-
-
-def _death(code: int | None) -> str:
-    if code is None:
-        return "worker died"
-    if code < 0:
-        try:
-            return f"worker killed by {signal.Signals(-code).name}"
-        except ValueError:
-            return f"worker killed by signal {-code}"
-    return f"worker exited with code {code}"
-
-
 def memory_limit(what: str, limit_mb: float) -> str:
     """The reason of a ``crash`` for a worker over ``--worker-memory``."""
     return f"memory limit: {what}, past --worker-memory {limit_mb:g} MB"
@@ -144,34 +103,22 @@ class _Worker:
 
     def __init__(self, memory_mb: float) -> None:
         self.memory_mb = memory_mb
-        self.conn, child = _CONTEXT.Pipe()
-        self.process: BaseProcess = _CONTEXT.Process(target=_serve, args=(child,), daemon=True)
-        with _START_LOCK, without_main():
-            self.process.start()
+        self.conn, child = CONTEXT.Pipe()
+        self.process: BaseProcess = CONTEXT.Process(target=_serve, args=(child,), daemon=True)
+        start(self.process)
         child.close()
-        self._statm: int | None = None
-        with contextlib.suppress(OSError):
-            self._statm = os.open(f"/proc/{self.process.pid}/statm", os.O_RDONLY)
+        self.resident = Resident(self.process.pid)
         self.last_mb = 0.0  # at the last check: after the last answer, so as a case begins
         self.checked = -math.inf  # time.monotonic() of that check
         self.warmed: set[type[Adapter]] = set()  # adapters warmed up in this process
         self.fresh_mb = 0.0  # once its engine was loaded
-
-    def resident_mb(self) -> float:
-        """The worker's resident memory in MB (0 where /proc cannot tell)."""
-        if self._statm is None:
-            return 0.0
-        try:
-            return int(os.pread(self._statm, 128, 0).split()[1]) * _PAGE_MB
-        except (OSError, IndexError, ValueError):
-            return 0.0
 
     def over_limit(self, unless_within_s: float = 0.0) -> bool:
         """Whether the worker's resident memory is over its limit (kept as ``last_mb``); not
         read again if it was read less than ``unless_within_s`` ago."""
         now = time.monotonic()
         if now - self.checked >= unless_within_s:
-            self.last_mb, self.checked = self.resident_mb(), now
+            self.last_mb, self.checked = self.resident.mb(), now
         return self.last_mb > self.memory_mb
 
     def call(self, task: Task, timeout_s: float) -> Any:
@@ -181,7 +128,7 @@ class _Worker:
             return stopped if stopped is not None else self.conn.recv()
         except (EOFError, OSError, BrokenPipeError):
             self.process.join(timeout=2)
-            return Outcome(None, Status.CRASH, _death(self.process.exitcode))
+            return Outcome(None, Status.CRASH, death(self.process.exitcode))
 
     def _wait(self, timeout_s: float) -> Outcome | None:
         """None once an answer is ready; else the worker is killed and the outcome says why:
@@ -190,7 +137,7 @@ class _Worker:
         up) finishes the case and is recycled after it: RSS stays under twice the limit."""
         deadline = time.monotonic() + timeout_s
         while not self.conn.poll(max(0.0, min(WATCH_S, deadline - time.monotonic()))):
-            resident = self.resident_mb()
+            resident = self.resident.mb()
             if resident - self.last_mb > self.memory_mb - self.fresh_mb:
                 self.kill()
                 what = (f"this case alone grew the worker from {self.last_mb:.0f} to "
@@ -206,24 +153,19 @@ class _Worker:
     def alive(self) -> bool:
         return self.process.is_alive()
 
-    def _forget_statm(self) -> None:
-        if self._statm is not None:
-            os.close(self._statm)
-        self._statm = None
-
     def kill(self) -> None:
         if self.process.is_alive():
             self.process.kill()
         self.process.join(timeout=5)
         self.conn.close()
-        self._forget_statm()
+        self.resident.close()
 
     def close(self) -> None:
         self.conn.close()
         self.process.join(timeout=2)
         if self.process.is_alive():
             self.kill()
-        self._forget_statm()
+        self.resident.close()
 
 
 def pin(pid: int, cpu: int | None) -> bool:

@@ -202,12 +202,6 @@ def test_truth_batch_equals_truth_on_the_suite() -> None:
     assert [repr(o) for o in batch] == [repr(oracle.truth(c)) for c in cases]
 
 
-def test_benchmark_checks_every_near_pair() -> None:
-    r = batch_values.benchmark(n=20_000, seed=1, sample=500)
-    assert r["checked"] == r["near"] + 500 and r["identical"] == r["checked"]
-    assert sum(r[k] for k in r if k.startswith("stage_")) == 20_000
-
-
 def test_results_do_not_depend_on_the_block_size(monkeypatch: pytest.MonkeyPatch) -> None:
     x = near_pairs("sphere", 1000, 3, np.random.default_rng(5))
     whole = batch_values.sphere_values(*x)

@@ -9,7 +9,10 @@ from pathlib import Path
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.studies import bench, bench_compare, bench_suite
+from crosscheck.studies.bench import comparison as bench_compare
+from crosscheck.studies.bench import figures as bench
+from crosscheck.studies.bench import suite as bench_suite
+from crosscheck.studies.bench.oracle import values_benchmark
 
 
 def test_batch_figures_agree_with_the_pure_oracle() -> None:
@@ -82,6 +85,12 @@ def test_spread_and_the_seven_variants_are_registered() -> None:
     s = bench_suite.spread([3.0, 1.0, 2.0, 4.0])
     assert (s["median"], s["min"], s["max"], s["n"]) == (2.5, 1.0, 4.0, 4.0)
     assert set(bench_suite.SEVEN) <= set(bench_suite.available())
+
+
+def test_values_benchmark_checks_every_near_pair() -> None:
+    r = values_benchmark(n=20_000, seed=1, sample=500)
+    assert r["checked"] == r["near"] + 500 and r["identical"] == r["checked"]
+    assert sum(r[k] for k in r if k.startswith("stage_")) == 20_000
 
 
 def test_values_figure_checks_every_near_pair_bit_for_bit() -> None:

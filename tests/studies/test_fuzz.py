@@ -20,8 +20,13 @@ from crosscheck.cli import fuzz as fuzz_command
 from crosscheck.cli import main
 from crosscheck.core.model import PAIR_KINDS, Kind
 from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, ResponseCase
-from crosscheck.studies import fuzzgen
-from crosscheck.studies.findings import FINDING_STATUSES, choose, group_findings, write_findings
+from crosscheck.studies.fuzz import generator as fuzzgen
+from crosscheck.studies.fuzz.findings import (
+    FINDING_STATUSES,
+    choose,
+    group_findings,
+    write_findings,
+)
 from crosscheck.truth import oracle
 from crosscheck.truth.categories import approach_speed
 from reference_impl import exact

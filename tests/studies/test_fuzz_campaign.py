@@ -21,9 +21,10 @@ from distributed import LocalCluster
 from crosscheck.core.model import Kind, Observation
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.studies import findings as findings_module
-from crosscheck.studies import fuzz, fuzzgen
-from crosscheck.studies.findings import Groups
+from crosscheck.studies.fuzz import campaign as fuzz
+from crosscheck.studies.fuzz import findings as findings_module
+from crosscheck.studies.fuzz import generator as fuzzgen
+from crosscheck.studies.fuzz.findings import Groups
 from crosscheck.testing.fakes import AlwaysRight, OffByOne
 from tests.conftest import ROOT
 from tests.studies.test_fuzz import fuzz_cli
@@ -80,7 +81,7 @@ import sys
 from pathlib import Path
 from crosscheck.core.model import Kind
 from crosscheck.core.options import RunOptions
-from crosscheck.studies.fuzz import fuzz
+from crosscheck.studies.fuzz.campaign import fuzz
 from crosscheck.testing.fakes import AlwaysRight, OffByOne
 fuzz(Kind.SPHERE, {n}, 4, Path(sys.argv[1]), [AlwaysRight(), OffByOne()],
      RunOptions(quick=True, jobs=1), per_group=3, command="cmd")

@@ -31,7 +31,7 @@ from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
 from crosscheck.results.store import ResultsStore, read_run, repro_name
 from crosscheck.run.launch import launch, new_info
-from crosscheck.studies.repro import (
+from crosscheck.studies.repro.script import (
     REPRO_DIR,
     ReproError,
     RunRows,

@@ -1,7 +1,7 @@
 """Fuzz chunks run in lane processes: whole chunks per task, crash and hang safety per case.
 
-A campaign (:mod:`crosscheck.studies.fuzz`) runs chunks of
-:data:`~crosscheck.studies.fuzzgen.CHUNK` cases.  Sending every case x engine to a
+A campaign (:mod:`crosscheck.studies.fuzz.campaign`) runs chunks of
+:data:`~crosscheck.studies.fuzz.generator.CHUNK` cases.  Sending every case x engine to a
 worker, as a run does, costs more than the engines themselves, so here each of
 ``jobs`` lane processes takes a whole chunk: it generates the chunk's cases
 (from the seed and chunk index only), computes their truth, runs every engine
@@ -25,15 +25,11 @@ coincident centres that FCL's hang needs).
 from __future__ import annotations
 
 import atexit
-import math
-import multiprocessing as mp
-import os
 import pickle
-import signal
 import threading
 import time
 from collections import Counter
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import suppress
 from dataclasses import dataclass, field
 from multiprocessing.connection import Connection, wait
@@ -46,13 +42,12 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Outcome, execute
+from crosscheck.run.processes import CONTEXT, death, quiet_child, start
 from crosscheck.run.runner import score_case
-from crosscheck.run.worker import without_main
-from crosscheck.studies import fuzzgen
-from crosscheck.studies.findings import FINDING_STATUSES, Row, finding_row
+from crosscheck.studies.fuzz import generator
+from crosscheck.studies.fuzz.findings import FINDING_STATUSES, Row, finding_row
 from crosscheck.truth import oracle
 
-_CONTEXT = mp.get_context("forkserver")
 Settled = dict[tuple[int, int], tuple[str, str]]
 """(case position, engine position) -> (status, reason) of pairs not to run again."""
 
@@ -114,7 +109,7 @@ def _outcome(adapter: Adapter, case: AnyCase, options: RunOptions,
     return execute(adapter, case, options)
 
 
-def run_engine(plan: Plan, adapter: Adapter, position: int, gens: Sequence[fuzzgen.Generated],
+def run_engine(plan: Plan, adapter: Adapter, position: int, gens: Sequence[generator.Generated],
                truths: Sequence[Observation], settled: Settled,
                marker: Callable[[int, int], None]) -> Block:
     """Run and score one engine on a chunk; ``marker(case position, engine position)``
@@ -144,17 +139,9 @@ Task = tuple[int, bytes | None, Settled, int]
 """(chunk, its pickled cases and truth or None, settled pairs, first engine position)."""
 
 
-def _silence_output() -> None:
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    for fd in (1, 2):
-        os.dup2(devnull, fd)
-    os.close(devnull)
-
-
 def _lane(conn: Connection, marker: Any, plan: Plan) -> None:
     """A lane's loop: take a chunk, send its state, then one Block per engine, then None."""
-    _silence_output()
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent stops the lanes
+    quiet_child()  # the parent stops the lanes
     adapters = [cls() for cls in plan.engines]
 
     def mark(pos: int, engine: int) -> None:
@@ -166,7 +153,7 @@ def _lane(conn: Connection, marker: Any, plan: Plan) -> None:
             return
         chunk, state, settled, first = task
         if state is None:
-            gens = fuzzgen.generate_chunk(plan.kind, plan.seed, chunk, plan.n)
+            gens = generator.generate_chunk(plan.kind, plan.seed, chunk, plan.n)
             truths = chunk_truth([g.case for g in gens])
             state = pickle.dumps((gens, truths), protocol=pickle.HIGHEST_PROTOCOL)
             conn.send(("state", state))
@@ -176,15 +163,6 @@ def _lane(conn: Connection, marker: Any, plan: Plan) -> None:
             conn.send(("block", run_engine(plan, adapters[position], position, gens, truths,
                                            settled, mark)))
         conn.send(("done", len(gens)))
-
-
-def _death(code: int | None) -> str:
-    if code is not None and code < 0:
-        try:
-            return f"worker killed by {signal.Signals(-code).name}"
-        except ValueError:
-            return f"worker killed by signal {-code}"
-    return f"worker exited with code {code}"
 
 
 @dataclass
@@ -207,12 +185,11 @@ class Lane:
 
     def __init__(self, plan: Plan) -> None:
         self.plan = plan
-        self.marker: Any = _CONTEXT.RawArray("q", [-1, -1])
-        self.conn, child = _CONTEXT.Pipe()
-        self.process: BaseProcess = _CONTEXT.Process(target=_lane, args=(child, self.marker, plan),
-                                                     daemon=True)
-        with without_main():
-            self.process.start()
+        self.marker: Any = CONTEXT.RawArray("q", [-1, -1])
+        self.conn, child = CONTEXT.Pipe()
+        self.process: BaseProcess = CONTEXT.Process(target=_lane, args=(child, self.marker, plan),
+                                                    daemon=True)
+        start(self.process)
         child.close()
         self.work: ChunkWork | None = None
         self.seen: tuple[int, int, float] = (-1, -1, time.monotonic())
@@ -253,7 +230,7 @@ class ChunkLanes:
     def __init__(self, plan: Plan, jobs: int) -> None:
         self.plan = plan
         modules = sorted({cls.__module__ for cls in plan.engines})
-        _CONTEXT.set_forkserver_preload(["crosscheck.studies.fuzzlanes", *modules])
+        CONTEXT.set_forkserver_preload(["crosscheck.studies.fuzz.lanes", *modules])
         self.lanes = [Lane(plan) for _ in range(max(1, jobs))]
 
     def __enter__(self) -> ChunkLanes:
@@ -300,7 +277,7 @@ class ChunkLanes:
         except (EOFError, OSError):
             pass
         if not lane.process.is_alive():
-            self._replace(i, Status.CRASH, _death(lane.process.exitcode))
+            self._replace(i, Status.CRASH, death(lane.process.exitcode))
 
     def _watch(self, i: int, lane: Lane) -> None:
         if lane.stuck(self.plan.options.timeout_s) is not None:
@@ -370,14 +347,3 @@ def run_chunks(plan: Plan, chunks: Iterator[int], finished: Finished) -> list[in
         lanes.run(chunks, finished)
     return [lane.process.pid or 0 for lane in lanes.lanes]
 
-
-def rss_mb(pids: Iterable[int]) -> float:
-    """The resident memory of these processes, in MB (NaN where /proc is not readable)."""
-    total = 0.0
-    for pid in pids:
-        try:
-            with open(f"/proc/{pid}/statm", encoding="ascii") as handle:
-                total += int(handle.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
-        except (OSError, ValueError, IndexError):
-            return math.nan
-    return total

@@ -1,8 +1,8 @@
 """The fuzz study: cases near engine failure boundaries, run in chunks, findings grouped.
 
 A fuzz campaign of ``n`` cases is cut into chunks of
-:data:`~crosscheck.studies.fuzzgen.CHUNK` (chunk ``k`` generated from ``(seed, k)``
-alone).  Lane processes (:mod:`crosscheck.studies.fuzzlanes`) generate, run and
+:data:`~crosscheck.studies.fuzz.generator.CHUNK` (chunk ``k`` generated from ``(seed, k)``
+alone).  Lane processes (:mod:`crosscheck.studies.fuzz.lanes`) generate, run and
 score whole chunks; each finished chunk is written at once, atomically, to
 ``DIR/chunks/cNNNNNN.json.gz``: its status counts per engine x quantity x status
 x category, its finding rows (disagree, error, crash, timeout) and the inputs of
@@ -13,7 +13,7 @@ not stored, so memory and disk stay flat in ``n``.
 a killed campaign (even by SIGKILL) is finished by :func:`resume`, which skips
 the chunks already on disk and regenerates exactly the others.  When every
 chunk is in, the findings are grouped and written as ready-to-commit case files
-by :mod:`crosscheck.studies.findings` (``DIR/findings.csv`` lists every one),
+by :mod:`crosscheck.studies.fuzz.findings` (``DIR/findings.csv`` lists every one),
 and ``DIR/fuzz.json`` gives the counts, the timings (cases per second overall and
 per engine) and resident memory sampled along the way.  ``crosscheck fuzz`` is
 its command; :func:`campaign_throughput` is the bench's figure.
@@ -39,8 +39,9 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, json_schema_text
 from crosscheck.results.runinfo import now
 from crosscheck.run import environment
-from crosscheck.studies import fuzzgen
-from crosscheck.studies.findings import (
+from crosscheck.run.processes import resident_mb
+from crosscheck.studies.fuzz import generator
+from crosscheck.studies.fuzz.findings import (
     FINDING_COLUMNS,
     Group,
     Row,
@@ -48,7 +49,7 @@ from crosscheck.studies.findings import (
     from_list,
     write_stream,
 )
-from crosscheck.studies.fuzzlanes import Block, Plan, rss_mb, run_chunks
+from crosscheck.studies.fuzz.lanes import Block, Plan, run_chunks
 
 Progress = Callable[[int], None]
 PLAN = "campaign.json"
@@ -125,8 +126,8 @@ class Tally:
             return
         pids = [p.pid or 0 for p in mp.active_children()]
         self.memory.append({"chunks": self.done, "s": round(time.perf_counter() - start, 2),
-                            "parent_mb": round(rss_mb([os.getpid()]), 1),
-                            "lanes_mb": round(rss_mb(pids), 1)})
+                            "parent_mb": round(resident_mb([os.getpid()]), 1),
+                            "lanes_mb": round(resident_mb(pids), 1)})
         if len(self.memory) >= MEMORY_SAMPLES:
             self.memory, self.stride = self.memory[::2], self.stride * 2
 
@@ -134,7 +135,7 @@ class Tally:
 def _plan_json(plan: Plan, command: str, per_group: int) -> dict[str, Any]:
     return {"kind": plan.kind.value, "n": plan.n, "seed": plan.seed,
             "engines": [cls().name for cls in plan.engines], "per_group": per_group,
-            "options": plan.options.to_json(), "command": command, "chunk": fuzzgen.CHUNK}
+            "options": plan.options.to_json(), "command": command, "chunk": generator.CHUNK}
 
 
 def fuzz(kind: Kind, n: int, seed: int, directory: Path, engines: Sequence[Adapter],
@@ -159,9 +160,9 @@ def stored_plan(directory: Path) -> dict[str, Any]:
     except (OSError, json.JSONDecodeError) as exc:
         raise CampaignError(f"{directory} is not a fuzz campaign ({directory / PLAN}: "
                             f"{exc})") from None
-    if saved.get("chunk") != fuzzgen.CHUNK:
+    if saved.get("chunk") != generator.CHUNK:
         raise CampaignError(f"{directory / PLAN}: chunks of {saved.get('chunk')} cases, this "
-                            f"version makes chunks of {fuzzgen.CHUNK}: the cases would differ")
+                            f"version makes chunks of {generator.CHUNK}: the cases would differ")
     return saved
 
 
@@ -186,7 +187,7 @@ def _campaign(directory: Path, plan: Plan, command: str, per_group: int,
               progress: Progress | None) -> list[Group]:
     """Run the chunks not yet on disk, then group and write the findings of all of them."""
     start = time.perf_counter()
-    total = fuzzgen.chunk_count(plan.n)
+    total = generator.chunk_count(plan.n)
     before = finished_chunks(directory)
     todo = [k for k in range(total) if k not in before]
     tally = _run(directory, plan, todo, progress, start)
@@ -214,7 +215,7 @@ def _run(directory: Path, plan: Plan, todo: list[int], progress: Progress | None
             progress(cases * len(plan.engines))
 
     if progress:
-        progress((plan.n - sum(min(fuzzgen.CHUNK, plan.n - k * fuzzgen.CHUNK) for k in todo))
+        progress((plan.n - sum(min(generator.CHUNK, plan.n - k * generator.CHUNK) for k in todo))
                  * len(plan.engines))  # the chunks finished before a resume
     run_chunks(plan, iter(todo), finished)
     return tally
@@ -231,7 +232,7 @@ def _batches(directory: Path, total: int, tally: Tally) -> Iterator[list[Row]]:
 
 
 def _inputs(directory: Path, ids: set[str]) -> dict[str, AnyCase]:
-    chunks = sorted({int(cid.rsplit("-", 1)[1]) // fuzzgen.CHUNK for cid in ids})
+    chunks = sorted({int(cid.rsplit("-", 1)[1]) // generator.CHUNK for cid in ids})
     found: dict[str, AnyCase] = {}
     for chunk in chunks:
         for cid, data in _load(_chunk_path(directory, chunk, ".inputs")).items():

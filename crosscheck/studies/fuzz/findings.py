@@ -52,7 +52,8 @@ Key = tuple[str, str, str, str, str, str, str, str]
 
 
 class Provenance(Protocol):
-    """Where a generated case comes from (:class:`crosscheck.studies.fuzzgen.Generated` is one)."""
+    """Where a generated case comes from (a :class:`~crosscheck.studies.fuzz.generator.Generated`
+    is one)."""
 
     @property
     def case(self) -> AnyCase: ...

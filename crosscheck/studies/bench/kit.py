@@ -17,7 +17,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-ROOT = Path(__file__).resolve().parent.parent.parent
+from crosscheck.run.processes import resident_mb
+
+ROOT = Path(__file__).resolve().parents[3]
 """The project folder (case files, reports)."""
 
 
@@ -44,9 +46,8 @@ def settle() -> None:
 
 
 def rss_mb() -> float:
-    """This process's resident memory now (MB)."""
-    pages = int(Path("/proc/self/statm").read_text().split()[1])
-    return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+    """This process's resident memory now (MB; NaN where /proc is not readable)."""
+    return resident_mb([os.getpid()])
 
 
 def session_rss_mb(sid: int) -> float:

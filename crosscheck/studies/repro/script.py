@@ -4,8 +4,8 @@ A script uses only the engine's own API (``fcl``, ``pybullet``, ``pymunk``; nump
 textbook formula of ``reference`` and ``reference-f32``) and none of crosscheck.  Its inputs
 are the stored case's exact binary64 values (``float.fromhex`` literals; ``float("nan")``,
 ``float("inf")`` for bad input), its calls are those the engine's adapter makes (the
-engine parts are :mod:`crosscheck.studies.repro_engines` and
-:mod:`crosscheck.studies.repro_pybullet`), so it reproduces the engine's answer bit for
+engine parts are :mod:`crosscheck.studies.repro.engines` and
+:mod:`crosscheck.studies.repro.pybullet`), so it reproduces the engine's answer bit for
 bit.  It prints its inputs first (flushed: a crash still leaves them on screen), then
 every quantity of the case as ``<quantity> = <text>``, where ``<text>`` is the JSON text
 crosscheck writes in results.csv's ``value`` column, then the exact answer recorded for
@@ -39,8 +39,8 @@ from crosscheck.core.contract import TEXTBOOK_TOUCHING, Adapter
 from crosscheck.core.model import Status, quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
 from crosscheck.results.store import StoredRun, read_run, repro_name
-from crosscheck.studies.repro_engines import EngineCode, fcl_code, pymunk_code, reference_code
-from crosscheck.studies.repro_pybullet import pybullet_code
+from crosscheck.studies.repro.engines import EngineCode, fcl_code, pymunk_code, reference_code
+from crosscheck.studies.repro.pybullet import pybullet_code
 
 Writer = Callable[[Any, PairCase, frozenset[str]], EngineCode]
 """A script writer: (adapter, case, quantities the run recorded as a declared hang)."""

@@ -22,7 +22,7 @@ any chunk can be generated alone, without the chunks before it: a campaign
 generates them lazily, in parallel, and a resumed one regenerates exactly the
 chunks it has not finished.
 
-:mod:`crosscheck.studies.fuzz` runs them and :mod:`crosscheck.cases.writer` writes the
+:mod:`crosscheck.studies.fuzz.campaign` runs them and :mod:`crosscheck.cases.writer` writes the
 grouped findings.
 """
 

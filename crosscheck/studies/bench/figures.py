@@ -6,21 +6,21 @@ The figures, each a ratio or a measurement taken within this one run:
    :mod:`reference_impl.batch_values` (correctly rounded sphere distances and
    normals) over the naive numpy float64 formula on 1M pairs, 1% within a few
    ulps of touching, and agreement with the pure exact oracle on every near
-   pair plus a random sample;
+   pair plus a random sample (measured by :mod:`crosscheck.studies.bench.oracle`);
 2. harness overhead: per case, ``execute`` (prepare, query, release) plus
    columnar scoring into result lines, against the engine's own API in a tight
-   loop (:mod:`crosscheck.studies.rawloops`), for FCL and pymunk detection, and
+   loop (:mod:`crosscheck.studies.bench.rawloops`), for FCL and pymunk detection, and
    for PyBullet over a long stream of sphere cases (its bodies are reused);
 3. suite time: ``crosscheck run`` and ``--quick`` with the seven variants of the
    targets and with every available engine, ``crosscheck --help`` and the report
-   render, as subprocesses, wall clock (:mod:`crosscheck.studies.bench_suite`);
+   render, as subprocesses, wall clock (:mod:`crosscheck.studies.bench.suite`);
 4. memory: resident memory over the PyBullet stream (growth after the first
    fifth, bodies left in the client) and the peak RSS of the suite runs;
 5. scale-out: the same cases on a Dask ``LocalCluster`` of 2 worker processes
    and locally; results must be identical (Dask is imported there only, as in
    :mod:`crosscheck.run.distributed`);
-6. a fuzz campaign on the seven variants, extrapolated to a million cases, with
-   cases per second per engine (:func:`crosscheck.studies.fuzz.campaign_throughput`).
+6. a fuzz campaign on the seven variants, extrapolated to a million cases, with cases
+   per second per engine (:func:`crosscheck.studies.fuzz.campaign.campaign_throughput`).
 
 ``--quick`` uses smaller sizes (not for the batch oracle, whose target is set on 1M
 pairs) and skips the full-suite run.
@@ -49,21 +49,21 @@ from crosscheck.run import environment
 from crosscheck.run.execute import execute
 from crosscheck.run.launch import launch, new_info
 from crosscheck.run.runner import score_lines
-from crosscheck.studies import bench_suite, fuzz, rawloops
-from crosscheck.studies.benchkit import ROOT, Figure, rss_mb, settle
+from crosscheck.studies.bench import rawloops, suite
+from crosscheck.studies.bench.kit import ROOT, Figure, rss_mb, settle
+from crosscheck.studies.bench.oracle import best_of, values_benchmark, verdicts_benchmark
+from crosscheck.studies.fuzz import campaign
 from crosscheck.truth import oracle
-from reference_impl import batch_values
-from reference_impl.batch import bench_batch, best_of
 
 FORMAT_VERSION = 2
-"""bench.json's version (history: :mod:`crosscheck.studies.bench_compare`)."""
+"""bench.json's version (history: :mod:`crosscheck.studies.bench.comparison`)."""
 
 
 def batch_figures(n: int) -> list[Figure]:
     """Figure 1, for AABB and sphere pairs."""
     figures = []
     for kind in ("aabb", "sphere"):
-        r = bench_batch(n=n, near_fraction=0.01, seed=0, kind=kind)
+        r = verdicts_benchmark(n=n, near_fraction=0.01, seed=0, kind=kind)
         figures.append(Figure(
             f"batch oracle {kind}: throughput / naive float64", r["ratio"], "x",
             ">= 0.5 and 100% verdict agreement",
@@ -77,7 +77,7 @@ def batch_figures(n: int) -> list[Figure]:
 def values_figure(n: int) -> Figure:
     """Figure 1b: correctly rounded sphere distances and normals in batch (double-double and
     a rounding test, :mod:`reference_impl.batch_values`) against the naive float64 formula."""
-    r = batch_values.benchmark(n=n, seed=0)
+    r = values_benchmark(n=n, seed=0)
     same = r["identical"] == r["checked"]
     return Figure(
         "batch exact values sphere (distance, normal): throughput / naive float64", r["ratio"],
@@ -91,7 +91,7 @@ def values_figure(n: int) -> Figure:
 def campaign_figure(n: int, engines: Sequence[str]) -> Figure:
     """Figure 6: a fuzz campaign of ``n`` sphere cases, extrapolated to a million (cases/s per
     engine are each engine's own lane time, scoring included)."""
-    r = fuzz.campaign_throughput(n, [adapters.get(e) for e in engines])
+    r = campaign.campaign_throughput(n, [adapters.get(e) for e in engines])
     million_min = 1_000_000 / r["cases_per_s"] / 60
     per_engine = ", ".join(f"{e} {v:,.0f}" for e, v in r["engine_cases_per_s"].items())
     return Figure(
@@ -277,19 +277,19 @@ def dask_figure(quick: bool) -> Figure:
 
 def measure(quick: bool, progress: Callable[[str], None] | None = None) -> list[Figure]:
     """Every figure, in order; ``progress`` is told as each group starts and ends."""
-    suite, help_, render = bench_suite.figures(quick)
+    whole, help_, render = suite.figures(quick)
     steps: list[tuple[str, Callable[[], list[Figure]]]] = [
         ("batch oracle, 1M pairs", lambda: batch_figures(1_000_000)),  # the target's size
         ("batch exact values, 1M pairs", lambda: [values_figure(1_000_000)]),
         ("harness overhead (fcl, pymunk)",
          lambda: overhead_figures(1_000 if quick else 5_000)),
         ("pybullet stream and memory", lambda: pybullet_figures(10_000 if quick else 100_000)),
-        ("suite time" + (" (--quick only)" if quick else ""), suite),
+        ("suite time" + (" (--quick only)" if quick else ""), whole),
         ("crosscheck --help", help_),
         ("report render", render),
         ("Dask scale-out", lambda: [dask_figure(quick)]),
         ("fuzz campaign", lambda: [campaign_figure(2_000 if quick else 20_000,
-                                                   bench_suite.SEVEN)])]
+                                                   suite.SEVEN)])]
     figures: list[Figure] = []
     started = time.perf_counter()
     for n, (label, step) in enumerate(steps, start=1):

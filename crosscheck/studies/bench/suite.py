@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import adapters
-from crosscheck.studies.benchkit import ROOT, Figure, run_measured
+from crosscheck.studies.bench.kit import ROOT, Figure, run_measured
 
 SEVEN = ("reference", "reference-f32", "fcl", "pybullet", "pybullet-default", "pymunk",
          "pymunk-default")

@@ -5,8 +5,8 @@ calls the engine's adapter makes (``adapters/fcl_engine.py``, ``adapters/pymunk_
 ``adapters/reference.py`` with ``reference_impl/formulas.py``), with the adapter's own
 settings read from its class, and that leave the engine's answer in the variables named
 after the case's quantities (``hit``, ``distance``, ``normal``; ``v1``, ``v2``).  The
-script around them (inputs, printing) is :mod:`crosscheck.studies.repro`'s; PyBullet's
-part is :mod:`crosscheck.studies.repro_pybullet`.
+script around them (inputs, printing) is :mod:`crosscheck.studies.repro.script`'s; PyBullet's
+part is :mod:`crosscheck.studies.repro.pybullet`.
 
 The statements use the script's input constants: ``A_CENTER``, ``B_CENTER`` and ``A_HALF``,
 ``B_HALF`` (boxes) or ``A_RADIUS``, ``B_RADIUS`` (spheres), plus ``A_MASS``, ``B_MASS``,

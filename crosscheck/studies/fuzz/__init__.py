@@ -1,0 +1,47 @@
+"""The fuzz study: random cases near engine failure boundaries, run in chunks, findings grouped.
+
+- :mod:`~crosscheck.studies.fuzz.generator`: the cases, chunk by chunk, from a seed;
+- :mod:`~crosscheck.studies.fuzz.lanes`: lane processes that run and score whole chunks, crash
+  and hang safety per case;
+- :mod:`~crosscheck.studies.fuzz.findings`: finding rows, their groups and the case files
+  written for them;
+- :mod:`~crosscheck.studies.fuzz.campaign`: a campaign from start to finish (resumable), and
+  the bench's throughput figure.
+"""
+
+from crosscheck.studies.fuzz.campaign import (
+    CampaignError,
+    campaign_throughput,
+    finished_chunks,
+    fuzz,
+    resume,
+    stored_plan,
+)
+from crosscheck.studies.fuzz.findings import (
+    FINDING_STATUSES,
+    Group,
+    Groups,
+    choose,
+    group_findings,
+    write_findings,
+)
+from crosscheck.studies.fuzz.generator import CHUNK, Generated, generate, generate_chunk
+
+__all__ = [
+    "CHUNK",
+    "FINDING_STATUSES",
+    "CampaignError",
+    "Generated",
+    "Group",
+    "Groups",
+    "campaign_throughput",
+    "choose",
+    "finished_chunks",
+    "fuzz",
+    "generate",
+    "generate_chunk",
+    "group_findings",
+    "resume",
+    "stored_plan",
+    "write_findings",
+]
