@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, fields
 from enum import StrEnum
-from typing import Literal
+from typing import Literal, get_args
 
 from crosscheck.core.geometry import Vec
 from reference_impl.types import Undefined
@@ -51,12 +51,20 @@ class Status(StrEnum):
     - *failed*: the engine gave no answer (error, crash, timeout);
     - *neutral*: neither right nor wrong (skip, undefined);
     - *breaking*: the answer is wrong or missing (disagree or failed);
+    - *judged*: counted in an agreeing share (agree or breaking: not neutral);
+    - *failed_or_skipped*: no answer to time (failed, or skip: not asked);
     - ``severity``: 0 for the worst (crash) to 6 for agree, the report's order.
+
+    Modules ask these classes here, at the call site (``status.failed``, or
+    ``frame["status"].isin(Status.members("failed"))`` for a column of values); none
+    keeps a copy of its own.
 
     >>> Status.TIMEOUT.failed, Status.TIMEOUT.breaking, Status.SKIP.neutral
     (True, True, True)
     >>> Status.members("breaking")
     ('disagree', 'error', 'crash', 'timeout')
+    >>> Status.members("judged"), Status.members("failed_or_skipped")
+    (('agree', 'disagree', 'error', 'crash', 'timeout'), ('skip', 'error', 'crash', 'timeout'))
     >>> sorted(Status, key=lambda s: s.severity)[:3]
     [<Status.CRASH: 'crash'>, <Status.TIMEOUT: 'timeout'>, <Status.ERROR: 'error'>]
     """
@@ -90,18 +98,35 @@ class Status(StrEnum):
         return self is Status.DISAGREE or self.failed
 
     @property
+    def judged(self) -> bool:
+        """Counted in an agreeing share: agree, or wrong or missing (not neutral)."""
+        return not self.neutral
+
+    @property
+    def failed_or_skipped(self) -> bool:
+        """No answer to time: the engine failed, or was not asked (skip)."""
+        return self.failed or self is Status.SKIP
+
+    @property
     def severity(self) -> int:
         """0 (crash) ... 6 (agree): most severe first, as the report sorts rows."""
         return _SEVERITY.index(self)
 
     @classmethod
-    def members(cls, kind: Literal["scored", "failed", "neutral", "breaking"]) -> tuple[str, ...]:
-        """The values of the statuses of one class, in declaration order (for ``isin``)."""
-        return tuple(str(s) for s in cls if getattr(s, kind))
+    def members(cls, kind: StatusClass) -> tuple[str, ...]:
+        """The values of the statuses of one class, in declaration order (for ``isin`` and
+        ``in``; computed once per class)."""
+        return _MEMBERS[kind]
 
+
+StatusClass = Literal["scored", "failed", "neutral", "breaking", "judged", "failed_or_skipped"]
+"""The classes of :class:`Status` (each a property of it)."""
 
 _SEVERITY = (Status.CRASH, Status.TIMEOUT, Status.ERROR, Status.DISAGREE, Status.UNDEFINED,
              Status.SKIP, Status.AGREE)
+_MEMBERS: dict[str, tuple[str, ...]] = {
+    kind: tuple(str(s) for s in Status if getattr(s, kind))
+    for kind in get_args(StatusClass)}
 
 
 class Category(StrEnum):

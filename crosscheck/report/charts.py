@@ -49,9 +49,6 @@ from crosscheck.report.speed import (
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 from crosscheck.results.runinfo import RunInfo
 
-SCORED = Status.members("scored")
-FAILED = Status.members("failed")
-
 
 @dataclass(frozen=True, slots=True)
 class Measure:
@@ -188,7 +185,7 @@ def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
           cases: Mapping[str, AnyCase]) -> Point:
     """The point of one engine, from its rows of one kind."""
     engine = str(rows["engine"].iloc[0])
-    scored = rows[rows["status"].isin(SCORED)]
+    scored = rows[rows["status"].isin(Status.members("scored"))]
     errors = scored[scored["quantity"].isin(measure.errors)].groupby("case_id")["error"].max()
     verdicts = scored[scored["quantity"].isin(measure.verdicts)]
     time, unstable = case_times(rows)
@@ -199,8 +196,8 @@ def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
         binding_note=binding_note(info, engine), scored=len(errors),
         zeros=int((errors == 0).sum()), median=median, p95=p95, max=top,
         worst=_worst(errors, cases), verdicts=verdicts["case_id"].nunique(),
-        wrong=verdicts.loc[verdicts["status"] == "disagree", "case_id"].nunique(),
-        failed=rows.loc[rows["status"].isin(FAILED), "case_id"].nunique())
+        wrong=verdicts.loc[verdicts["status"] == Status.DISAGREE, "case_id"].nunique(),
+        failed=rows.loc[rows["status"].isin(Status.members("failed")), "case_id"].nunique())
 
 
 def speed_chart(frame: pd.DataFrame, kind: str, info: RunInfo,

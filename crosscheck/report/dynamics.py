@@ -34,7 +34,6 @@ from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 from crosscheck.truth import scenes
 
 HEADLINE_DT = 1.0 / 240.0
-FAILED = Status.members("failed")
 ALIGNED_SYMBOL = "circle-x"
 """The marker of a point whose exact run has an impact on a step boundary."""
 ALIGNED_NOTE = ("circled x: an impact of the exact run falls on a step boundary (k dt); a "
@@ -43,13 +42,13 @@ ALIGNED_NOTE = ("circled x: an impact of the exact run falls on a step boundary 
 
 def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
     """One row per scene case x engine: dt, iterations, rtf, errors and the energy change."""
-    rows = frame[(frame["kind"] == "sphere_scene") & (frame["status"] != "skip")]
+    rows = frame[(frame["kind"] == "sphere_scene") & (frame["status"] != Status.SKIP)]
     out = []
     for (case_id, engine), group in rows.groupby(["case_id", "engine"], sort=False):
         case = cases.get(str(case_id))
         by_q = {str(r.quantity): r for r in group.itertuples(index=False)}
         pos = by_q.get("positions")
-        if pos is None or not isinstance(case, SceneCase) or str(pos.status) == "skip":
+        if pos is None or not isinstance(case, SceneCase) or pos.status == Status.SKIP:
             continue
         out.append(_point(str(case_id), str(engine), case, by_q))
     return pd.DataFrame(out)
@@ -158,7 +157,8 @@ def _y(rows: pd.DataFrame) -> tuple[list[float], float | None, float | None]:
     (0 at the floor; infinite or no error at the ceiling)."""
     shown = rows["cost"].gt(0) & rows["cost"].lt(math.inf)
     errors = rows.loc[shown, "position_error"].astype(float)
-    floor, ceiling = axes.limits(errors, bool(rows.loc[shown, "status"].isin(FAILED).any()))
+    failed = rows.loc[shown, "status"].isin(Status.members("failed"))
+    floor, ceiling = axes.limits(errors, bool(failed.any()))
     ys = [_at(e, floor, ceiling) if on else math.nan
           for e, on in zip(rows["position_error"].astype(float), shown, strict=True)]
     return ys, axes.shown_floor(errors, floor), ceiling

@@ -54,9 +54,6 @@ AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale",
                         "overlap": _GAP, "mass_ratio": "mass ratio", "speed": "approach speed"}
 """Sweep parameter -> the axis of difficulty it probes."""
 
-BREAKING = Status.members("breaking")
-NEUTRAL = Status.members("neutral")
-FAILED = Status.members("failed")
 HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2"}
 """The quantity the threshold table shows for each kind."""
 FALLBACK = {"aabb": "hit", "sphere": "hit"}
@@ -225,9 +222,9 @@ def _walk(points: list[dict[Hashable, Any]]) -> dict[str, Any]:
     way = _direction(str(first["param"]), str(first["direction"]))
     ordered = _easy_first(points, way.harder_up)
     values, statuses = [p["value"] for p in ordered], [p["status"] for p in ordered]
-    judged = [i for i, s in enumerate(statuses) if s not in NEUTRAL]
-    agreed = [i for i in judged if statuses[i] == "agree"]
-    broken = next((i for i in judged if statuses[i] in BREAKING), None)
+    judged = [i for i, s in enumerate(statuses) if s in Status.members("judged")]
+    agreed = [i for i in judged if statuses[i] == Status.AGREE]
+    broken = next((i for i in judged if statuses[i] in Status.members("breaking")), None)
     out: dict[str, Any] = {
         "threshold": math.nan, "status": "", "category": "", "recovers": False,
         "recovered_at": math.nan, "checked": values[agreed[-1]] if agreed else math.nan,
@@ -327,15 +324,16 @@ def _cell_verdict(shown: dict[Hashable, Any], walks: list[dict[Hashable, Any]], 
 def _limits(rows: pd.DataFrame) -> tuple[float, float | None, float | None]:
     """Where 0 is drawn, whether it shows (None: no exact answer drawn), and where failures
     and inf are drawn (None: there are none)."""
-    drawn = rows[~rows["status"].isin(NEUTRAL)]
+    drawn = rows[~rows["status"].isin(Status.members("neutral"))]
     values = drawn["rel_error"].to_numpy(dtype=float)
-    failed = bool(drawn["status"].isin(FAILED).any() or (values == math.inf).any())
+    failed = bool(drawn["status"].isin(Status.members("failed")).any()
+                  or (values == math.inf).any())
     floor, ceiling = axes.limits(values[values < math.inf], failed)
     return floor, axes.shown_floor(values, floor), ceiling
 
 
 def _y(row: dict[Hashable, Any], floor: float, ceiling: float | None) -> float:
-    if row["status"] in FAILED or row["rel_error"] == math.inf:
+    if row["status"] in Status.members("failed") or row["rel_error"] == math.inf:
         return ceiling or math.nan
     return floor if row["rel_error"] == 0 else float(row["rel_error"])
 
@@ -363,7 +361,8 @@ def _trace(rows: list[dict[Hashable, Any]], index: int, panel: int,
         "hoverinfo": "text", "hovertext": [_hover(r) for r in shown],
         "line": {"color": colour, "width": 1.5, "dash": DASHES[index % len(DASHES)]},
         "marker": {"color": colour, "size": 8, "symbol": [
-            "x" if r["status"] in BREAKING else SYMBOLS[index % len(SYMBOLS)] for r in shown]}}
+            "x" if r["status"] in Status.members("breaking") else SYMBOLS[index % len(SYMBOLS)]
+            for r in shown]}}
 
 
 def _y_axis(quantity: str, values: list[float], floor: float | None,
@@ -431,7 +430,7 @@ def figure(rows: pd.DataFrame, quantity: str, order: list[str]) -> dict[str, Any
         shared = {"matches": "y", "title": {"text": ""}} if n > 1 else {}
         layout |= {f"xaxis{n}": panel["x"], f"yaxis{n}": panel["y"] | y_axis | shared}
         _marks(layout, panel, n, tolerance, (zero_at, ceiling))
-        drawn = _drawn(on[~on["status"].isin(NEUTRAL)], (floor, ceiling),
+        drawn = _drawn(on[~on["status"].isin(Status.members("neutral"))], (floor, ceiling),
                        (span[1] - span[0], y_axis["range"][1] - y_axis["range"][0]))
         shown = {trace["name"] for trace in data}
         lines: dict[str, list[dict[Hashable, Any]]] = {}

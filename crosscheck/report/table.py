@@ -97,7 +97,8 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             _number(record.get("tolerance", math.nan)), str(record["reason"] or "")]
     for row in rows.values():
         statuses = [q[0] for q in row["q"].values()]
-        errors = [q[2] for q in row["q"].values() if q[2] is not None and q[0] in _SCORED]
+        errors = [q[2] for q in row["q"].values()
+                  if q[2] is not None and q[0] in Status.members("scored")]
         row["status"] = min(statuses, key=lambda s: SEVERITY.get(s, 99)) if statuses else ""
         row["error"] = max(errors) if errors else None
     for (_, engine), row in rows.items():
@@ -106,9 +107,6 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             row["folded"] = True
             original["twins"].append(row["case"])
     return {"quantities": quantities, "cases": case_list, "rows": list(rows.values())}
-
-
-_SCORED = {str(s) for s in Status.members("scored")}
 
 
 def _verdicts(row: Mapping[str, Any]) -> dict[str, tuple[str, str]]:
@@ -122,10 +120,9 @@ def results_table(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
     data = results_data(frame, cases, written_repros(directory))
     dt_js, dt_css = datatables()
     shown = sum(not row["folded"] for row in data["rows"])
-    breaking = {str(s) for s in Status.members("breaking")}
     return {"packed": packed(json.dumps(data, separators=(",", ":"), allow_nan=False)),
             "dt_js": dt_js, "dt_css": dt_css,
             "rows": shown, "pairs": len(data["rows"]),
-            "breaking": sum(row["status"] in breaking and not row["folded"]
+            "breaking": sum(row["status"] in Status.members("breaking") and not row["folded"]
                             for row in data["rows"]),
             "quantities": data["quantities"], "cases": len(data["cases"])}

@@ -14,7 +14,6 @@ import pandas as pd
 from crosscheck.core.model import Status
 
 STATUSES = [str(s) for s in Status]
-FAILURES = Status.members("failed")
 
 
 def _times(frame: pd.DataFrame) -> pd.DataFrame:
@@ -95,8 +94,8 @@ def share_colour(share: float | None) -> str:
 
 
 def _cell(counts: dict[Any, Any]) -> dict[str, Any]:
-    scored = counts["agree"] + counts["disagree"]
-    failed = {s: counts[s] for s in FAILURES if counts[s]}
+    scored = sum(counts[s] for s in Status.members("scored"))
+    failed = {s: counts[s] for s in Status.members("failed") if counts[s]}
     judged = scored + sum(failed.values())
     share = counts["agree"] / judged if judged else None
     everything = sum(counts[s] for s in STATUSES)

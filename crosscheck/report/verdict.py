@@ -29,8 +29,6 @@ KINDS = ("aabb", "sphere", "sphere_response", "sphere_scene")
 """The kinds in their column order; a run's other kinds follow, in run order."""
 SHOWN = 3
 """Failure modes shown per engine in the block (all of them are in the list below it)."""
-BREAKING = Status.members("breaking")
-JUDGED = ("agree", *BREAKING)
 DASH = "\u2013"
 
 _NUMBER = re.compile(
@@ -134,7 +132,7 @@ def kinds_of(frame: pd.DataFrame) -> list[str]:
 
 def agreement(frame: pd.DataFrame) -> pd.DataFrame:
     """Per engine x kind: ``agree`` and ``judged`` (agree + breaking) row counts."""
-    judged = frame[frame["status"].isin(JUDGED)]
+    judged = frame[frame["status"].isin(Status.members("judged"))]
     agree = judged["status"].eq("agree").rename("agree")
     counts = agree.groupby([judged["engine"], judged["kind"]]).agg(["sum", "count"])
     return counts.rename(columns={"sum": "agree", "count": "judged"}).astype(int)
@@ -162,7 +160,7 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
     The example of a mode is its first row whose repro script is in ``written``
     (file names), else its first row.
     """
-    bad = frame[frame["status"].isin(BREAKING)]
+    bad = frame[frame["status"].isin(Status.members("breaking"))]
     if bad.empty:
         return []
     names = [f"{repro_name(str(c), str(e))}.py" for c, e in zip(bad["case_id"], bad["engine"],

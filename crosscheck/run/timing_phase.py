@@ -40,7 +40,6 @@ from crosscheck.run.worker import WorkerPool, pin
 
 SCENE_LIMIT_S = 0.2
 """Scenes whose one run in the verdict pass took longer are not re-timed (budget)."""
-FAILED = frozenset(str(s) for s in Status if s.failed) | {str(Status.SKIP)}
 
 Tick = Callable[[int], None]
 Pair = tuple[AnyCase, Adapter]
@@ -53,7 +52,7 @@ def _eligible(frame: pd.DataFrame) -> set[tuple[str, str]]:
     """Pairs whose verdict rows hold no failure or skip, scenes fast enough to repeat."""
     if frame.empty:
         return set()
-    failing = frame["status"].isin(FAILED) | (
+    failing = frame["status"].isin(Status.members("failed_or_skipped")) | (
         (frame["kind"] == "sphere_scene") & ~(frame["query_s"] <= SCENE_LIMIT_S))
     pairs = set(zip(frame["case_id"], frame["engine"], strict=True))
     bad = set(zip(frame.loc[failing, "case_id"], frame.loc[failing, "engine"], strict=True))

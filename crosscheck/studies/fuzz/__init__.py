@@ -18,7 +18,6 @@ from crosscheck.studies.fuzz.campaign import (
     stored_plan,
 )
 from crosscheck.studies.fuzz.findings import (
-    FINDING_STATUSES,
     Group,
     Groups,
     choose,
@@ -29,7 +28,6 @@ from crosscheck.studies.fuzz.generator import CHUNK, Generated, generate, genera
 
 __all__ = [
     "CHUNK",
-    "FINDING_STATUSES",
     "CampaignError",
     "Generated",
     "Group",

@@ -31,7 +31,6 @@ from crosscheck.cases.writer import case_block, case_file
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
 
-FINDING_STATUSES = Status.members("breaking")
 DRIVER_SLUG = {"relative gap": "gap", "scale": "scale", "offset": "offset", "mass ratio": "ratio"}
 CSV_COLUMNS = ("group", "file", "case_id", "engine", "kind", "dim", "quantity", "status",
                "category", "family", "modifiers", "driver", "decade", "driver_value", "value",
@@ -186,7 +185,8 @@ def group_findings(frame: pd.DataFrame, meta: Mapping[str, Provenance],
 
 
 def _frame_rows(frame: pd.DataFrame, meta: Mapping[str, Provenance]) -> list[Row]:
-    rows = cast(list[Row], frame[frame["status"].isin(FINDING_STATUSES)].to_dict("records"))
+    rows = cast(list[Row], frame[frame["status"].isin(Status.members("breaking"))]
+                .to_dict("records"))
     return [finding_row(row, meta[row["case_id"]]) for row in rows]
 
 

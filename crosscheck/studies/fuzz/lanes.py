@@ -45,7 +45,7 @@ from crosscheck.run.execute import Executor, Outcome, execute
 from crosscheck.run.processes import CONTEXT, death, quiet_child, start
 from crosscheck.run.runner import score_case
 from crosscheck.studies.fuzz import generator
-from crosscheck.studies.fuzz.findings import FINDING_STATUSES, Row, finding_row
+from crosscheck.studies.fuzz.findings import Row, finding_row
 from crosscheck.truth import oracle
 
 Settled = dict[tuple[int, int], tuple[str, str]]
@@ -125,7 +125,7 @@ def run_engine(plan: Plan, adapter: Adapter, position: int, gens: Sequence[gener
     for record in records:
         block.counts[count_key(record.engine, record.quantity, str(record.status),
                                record.category or "")] += 1
-        if record.status in FINDING_STATUSES:
+        if record.status.breaking:
             gen = gens[int(record.case_id.rsplit("-", 1)[1]) - gens[0].index]
             block.findings.append(finding_row(record.row(), gen))
             block.cases[gen.case.id] = gen.case.model_dump() | {"source": gen.case.source}
