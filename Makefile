@@ -1,13 +1,16 @@
 # Two commands on a fresh machine with only python3 and make:
 #   make run    set up .venv from the pinned lock, run the suite, write reports/<run-id>/
-#   make test   set up .venv, then lint, type-check and run the tests (make test-long: all)
+#   make test   set up .venv, then lint, type-check, build the docs and run the tests
+#               (make test-long: all tests)
+# make docs builds the site (docs/, mkdocs.yml) into build/site/; make docs-figures RUN=DIR
+# [BENCH=docs/bench.json] rewrites docs/generated/ and README's generated blocks from a run.
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 BUNDLE := $(VENV)/.plotly-bundle
 
-.PHONY: run test test-long lint venv clean browser
+.PHONY: run test test-long lint venv clean browser docs docs-figures
 
 $(STAMP): requirements.lock pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -26,7 +29,7 @@ run: $(STAMP) $(BUNDLE)
 	$(BIN)/crosscheck run $(ARGS)
 
 lint: $(STAMP) $(BUNDLE)
-	$(BIN)/ruff check crosscheck adapters reference_impl tests
+	$(BIN)/ruff check crosscheck adapters reference_impl tests tools
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
@@ -38,12 +41,25 @@ browser:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
 	  else echo "chromium not found: the browser test will be skipped (install Debian's chromium)"; fi; }
 
-test: lint browser
+# The site: the CLI page regenerated from the parser, then a strict build (a broken link, a
+# missing page or snippet fails it).  NO_MKDOCS_2_WARNING: Material's notice about its end of
+# life (the versions are pinned in the lock) is not printed on every build.
+docs: $(STAMP)
+	$(BIN)/python -m tools.cli_page
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir build/site
+
+# Every measured figure the docs state, from one stored run (and the bench's bench.json).
+docs-figures: $(STAMP)
+	@if [ -z "$(RUN)" ]; then \
+	  echo "usage: make docs-figures RUN=<run folder> [BENCH=docs/bench.json]" >&2; exit 2; fi
+	$(BIN)/python -m tools.docs_figures "$(RUN)" $(if $(BENCH),--bench "$(BENCH)")
+
+test: lint browser docs
 	$(BIN)/python -m pytest -m "not slow" $(PYTEST_ARGS)
 
 # Nightly-style: everything, including the tests marked slow (a 100,000-case run).
-test-long: lint browser
+test-long: lint browser docs
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
 
 clean:
-	rm -rf $(VENV) .mypy_cache .pytest_cache .ruff_cache
+	rm -rf $(VENV) .mypy_cache .pytest_cache .ruff_cache build

@@ -1,0 +1,15 @@
+"""The project's own tools for its documentation, run from the repository root.
+
+- :mod:`tools.cli_page`: ``docs/generated/cli.md``, the CLI reference written from the
+  argument parser (``make docs`` regenerates it);
+- :mod:`tools.docs_figures`: every other file of ``docs/generated/`` from a stored run and a
+  bench.json (``make docs-figures RUN=DIR``), and the README's generated blocks;
+- :mod:`tools.stated_numbers`: the check that no page states a measured count, size or
+  time outside ``docs/generated/``;
+- :mod:`tools.measure_report`: a report page's load figures in headless Chromium
+  (``python -m tools.measure_report RUN_DIR``);
+- :mod:`tools.measure_setup`: the set-up time of ``make venv`` and ``make test`` in a fresh
+  clone (``python -m tools.measure_setup``).
+
+Nothing in the harness imports this package: it is not installed with it.
+"""

@@ -1,0 +1,322 @@
+"""The figures of ``docs/generated/`` that come from one stored run, as Markdown bodies.
+
+Each function takes the run (:class:`crosscheck.results.store.StoredRun`) and returns the
+body of one generated file; :mod:`tools.docs_figures` adds the provenance header and writes
+it.  The numbers are the report's own: status counts from
+:func:`crosscheck.report.tables.summary`, the case-group matrix from
+:func:`crosscheck.report.tables.group_matrix`, agreeing shares from
+:mod:`crosscheck.report.verdict`, times and their spreads from :mod:`crosscheck.report.speed`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections import Counter
+from collections.abc import Iterable, Sequence
+from datetime import datetime
+from typing import Any
+
+import pandas as pd
+
+from crosscheck.core.model import Category, Status
+from crosscheck.report import speed, tables, verdict
+from crosscheck.results.store import StoredRun
+
+DASH = "\u2013"
+DETECTION = ("aabb", "sphere")
+"""The kinds whose query is one detection call: the headline's time is theirs."""
+
+
+def cell(value: object) -> str:
+    """Text for a Markdown table cell: no pipes, no HTML, one line."""
+    text = " ".join(str(value).split())
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;").replace("|", "\\|")
+
+
+def table(header: Sequence[str], rows: Iterable[Sequence[object]]) -> str:
+    """A Markdown table (numbers right-aligned where a whole column is numeric)."""
+    cells = [[cell(v) for v in row] for row in rows]
+
+    def numeric(i: int) -> bool:
+        return bool(cells) and all(r[i].replace(",", "").replace(".", "").isdigit()
+                                   for r in cells)
+
+    rule = ["---:" if numeric(i) else "---" for i in range(len(header))]
+    lines = [list(header), rule, *cells]
+    return "\n".join("| " + " | ".join(line) + " |" for line in lines) + "\n"
+
+
+def count(n: int) -> str:
+    """A count with thousands separators: 1654 -> '1,654'."""
+    return f"{n:,}"
+
+
+# --- the case suite -------------------------------------------------------------------------
+
+def _block(case: Any) -> str | None:
+    """The curated block a case was written as (its id, or its sweep's or scene's), None for
+    a twin (A/B swap or 2-D twin), which comes from another case's block."""
+    if case.twin_of or case.from_3d:
+        return None
+    return str(case.origin or case.id)
+
+
+def _expansion(case: Any) -> str:
+    if case.twin_of:
+        return "A/B swaps"
+    if case.from_3d:
+        return "2-D twins"
+    return "sweep or scene points" if case.origin else "as written"
+
+
+EXPANSIONS = ("as written", "sweep or scene points", "2-D twins", "A/B swaps")
+
+
+def _suite_rows(run: StoredRun, key: str) -> list[list[object]]:
+    blocks: dict[str, set[str]] = {}
+    cases: dict[str, Counter[str]] = {}
+    for case in run.cases.values():
+        name = case.kind if key == "kind" else tables.case_group(case.source)
+        blocks.setdefault(name, set())
+        block = _block(case)
+        if block is not None:
+            blocks[name].add(block)
+        cases.setdefault(name, Counter())[_expansion(case)] += 1
+    names = verdict.kinds_of(pd.DataFrame({"kind": list(blocks)})) if key == "kind" else list(
+        blocks)
+    rows: list[list[object]] = [
+        [name, count(len(blocks[name])), count(sum(cases[name].values())),
+         *(count(cases[name][e]) for e in EXPANSIONS)] for name in names]
+    total = Counter[str]()
+    for each in cases.values():
+        total.update(each)
+    rows.append(["all", count(sum(len(b) for b in blocks.values())),
+                 count(sum(total.values())), *(count(total[e]) for e in EXPANSIONS)])
+    return rows
+
+
+def suite(run: StoredRun) -> str:
+    """The case suite of the run: curated blocks, cases in all, per kind and per case group,
+    and the engine variants it ran."""
+    blocks = {b for b in (_block(c) for c in run.cases.values()) if b is not None}
+    files = len(run.info.case_files) or len({c.source for c in run.cases.values()})
+    header = ["", "curated blocks", "cases in all", *EXPANSIONS]
+    engines = [[e.get("name", ""), e.get("engine", ""), e.get("version", ""),
+                e.get("settings", ""), e.get("available", "")] for e in run.info.engines]
+    return "\n".join([
+        f"The run's suite: **{count(len(blocks))} curated cases** (the `[[case]]` blocks of "
+        f"{count(files)} case files) became **{count(len(run.cases))} cases in all** once sweeps "
+        "and scenes were expanded into their points, 3-D cases given their 2-D twins and A/B "
+        "swaps added.", "",
+        "Per kind:", "", table(["kind", *header[1:]], _suite_rows(run, "kind")),
+        "Per case group (case file):", "", table(["group", *header[1:]], _suite_rows(run, "group")),
+        f"The run's **{count(len(engines))} engine variants**:", "",
+        table(["variant", "engine", "version", "settings", "available"], engines)])
+
+
+# --- how long it took ----------------------------------------------------------------------
+
+def _instant(text: str | None) -> datetime | None:
+    try:
+        return datetime.fromisoformat(text) if text else None
+    except ValueError:
+        return None
+
+
+def duration(seconds: float) -> str:
+    """A wall-clock span: '139 s (2 min 19 s)'."""
+    whole = round(seconds)
+    if whole < 60:
+        return f"{whole} s"
+    minutes, rest = divmod(whole, 60)
+    hours, minutes = divmod(minutes, 60)
+    longer = f"{hours} h {minutes} min" if hours else f"{minutes} min {rest} s"
+    return f"{whole:,} s ({longer})"
+
+
+def machine_line(machine: dict[str, Any]) -> str:
+    """The machine in one line: CPU, cores, Python, platform."""
+    return (f"{machine.get('cpu', '?')}, {machine.get('cores', '?')} cores, "
+            f"{machine.get('implementation', 'Python')} {machine.get('python', '?')}, "
+            f"{machine.get('platform', '?')}")
+
+
+def run_time(run: StoredRun) -> str:
+    """How long the run took, start to end, with its lanes, its timing phase and machine."""
+    info, options = run.info, run.info.options
+    start, end = _instant(info.started), _instant(info.finished)
+    if start and end:
+        span = duration((end - start).total_seconds())
+        took = f"**{span}** from start to end ({info.started} to {info.finished})"
+    else:
+        took = f"not finished (started {info.started}): no end time in run.json"
+    cores = info.machine.get("cores")
+    lanes = options.jobs or cores or "?"
+    lines = [f"The run `{info.run_id}` took {took}.", "",
+             table(["", ""], [
+                 ["command", f"{info.command}"],
+                 ["cases x engines", f"{count(len(run.cases))} x {len(info.engines)}"],
+                 ["lanes", f"{lanes}" + (" (one per core)" if not options.jobs else "")
+                  + ("" if options.isolate else ", engines in-process")],
+                 ["Dask scheduler", options.scheduler or "none (local run)"],
+                 ["timing phase", _timing_line(run)],
+                 ["machine", machine_line(info.machine)]])]
+    if info.resumed:
+        lines += [f"It was resumed at {', '.join(info.resumed)}: the span includes the pause.", ""]
+    return "\n".join(lines)
+
+
+def _timing_line(run: StoredRun) -> str:
+    timing, options = run.info.timing, run.info.options
+    if timing is None:
+        return "none (--quick)" if options.quick else "none recorded"
+    return (f"{count(int(timing.get('sampled') or 0))} case x engine pairs timed "
+            f"(up to {options.timing_cases} cases per engine x kind, {options.samples} samples "
+            f"each); {timing.get('pinned', '')}")
+
+
+# --- verdicts --------------------------------------------------------------------------------
+
+STATUSES = [str(s) for s in Status]
+
+
+def status_counts(run: StoredRun) -> str:
+    """Status counts (case x quantity rows) per engine x kind: the report's summary table."""
+    frame = run.results
+    if frame.empty:
+        return "The run has no results rows.\n"
+    summary = tables.summary(frame)
+    rows = [[r["engine"], r["kind"], *(count(int(r[s])) for s in STATUSES)]
+            for r in summary.to_dict("records")]
+    totals = [count(int(summary[s].sum())) for s in STATUSES]
+    return "\n".join([
+        f"Rows are case x quantity, **{count(len(frame))} in all**; per engine x kind:", "",
+        table(["engine", "kind", *STATUSES], [*rows, ["all", "", *totals]])])
+
+
+def categories(run: StoredRun) -> str:
+    """Disagreement categories per engine (rows with status disagree)."""
+    frame = run.results
+    names = [str(c) for c in Category]
+    bad = frame[frame["status"] == str(Status.DISAGREE)]
+    found = bad.groupby(["engine", "category"]).size()
+    got = {(str(e), str(c)): int(n) for e, c, n in zip(
+        found.index.get_level_values(0), found.index.get_level_values(1), found, strict=True)}
+    rows = []
+    for engine in dict.fromkeys(frame["engine"].astype(str)):
+        numbers = [got.get((engine, c), 0) for c in names]
+        rows.append([engine, *(count(n) for n in numbers), count(sum(numbers))])
+    totals = [count(int((bad["category"] == c).sum())) for c in names]
+    return "\n".join([
+        f"Every `disagree` row has a category: **{count(len(bad))} disagree rows** in all.", "",
+        table(["engine", *names, "disagree"], [*rows, ["all", *totals, count(len(bad))]])])
+
+
+def _matrix_cell(c: dict[str, Any]) -> str:
+    if c["skipped"]:
+        return "skip"
+    judged = c["scored"] + sum(c["failed"].values())
+    return f"{count(c['agree'])} / {count(judged)}" if judged else DASH
+
+
+def group_matrix(run: StoredRun) -> str:
+    """The engines x case groups matrix of the report: agree / judged rows per cell."""
+    if run.results.empty:
+        return "The run has no results rows.\n"
+    matrix = tables.group_matrix(run.results)
+    header = ["engine", *(f"{g['name']} ({count(g['cases'])} cases)" for g in matrix["groups"])]
+    rows = [[row["engine"], *(_matrix_cell(c) for c in row["cells"])] for row in matrix["rows"]]
+    return "\n".join([
+        "Each cell: agreeing rows / judged rows (agree, disagree, error, crash, timeout; skip "
+        f"and undefined rows count neither way); `skip`: the engine cannot do any; {DASH}: "
+        "nothing judged.", "", table(header, rows)])
+
+
+def _spread(rows: pd.DataFrame) -> tuple[str, int]:
+    spread, _unstable = speed.case_times(rows)
+    return (DASH if spread.n == 0 else speed.with_iqr(spread)), spread.n
+
+
+def query_times(run: StoredRun) -> str:
+    """Median query time per engine x kind with its IQR over the timed cases."""
+    frame = run.results
+    if frame.empty or frame["query_s"].isna().all():
+        return "The run has no timing phase: no query was timed.\n"
+    kinds = verdict.kinds_of(frame)
+    rows, timed = [], []
+    for engine, rows_of in frame.groupby("engine", sort=False):
+        made = [_spread(rows_of[rows_of["kind"] == kind]) for kind in kinds]
+        rows.append([engine, *(text for text, _n in made)])
+        timed.append([engine, *(count(n) for _text, n in made)])
+    return "\n".join([
+        "The median of the per-case median query times of the timed cases, with the "
+        "interquartile range over those cases (a scene's time is one run of its stepping "
+        "loop):", "", table(["engine", *kinds], rows),
+        "Timed cases per engine x kind:", "", table(["engine", *kinds], timed)])
+
+
+def _top_category(rows: pd.DataFrame) -> str:
+    bad = rows[rows["status"] == str(Status.DISAGREE)]["category"].fillna("")
+    if bad.empty:
+        return DASH
+    counts = bad.value_counts()
+    order = {str(c): i for i, c in enumerate(Category)}
+    best = sorted(counts.index, key=lambda c: (-int(counts[c]), order.get(str(c), len(order))))
+    return f"{best[0] or 'none'} ({count(int(counts[best[0]]))} of {count(len(bad))})"
+
+
+def headline(run: StoredRun) -> str:
+    """Per engine: agreeing share of judged rows per kind, the most common disagreement
+    category, and the median detection query time with its IQR."""
+    frame = run.results
+    if frame.empty:
+        return "The run has no results rows.\n"
+    found = verdict.verdicts(frame)
+    kinds = verdict.kinds_of(frame)
+    rows = []
+    for row in found:
+        of_engine = frame[frame["engine"] == row.engine]
+        detection = of_engine[of_engine["kind"].isin(DETECTION)]
+        rows.append([row.engine, *(c.text for c in row.cells), row.overall.text,
+                     _top_category(of_engine), _spread(detection)[0]])
+    return "\n".join([
+        "Agreeing share of the judged rows per kind (agree / agree, disagree, error, crash, "
+        "timeout), the most common category of its disagreements, and the median detection "
+        f"query time ({', '.join(DETECTION)}) with its IQR over the timed cases:", "",
+        table(["engine", *kinds, "all", "most common disagreement", "query time"], rows)])
+
+
+# --- conventions and the report --------------------------------------------------------------
+
+def _value(value: object) -> str:
+    if value in ("", None, {}, []):
+        return DASH
+    if isinstance(value, dict | list):
+        return json.dumps(value, sort_keys=True)
+    if isinstance(value, float) and not math.isfinite(value):
+        return str(value)
+    return str(value)
+
+
+def _source(text: str) -> str:
+    return f"<{text}>" if text.startswith(("http://", "https://")) else f"`{text}`"
+
+
+def conventions(run: StoredRun) -> str:
+    """Each engine variant's declared conventions, with their sources, from run.json."""
+    parts = ["The conventions each adapter declares (they decide the category of every "
+             "disagreement), as the run recorded them.", ""]
+    for engine in run.info.engines:
+        declared = dict(engine.get("conventions") or {})
+        sources = declared.pop("sources", []) or []
+        rows = [[key, _value(value)] for key, value in declared.items()]
+        if engine.get("touching_rule"):
+            rows.append(["touching rule", engine["touching_rule"]])
+        parts += [f"### {engine.get('name', '?')}", "",
+                  f"{engine.get('engine', '')} {engine.get('version', '')}: "
+                  f"{engine.get('settings', '')}", "",
+                  table(["convention", "declared"], rows) if rows else "No conventions declared.\n"]
+        parts += (["Sources: " + ", ".join(_source(str(s)) for s in sources) + ".", ""]
+                  if sources else [])
+    return "\n".join(parts).rstrip() + "\n"
