@@ -82,7 +82,7 @@ def test_worker_memory_is_an_option_of_run_recorded_in_run_json(tmp_path: Path) 
     assert done.returncode == 0, done.stderr
     options = json.loads((out / "run.json").read_text(encoding="utf-8"))["options"]
     assert options["worker_memory_mb"] == 300
-    assert RunOptions().worker_memory_mb == 2048  # the default, documented in the README
+    assert RunOptions().worker_memory_mb == 2048  # the default, on the CLI page (docs/cli.md)
 
 
 def test_variants_of_one_engine_share_a_warm_worker_and_a_crash_costs_one_variant() -> None:
