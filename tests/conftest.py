@@ -8,6 +8,7 @@ import json
 import os
 import re
 import tempfile
+import time
 from pathlib import Path
 from typing import Any
 
@@ -68,3 +69,13 @@ def embedded(html: str, script_id: str) -> Any:
                       r"</script>", html)
     assert match, f"no packed script {script_id!r} in the page"
     return json.loads(gzip.decompress(base64.b64decode(match.group(1))).decode("utf-8"))
+
+
+def wait_for_rows(path: Path, rows: int = 1) -> None:
+    """Wait up to 60 s for a running crosscheck to write ``rows`` lines to ``path``."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        if path.exists() and path.read_text().count("\n") >= rows:
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"{path} never reached {rows} rows")

@@ -35,6 +35,8 @@ from crosscheck.run.runner import run  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
 from tests.conftest import aabb, response, sphere  # noqa: E402
 
+pytestmark = pytest.mark.engine
+
 TUNED, DEFAULT = Box2dTuned(), Box2dDefault()
 BOTH = pytest.mark.parametrize("adapter", [TUNED, DEFAULT], ids=["box2d", "box2d-default"])
 F32_EPS = 2.0**-23

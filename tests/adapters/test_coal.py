@@ -42,6 +42,8 @@ from crosscheck.truth.categories import allowance  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
 from tests.conftest import aabb, sphere  # noqa: E402
 
+pytestmark = pytest.mark.engine
+
 TUNED, DEFAULT = CoalTuned(), CoalDefault()
 BOTH = pytest.mark.parametrize("adapter", [TUNED, DEFAULT], ids=["coal", "coal-default"])
 UNIT_BOX = [1.0, 1.0, 1.0]

@@ -2,7 +2,8 @@
 
 These tests check the translation, not FCL's correctness: each pins what the engine was
 measured to do, with the engine fact named.  Nothing here runs the signed distance of
-coincident spheres in-process (it hangs, FCL issue 346) or any NaN/inf input (it crashes).
+coincident spheres in-process (it hangs: flexible-collision-library/fcl#346) or any NaN/inf
+input (it crashes).
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
 from tests.conftest import aabb, response, sphere  # noqa: E402
+
+pytestmark = pytest.mark.engine
 
 FCL = Fcl()
 
@@ -80,7 +83,7 @@ def test_touching_spheres_on_an_axis_collide_at_distance_zero() -> None:
 
 def test_touching_spheres_on_a_345_diagonal_collide_with_a_gjk_distance() -> None:
     # Analytic verdict and normal; the signed distance is GJK on the spheres' support
-    # functions (FCL issue 345), 3.0e-8 off, within the declared 1e-6.
+    # functions (flexible-collision-library/fcl#345), 3.0e-8 off, within the declared 1e-6.
     obs = observe(ball([0.0, 0.0, 0.0], 2.5, [3.0, 4.0, 0.0], 2.5))
     assert (obs.hit, obs.normal) == (True, (0.6, 0.8, 0.0))
     assert isinstance(obs.distance, float)
@@ -118,7 +121,8 @@ def test_coincident_zero_radius_spheres_touch_with_a_zero_normal() -> None:
 
 
 def test_coincident_spheres_hang_the_signed_distance() -> None:
-    # FCL issue 346: EPA never ends for coincident centres.  In a subprocess, killed.
+    # flexible-collision-library/fcl#346: EPA never ends for coincident centres.  In a
+    # subprocess, killed.
     code = ("import fcl\n"
             "a = fcl.CollisionObject(fcl.Sphere(1.0), fcl.Transform([0.0, 0.0, 0.0]))\n"
             "b = fcl.CollisionObject(fcl.Sphere(0.5), fcl.Transform([0.0, 0.0, 0.0]))\n"

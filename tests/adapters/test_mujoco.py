@@ -41,6 +41,8 @@ from crosscheck.truth.categories import velocity_scale  # noqa: E402
 from tests.conftest import ROOT, aabb, sphere  # noqa: E402
 from tests.conftest import response as resp_case  # noqa: E402
 
+pytestmark = pytest.mark.engine
+
 STIFF, DEFAULT = MujocoStiff(), MujocoDefault()
 BOTH = pytest.mark.parametrize("adapter", [STIFF, DEFAULT], ids=["mujoco", "mujoco-default"])
 

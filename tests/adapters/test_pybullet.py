@@ -15,19 +15,22 @@ import pytest
 import adapters
 from adapters.pybullet_engine import BOX_MARGIN, PyBulletTuned, box_sizes, client
 from adapters.pybullet_setup import engine
+from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Adapter, all_capabilities
 from crosscheck.core.model import Category, Kind, Observation, Status
 from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase
 from crosscheck.truth import oracle
 from crosscheck.truth.score import judge
-from tests.conftest import aabb, response, sphere
+from tests.conftest import ROOT, aabb, response, sphere
 
 VARIANTS = ("pybullet", "pybullet-default")
 EDGE_GAP = 2 * (math.sqrt(2) - 1) * BOX_MARGIN  # edges rounded by each box's margin
 CORNER_GAP = 2 * (math.sqrt(3) - 1) * BOX_MARGIN
+SUITE = {case.id: case for case in load_paths([ROOT / "cases"]).cases}
 
-pytestmark = pytest.mark.skipif(adapters.get("pybullet").available() is not None,
-                                reason="pybullet is not installed")
+pytestmark = [pytest.mark.engine,
+              pytest.mark.skipif(adapters.get("pybullet").available() is not None,
+                                 reason="pybullet is not installed")]
 
 
 def observe(name: str, case: AnyCase) -> Observation:
@@ -122,6 +125,29 @@ def test_huge_dynamic_bodies_make_no_contact() -> None:
     overlap = spheres([0.0, 0.0, 0.0], 4e5, [6e5, 0.0, 0.0], 4e5)
     obs = observe("pybullet", overlap)
     assert obs.hit is True and obs.distance == -2e5
+
+
+HUGE = ["aabb-3d-scale-1e9-overlap", "aabb-2d-huge-overlap-1", "sphere-3d-scale-1e6-overlap-122",
+        "sweep-aabb-3d-scale.scale=1e+06", "sweep-aabb-3d-scale.scale=1e+09"]
+"""Suite cases of huge bodies that overlap: detection bodies are static, so PyBullet sees them."""
+
+
+@pytest.mark.parametrize("name", VARIANTS)
+@pytest.mark.parametrize("case_id", HUGE)
+def test_pybullet_detects_contact_between_huge_bodies(name: str, case_id: str) -> None:
+    case = SUITE[case_id]
+    truth = oracle.truth(case)
+    assert truth.hit is True
+    assert adapters.get(name).observe(case).hit is True
+
+
+@pytest.mark.parametrize("name", VARIANTS)
+def test_huge_spheres_are_detected_as_exactly_as_small_ones(name: str) -> None:
+    # Radii 2^29 (an AABB diagonal of 3.7e9, far beyond the dynamic limit of 1e6).
+    k = 2.0**30
+    case = sphere(0.0, 0.75 * k, ra=0.5 * k, rb=0.5 * k)
+    obs, truth = adapters.get(name).observe(case), oracle.truth(case)
+    assert (obs.hit, obs.distance) == (truth.hit, truth.distance)
 
 
 # --- translation ----------------------------------------------------------------------------

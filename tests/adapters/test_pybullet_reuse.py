@@ -26,8 +26,9 @@ from crosscheck.core.model import Observation
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import ROOT, aabb, response, sphere
 
-pytestmark = pytest.mark.skipif(adapters.get("pybullet").available() is not None,
-                                reason="pybullet is not installed")
+pytestmark = [pytest.mark.engine,
+              pytest.mark.skipif(adapters.get("pybullet").available() is not None,
+                                 reason="pybullet is not installed")]
 
 VARIANTS: dict[str, type[PyBulletTuned]] = {"pybullet": PyBulletTuned,
                                             "pybullet-default": PyBulletDefault}

@@ -10,6 +10,7 @@ from __future__ import annotations
 import struct
 import subprocess
 import sys
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -18,13 +19,23 @@ pymunk = pytest.importorskip("pymunk")
 
 import adapters  # noqa: E402
 from adapters.pymunk_engine import PymunkDefault, PymunkTuned  # noqa: E402
+from crosscheck.cases.load import load_paths  # noqa: E402
 from crosscheck.core.contract import Adapter  # noqa: E402
+from crosscheck.core.geometry import Vec, norm  # noqa: E402
 from crosscheck.core.model import Observation  # noqa: E402
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase  # noqa: E402
+from crosscheck.core.options import RunOptions  # noqa: E402
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase  # noqa: E402
+from crosscheck.results.store import ResultsStore, read_results  # noqa: E402
+from crosscheck.run.runner import run  # noqa: E402
+from crosscheck.truth import oracle  # noqa: E402
 from tests.conftest import ROOT, aabb, response, sphere  # noqa: E402
+
+pytestmark = pytest.mark.engine
 
 TUNED, DEFAULT = PymunkTuned(), PymunkDefault()
 BOTH = pytest.mark.parametrize("adapter", [TUNED, DEFAULT], ids=["pymunk", "pymunk-default"])
+PYMUNK = ("pymunk", "pymunk-default")
+SUITE = {case.id: case for case in load_paths([ROOT / "cases"]).cases}
 
 
 def disc(ca: list[float], ra: float, cb: list[float], rb: float) -> AnyCase:
@@ -166,6 +177,58 @@ def test_resolved_at_is_where_the_first_step_found_the_contact(adapter: Any, dt:
     assert obs.resolved_at == ((dt, 0.0), (1.0, 0.0))
     assert obs.v1 == pytest.approx((0.0, 0.0), abs=1e-15)
     assert obs.v2 == pytest.approx((1.0, 0.0), abs=1e-15)
+
+
+def moved(case: ResponseCase, centres: tuple[Vec, Vec]) -> ResponseCase:
+    """``case`` with A and B at ``centres`` (velocities as declared)."""
+    return case.model_copy(update={"a": case.a.model_copy(update={"center": centres[0]}),
+                                   "b": case.b.model_copy(update={"center": centres[1]})})
+
+
+@pytest.mark.parametrize("name", PYMUNK)
+@pytest.mark.parametrize("case_id", ["resp-2d-zero-radius-touching",
+                                     "resp-2d-zero-radius-touching.swapped"])
+def test_pymunk_zero_radius_response_is_the_textbook_truth(name: str, case_id: str) -> None:
+    # Exactly the truth where pymunk resolved the contact (tuned); within the declared
+    # arithmetic precision with the default slop and bias (an ulp, measured).
+    case = SUITE[case_id]
+    assert isinstance(case, ResponseCase)
+    adapter = adapters.get(name)
+    obs = adapter.observe(case)
+    assert obs.resolved_at is not None
+    truth = oracle.truth(moved(case, obs.resolved_at))
+    if name == "pymunk":
+        assert (obs.v1, obs.v2) == (truth.v1, truth.v2)
+    for got, want in ((obs.v1, truth.v1), (obs.v2, truth.v2)):
+        assert isinstance(got, tuple) and isinstance(want, tuple)
+        assert norm([x - y for x, y in zip(got, want, strict=True)]) <= adapter.conventions.rtol
+
+
+@pytest.mark.parametrize("name", PYMUNK)
+def test_pymunk_moment_is_positive_and_independent_of_the_radius(name: str) -> None:
+    adapter = adapters.get(name)
+    moments = set()
+    for radius in (0.0, 0.5, 3.0):
+        case = CASE_ADAPTER.validate_python({
+            "id": "r", "description": "d", "kind": "sphere_response", "dim": 2,
+            "a": {"center": [0.0, 0.0], "radius": radius, "mass": 2.0, "velocity": [1.0, 0.0]},
+            "b": {"center": [5.0, 0.0], "radius": 0.5, "mass": 2.0, "velocity": [0.0, 0.0]}})
+        prepared = adapter.prepare(case)
+        try:
+            moments |= {body.moment for body in prepared.bodies}
+        finally:
+            adapter.release(prepared)
+    assert len(moments) == 1 and moments.pop() > 0
+
+
+@pytest.mark.parametrize("name", PYMUNK)
+def test_a_nan_radius_is_a_recorded_status_not_a_dead_worker(tmp_path: Path, name: str) -> None:
+    cases = [SUITE["bad-resp-2d-nan-radius"], SUITE["bad-resp-2d-nan-radius.swapped"]]
+    store = ResultsStore(tmp_path / name)
+    run(cases, [adapters.get(name)], store, RunOptions(quick=True))
+    store.close()
+    frame = read_results(tmp_path / name)
+    assert len(frame) == 4 and not set(frame["status"]) & {"crash", "error"}
 
 
 @BOTH

@@ -30,6 +30,8 @@ from crosscheck.truth.categories import length_scale, velocity_scale  # noqa: E4
 from crosscheck.truth.score import judge  # noqa: E402
 from tests.conftest import aabb, response, sphere  # noqa: E402
 
+pytestmark = pytest.mark.engine
+
 TUNED, DEFAULT = RapierTuned(), RapierDefault()
 F32_EPSILON = 2.0**-23
 EVERY = rp.ActiveCollisionTypes.all()

@@ -26,6 +26,8 @@ from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD, engine
 from adapters.pymunk_engine import PymunkDefault, PymunkTuned
 from adapters.scene import Body, SceneRun
 
+pytestmark = pytest.mark.engine
+
 DT = 1e-3
 VARIANTS = [pytest.param(pybullet_scene, True, 3, id="pybullet-3d"),
             pytest.param(pybullet_scene, True, 2, id="pybullet-2d"),

@@ -5,7 +5,6 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-import pandas as pd
 import pytest
 
 from crosscheck.cases.expand import (
@@ -20,7 +19,6 @@ from crosscheck.cases.expand import (
 from crosscheck.cases.load import load_paths
 from crosscheck.core.model import Observation, Undefined
 from crosscheck.core.schema import AnyCase, LinSpace, LogSpace, Plane, SceneCase
-from crosscheck.report.mirror import asymmetries
 from crosscheck.truth import oracle
 from tests.conftest import ROOT, aabb, response, sphere
 
@@ -177,26 +175,3 @@ def test_swap_exchanges_bodies_and_keeps_the_rest() -> None:
     twin = swapped(case)
     assert (twin.a, twin.b) == (case.b, case.a)
     assert twin.swap is False and twin.restitution == case.restitution
-
-
-def test_report_lists_engine_answers_that_do_not_mirror() -> None:
-    rows = [
-        {"case_id": "c", "engine": "e", "quantity": "normal", "value": "[0.6, 0.8]",
-         "tolerance": 1e-9},
-        {"case_id": "c.swapped", "twin_of": "c", "engine": "e", "quantity": "normal",
-         "value": "[-0.6, -0.8]", "tolerance": 1e-9},
-        {"case_id": "d", "engine": "e", "quantity": "v1", "value": "[1.0, 0.0]", "tolerance": 0.0},
-        {"case_id": "d", "engine": "e", "quantity": "v2", "value": "[2.0, 0.0]", "tolerance": 0.0},
-        {"case_id": "d.swapped", "twin_of": "d", "engine": "e", "quantity": "v1",
-         "value": "[2.0, 0.0]",
-         "tolerance": 0.0},
-        {"case_id": "d.swapped", "twin_of": "d", "engine": "e", "quantity": "v2",
-         "value": "[1.5, 0.0]",
-         "tolerance": 0.0},
-        {"case_id": "h", "engine": "e", "quantity": "hit", "value": "true", "tolerance": 0.0},
-        {"case_id": "h.swapped", "twin_of": "h", "engine": "e", "quantity": "hit", "value": "false",
-         "tolerance": 0.0},
-    ]
-    found = asymmetries(pd.DataFrame(rows).fillna({"twin_of": ""}))
-    assert sorted(zip(found["case_id"], found["quantity"], strict=True)) == [
-        ("d", "v1"), ("h", "hit")]

@@ -17,8 +17,8 @@ from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.cli.console import summary_table
 from crosscheck.results.runinfo import FORMAT_VERSION
-from tests.conftest import ROOT, embedded
 from tests.cases.test_load import sphere_text
+from tests.conftest import ROOT, embedded
 
 EVIL = "<script>alert('pwned')</script>"
 
@@ -196,3 +196,12 @@ def test_help_names_engines_defaults_and_examples(capsys: pytest.CaptureFixture[
     with pytest.raises(SystemExit) as refused:
         main(["run", "--engine", "nosuch"])
     assert refused.value.code == 2 and "invalid choice: 'nosuch'" in capsys.readouterr().err
+
+
+def test_resume_from_the_cli_reports_progress(tmp_path: Path,
+                                              capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "run"
+    case_file = ROOT / "cases" / "sphere.toml"
+    assert main(["run", str(case_file), "--quick", "--engine", "reference", "--out", str(out)]) == 0
+    assert main(["run", "--resume", str(out)]) == 0
+    assert "already done" in capsys.readouterr().out

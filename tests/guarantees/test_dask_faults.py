@@ -1,6 +1,6 @@
 """A Dask worker lost in the middle of ``crosscheck run --scheduler`` costs nothing: the run
 completes with every row present once.  Losing the scheduler fails the run cleanly with a
-resume hint, and the rows written so far stay (issue 18, item 4)."""
+resume hint, and the rows written so far stay."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """A run killed at any moment, even before run.json exists, is resumed, or ``--resume`` says
-clearly how to restart it; no state leaves the folder unusable (issue 18, item 3)."""
+clearly how to restart it; no state leaves the folder unusable."""
 
 from __future__ import annotations
 

@@ -1,10 +1,13 @@
-"""Isolation with real engine faults that happen today, not mocks.
+"""A crashing or hanging engine costs one case x engine, never the run: real engine faults
+that happen today, not mocks (the mechanism, with fakes: tests/run/test_isolation.py).
 
 - FCL signed distance on spheres whose centres coincide loops forever -> ``timeout`` of the
   distance (the verdict and normal come from ``collide``, which answers);
 - FCL signed distance with NaN input segfaults -> ``crash`` (SIGSEGV);
 - pymunk ``Body(mass=-1)`` aborts the interpreter -> ``crash`` (SIGABRT);
-and in every case the next case on the same engine still runs.
+and in every case the next case on the same engine still runs.  The whole bad-input suite
+(NaN, inf, negative and zero sizes and masses, coincident centres) through every engine
+ends in a recorded status for every case x engine.
 """
 
 from __future__ import annotations
@@ -15,15 +18,17 @@ from pathlib import Path
 import pandas as pd
 
 import adapters
-from crosscheck.core.model import Undefined
+from crosscheck.cases.load import load_paths
+from crosscheck.core.model import Status, Undefined
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.run.runner import run
 from crosscheck.truth import oracle
-from tests.conftest import response, sphere
+from tests.conftest import ROOT, response, sphere
 
 BAD = ["bad-input"]
+ENDINGS = {str(s) for s in Status}
 
 
 def run_engine(tmp_path: Path, engine: str, cases: list[AnyCase],
@@ -75,3 +80,20 @@ def test_pymunk_abort_on_negative_mass_is_a_crash(tmp_path: Path) -> None:
     assert set(rows["status"]) == {"crash"}
     assert set(rows["reason"]) == {"worker killed by SIGABRT"}
     assert status_of(frame, "after") == {"agree"}
+
+
+def test_bad_input_ends_in_a_recorded_status_on_every_engine(tmp_path: Path) -> None:
+    loaded = load_paths([ROOT / "cases" / "bad_input.toml"])
+    assert loaded.errors == [] and loaded.blocks >= 30
+    engines = [adapters.get(name) for name in adapters.names()]
+    store = ResultsStore(tmp_path / "run")
+    run(loaded.cases, engines, store, RunOptions(quick=True, timeout_s=2.0, jobs=2))
+    store.close()
+    frame = read_results(tmp_path / "run")
+    pairs = frame.drop_duplicates(["case_id", "engine"])
+    assert len(pairs) == len(loaded.cases) * len(engines)  # nothing lost, the run went on
+    assert set(frame["status"]) <= ENDINGS
+    faults = set(zip(pairs["engine"], pairs["status"], pairs["reason"], strict=True))
+    assert ("fcl", "crash", "worker killed by SIGSEGV") in faults  # NaN into signed distance
+    assert ("pymunk", "crash", "worker killed by SIGABRT") in faults  # Body(mass < 0)
+    assert {"error", "undefined"} <= set(pairs["status"])

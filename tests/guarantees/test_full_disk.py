@@ -1,6 +1,6 @@
 """A disk that fills while results are written stops the run with a clear message; the rows
 already written stay intact and loadable, and ``--resume`` finishes the run once there is
-space (issue 18, item 5).  The full disk is simulated in a subprocess: the store's results
+space.  The full disk is simulated in a subprocess: the store's results
 file is opened through a writer that takes a budget of characters, writes what fits of the
 write that exceeds it (a half line, as a real disk leaves) and raises ENOSPC."""
 

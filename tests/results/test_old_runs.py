@@ -1,5 +1,5 @@
 """``crosscheck report`` and ``compare`` read a run of the previous format version, and refuse
-a run of a later one with its version and how to upgrade (issue 18, item 7).
+a run of a later one with its version and how to upgrade.
 
 ``tests/data/format3-run`` was written by the harness of the commit before format 4
 (``fc67e21^``, whose ``FORMAT_VERSION`` is 3), unchanged but for the files a report writes:

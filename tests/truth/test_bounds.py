@@ -7,11 +7,12 @@ import math
 
 import pytest
 
+import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Conventions
-from crosscheck.core.model import Kind, Status, quantities_of
+from crosscheck.core.model import Category, Kind, Status, quantities_of
 from crosscheck.core.schema import AabbCase, PairCase, SceneCase
-from crosscheck.studies.fuzzgen import generate
+from crosscheck.studies.fuzz.generator import generate
 from crosscheck.truth import oracle
 from crosscheck.truth.bounds import U, bound
 from crosscheck.truth.score import judge
@@ -42,7 +43,7 @@ def _misses(cases: list[PairCase]) -> list[str]:
             if verdict.status is not Status.DISAGREE:
                 continue
             if quantity == "hit" and abs(gap) <= bound(case, "distance"):
-                continue  # the verdict at touching: decided by rounding, as the README says
+                continue  # a verdict at touching: rounding decides (docs/reading-the-report.md)
             out.append(f"{case.id} {quantity}: {verdict.reason}")
     return out
 
@@ -59,9 +60,23 @@ def test_the_float64_formula_agrees_on_random_cases_near_failure_boundaries() ->
 
 
 def test_the_bound_is_a_few_ulps_of_what_the_formula_combines() -> None:
-    mixed = aabb([0.0, 0.0], [1e9, 1e-9], [0.0, 1e-9], [1e9, 1e-9])  # the issue's mixed scale
+    mixed = aabb([0.0, 0.0], [1e9, 1e-9], [0.0, 1e-9], [1e9, 1e-9])  # like aabb-2d-mixed-scale
     assert bound(mixed, "distance") < 1e-20  # PyBullet's -0.001 against -1e-9 cannot agree
     far = sphere(1e10, 1e10 + 1.001)  # f32's -1 against +0.001 cannot agree either
     assert bound(far, "distance") < 1e-12
     assert bound(sphere(0.0, 3.0), "distance") == pytest.approx(8 * U * 4.0)
     assert isinstance(mixed, AabbCase) and bound(mixed, "hit") == 0.0
+
+
+def test_agree_is_as_right_as_float64_allows() -> None:
+    (mixed,) = [c for c in SUITE if c.id == "aabb-2d-mixed-scale"]
+    truth = oracle.truth(mixed)
+    assert isinstance(truth.distance, float)
+    off = judge(mixed, adapters.get("pybullet").conventions, "distance", -0.001, truth)
+    assert off.status is Status.DISAGREE  # 1e-9 x the 1e9 coordinate does not excuse it
+    far = sphere(1e10, 1e10 + 1.001)  # float32 reads -1 where the truth is +0.001
+    verdict = judge(far, adapters.get("reference-f32").conventions, "distance", -1.0,
+                    oracle.truth(far))
+    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.TOLERANCE)
+
+

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import adapters
+from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Category, Observation, Status, Undefined
 from crosscheck.core.values import encode
@@ -11,9 +13,20 @@ from crosscheck.truth import oracle
 from crosscheck.truth.bounds import bound, error_of
 from crosscheck.truth.categories import touch_feature
 from crosscheck.truth.score import judge
-from tests.conftest import aabb, response, sphere
+from tests.conftest import ROOT, aabb, response, sphere
 
 TEXTBOOK = Conventions()
+SUITE = {case.id: case for case in load_paths([ROOT / "cases"]).cases}
+
+
+def _rotated(normal: tuple[float, ...], angle: float) -> tuple[float, ...]:
+    """``normal`` turned by ``angle`` towards an axis perpendicular to it (3-D)."""
+    x, y, z = normal
+    side = (y, -x, 0.0) if abs(z) < 0.9 else (0.0, z, -y)
+    length = math.hypot(*side)
+    perp = tuple(c / length for c in side)
+    return tuple(math.cos(angle) * n + math.sin(angle) * p for n, p in zip(normal, perp,
+                                                                           strict=True))
 
 
 def test_encode_round_trips_floats_exactly() -> None:
@@ -69,6 +82,17 @@ def test_engine_undefined_where_truth_defined_is_error() -> None:
     assert verdict.status is Status.DISAGREE and verdict.category == Category.ERROR
 
 
+def test_no_truth_is_invented_where_the_case_has_none() -> None:
+    case = SUITE["resp-2d-coincident-centres"]
+    truth = oracle.truth(case)
+    assert isinstance(truth.v1, Undefined)
+    moved = Observation(v1=(0.5, 0.0), v2=(-0.5, 0.0), resolved_at=((-0.1, 0.0), (0.1, 0.0)))
+    for quantity in ("v1", "v2"):
+        verdict = judge(case, adapters.get("pymunk").conventions, quantity,
+                        moved.get(quantity), truth, moved)
+        assert verdict.status is Status.UNDEFINED
+
+
 def test_touching_rule_difference_is_convention() -> None:
     case = sphere(0.0, 1.0)  # exactly touching: textbook says no collision
     truth = oracle.truth(case)
@@ -86,6 +110,43 @@ def test_within_margin_is_tolerance_beyond_is_error() -> None:
     within = judge(case, Conventions(margins={"sphere": 1e-3}), "hit", True, truth)
     beyond = judge(case, Conventions(margins={"sphere": 1e-4}), "hit", True, truth)
     assert (within.category, beyond.category) == (Category.TOLERANCE, Category.ERROR)
+
+
+def test_a_box_margin_is_never_applied_to_spheres() -> None:
+    pybullet = adapters.get("pybullet").conventions
+    assert pybullet.margin_for("sphere") == 0.0 and pybullet.margin_for("face") > 0
+    case = sphere(0.0, 1.001)  # apart by 1e-3: a sphere verdict wrong by 1e-3 is an error
+    truth = oracle.truth(case)
+    verdict = judge(case, pybullet, "hit", True, truth)
+    assert verdict.category == Category.ERROR and "margin" not in verdict.reason
+    boxes = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.001, 0.0, 0.0], [0.5, 0.5, 0.5])
+    within = judge(boxes, pybullet, "hit", True, oracle.truth(boxes))
+    assert within.category == Category.TOLERANCE and "margin 0.002 at a face" in within.reason
+
+
+def test_a_normal_across_the_gap_tilts_by_the_margin_over_the_gap() -> None:
+    case = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [2.0, 2.0, 2.0], [0.5, 0.5, 0.5])
+    truth = oracle.truth(case)  # gap sqrt(3) = 1.73, centres 3.46 apart
+    assert isinstance(truth.normal, tuple) and isinstance(truth.distance, float)
+    engine = Conventions(margins={"corner": 0.002})
+    allowed = 0.002 / truth.distance  # what a 0.002 length error does across the gap
+    tilted = _rotated(truth.normal, 0.8 * allowed)  # beyond 0.002 / 3.46 (the old rule)
+    verdict = judge(case, engine, "normal", tilted, truth)
+    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.TOLERANCE)
+    beyond = judge(case, engine, "normal", _rotated(truth.normal, 1.5 * allowed), truth)
+    assert beyond.category == Category.ERROR
+
+
+def test_an_undefined_answer_within_declared_precision_is_tolerance() -> None:
+    case = sphere(1e9, 1e9 + 1.5)  # float32 cannot tell these centres apart
+    truth = oracle.truth(case)
+    f32 = adapters.get("reference-f32").conventions
+    assert oracle.textbook(case, "f32").normal == Undefined("coincident centres")
+    verdict = judge(case, f32, "normal", Undefined("coincident centres"), truth)
+    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.TOLERANCE)
+    assert "centres 1.5 apart" in verdict.reason
+    far = judge(sphere(0.0, 2.0), f32, "normal", Undefined("x"), oracle.truth(sphere(0.0, 2.0)))
+    assert far.category == Category.ERROR
 
 
 def test_velocity_error_is_euclidean() -> None:

@@ -1,0 +1,56 @@
+"""Scene scoring (:mod:`crosscheck.truth.scenes`): a scene's disagreement is ``timestep``
+when the positions lag the truth by no more than the step allows, ``convention`` when the
+energy lost is what the declared damping takes, and ``error`` beyond both.
+
+The engine answers are the exact truth shifted by known amounts, never an engine's output.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from crosscheck.core.contract import Conventions
+from crosscheck.core.model import Category, Observation
+from crosscheck.core.schema import CASE_ADAPTER, SceneCase
+from crosscheck.truth import scenes
+from crosscheck.truth.score import judge
+
+
+def _scene(dt: float) -> SceneCase:
+    case = CASE_ADAPTER.validate_python({
+        "id": "s", "description": "head on", "kind": "sphere_scene", "dim": 2, "duration": 1.0,
+        "dt": dt, "bodies": [
+            {"center": [0.0, 0.0], "radius": 0.5, "mass": 1.0, "velocity": [1.0, 0.0]},
+            {"center": [2.0, 0.0], "radius": 0.5, "mass": 1.0, "velocity": [-1.0, 0.0]}]})
+    assert isinstance(case, SceneCase)
+    return case
+
+
+def _shifted(truth: Observation, dx: float, dv: float) -> Observation:
+    assert isinstance(truth.positions, tuple) and isinstance(truth.velocities, tuple)
+    return replace(truth, positions=tuple((p[0] + dx, p[1]) for p in truth.positions),
+                   velocities=tuple((v[0] + dv, v[1]) for v in truth.velocities), impacts=None)
+
+
+def test_scenes_get_categories_from_the_step_and_declared_damping() -> None:
+    case = _scene(0.01)
+    truth = scenes.truth(case)
+    assert truth.impacts is not None and len(truth.impacts) == 1
+    lag = scenes.lag_bound(case, 1)  # 2 impacts' worth (1 + the end) x speed 1 x dt / r 0.5
+    assert math.isclose(lag, 0.04)
+    late = _shifted(truth, 0.5 * lag * 0.5, 0.0)  # positions off by half the lag (mean radii)
+    for quantity in ("positions",):
+        verdict = judge(case, Conventions(), quantity, late.get(quantity), truth, late)
+        assert verdict.category == Category.TIMESTEP and "one step late" in verdict.reason
+    far = _shifted(truth, 2.0 * lag * 0.5, 0.01)
+    assert judge(case, Conventions(), "positions", far.positions, truth, far).category == "error"
+    # velocities are excused by the lag only when the positions are within it too
+    assert judge(case, Conventions(), "velocities", far.velocities, truth, far).category == "error"
+    near = _shifted(truth, 0.0, 0.01)
+    assert judge(case, Conventions(), "velocities", near.velocities, truth,
+                 near).category == Category.TIMESTEP
+    drained = replace(truth, energy=0.9 * float(truth.energy or 0.0))
+    damped = judge(case, Conventions(damping=0.04), "energy", drained.energy, truth, drained)
+    assert damped.category == Category.CONVENTION and "damps" in damped.reason
+    assert judge(case, Conventions(), "energy", drained.energy, truth, drained).category == "error"
