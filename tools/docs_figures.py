@@ -105,7 +105,11 @@ def provenance(inputs: Inputs) -> str:
     info = inputs.run.info
     bench = f" BENCH={inputs.bench_arg}" if inputs.bench_arg else ""
     load = inputs.load if _load_matches(inputs) else None
-    steps = ", ".join(s for s in ("make venv", "make test") if (inputs.setup or {}).get(s))
+    steps = [(s, e) for s in ("make venv", "make test") if (e := (inputs.setup or {}).get(s))]
+    setup_line = ("docs/measurements/setup.json: " + "; ".join(
+        f"{s} measured {e.get('measured', '?')} at commit "
+        f"{(e.get('machine') or {}).get('git_commit', '?')}" for s, e in steps)
+        if steps else f"docs/measurements/setup.json: {NOT_MEASURED}")
     return "\n".join([
         f"The figures of these pages were written by `make docs-figures RUN={inputs.run_arg}"
         f"{bench}` from:", "",
@@ -117,8 +121,7 @@ def provenance(inputs: Inputs) -> str:
             ["its machine", machine_line(info.machine)],
             ["bench", _bench_line(inputs)],
             ["report load", _measured_line(load, "docs/measurements/report-load.json")],
-            ["set-up times", _measured_line(inputs.setup, "docs/measurements/setup.json")
-             + (f" ({steps})" if steps else "")]])])
+            ["set-up times", setup_line]])])
 
 
 # --- the report's size and load ----------------------------------------------------------------
