@@ -10,7 +10,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 BUNDLE := $(VENV)/.plotly-bundle
 
-.PHONY: run test test-long lint venv clean browser docs docs-figures
+.PHONY: run test test-long lint venv clean browser docs docs-figures cli-page
 
 $(STAMP): requirements.lock pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -41,12 +41,15 @@ browser:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
 	  else echo "chromium not found: the browser test will be skipped (install Debian's chromium)"; fi; }
 
-# The site: the CLI page regenerated from the parser, then a strict build (a broken link, a
-# missing page or snippet fails it).  NO_MKDOCS_2_WARNING: Material's notice about its end of
+# The site: the CLI page checked against the parser (make cli-page rewrites it), then a strict
+# build (a broken link, a missing page or snippet fails it).  NO_MKDOCS_2_WARNING: Material's notice about its end of
 # life (the versions are pinned in the lock) is not printed on every build.
 docs: $(STAMP)
-	$(BIN)/python -m tools.cli_page
+	$(BIN)/python -m tools.cli_page --check
 	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir build/site
+
+cli-page: $(STAMP)
+	$(BIN)/python -m tools.cli_page
 
 # Every measured figure the docs state, from one stored run (and the bench's bench.json).
 docs-figures: $(STAMP)

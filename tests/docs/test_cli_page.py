@@ -12,7 +12,7 @@ from tools import cli_page
 
 def test_the_committed_cli_page_is_what_the_parser_says() -> None:
     committed = cli_page.PAGE.read_text(encoding="utf-8")
-    assert committed == cli_page.render(), "docs/generated/cli.md is out of date: run make docs"
+    assert committed == cli_page.render(), "docs/generated/cli.md is out of date: run make cli-page"
 
 
 def test_every_command_and_option_of_the_parser_is_on_the_page() -> None:
