@@ -10,7 +10,10 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from crosscheck.cases.load import load_paths
+from crosscheck.cli import main
 from crosscheck.results.store import read_results
 from tests.conftest import ROOT, wait_for_rows
 
@@ -18,11 +21,14 @@ CLI = [sys.executable, "-m", "crosscheck.cli"]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}
 
 
-def test_ctrl_c_stops_cleanly_keeps_rows_and_prints_the_resume_hint(tmp_path: Path) -> None:
+def ctrl_c_and_resume(tmp_path: Path, files: tuple[str, ...], extra: tuple[str, ...],
+                      in_process: bool) -> None:
+    """Ctrl-C a run of ``files`` (reference and pymunk) once 20 rows are written, then resume
+    it: from the command line, or with ``in_process`` in this process."""
     out = tmp_path / "run"
-    args = [*CLI, "run", str(ROOT / "cases" / "sphere.toml"), str(ROOT / "cases" / "aabb.toml"),
-            "--engine", "reference", "--engine", "pymunk", "--min-sample", "0.01",
-            "--out", str(out)]
+    paths = [ROOT / "cases" / name for name in files]
+    args = [*CLI, "run", *map(str, paths), "--engine", "reference", "--engine", "pymunk",
+            "--min-sample", "0.01", "--out", str(out), *extra]
     process = subprocess.Popen(args, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                text=True, start_new_session=True)
     wait_for_rows(out / "results.jsonl", rows=20)
@@ -33,9 +39,23 @@ def test_ctrl_c_stops_cleanly_keeps_rows_and_prints_the_resume_hint(tmp_path: Pa
     kept = read_results(out)
     assert len(kept) >= 20
     assert not (kept["status"] == "crash").any(), "a worker's Ctrl-C was taken for a crash"
-    resumed = subprocess.run([*CLI, "run", "--resume", str(out)], env=ENV,
-                             capture_output=True, text=True, timeout=300)
-    assert resumed.returncode == 0, resumed.stderr
+    if in_process:
+        assert main(["run", "--resume", str(out)]) == 0
+    else:
+        resumed = subprocess.run([*CLI, "run", "--resume", str(out)], env=ENV,
+                                 capture_output=True, text=True, timeout=300)
+        assert resumed.returncode == 0, resumed.stderr
     final = read_results(out)
-    cases = len(load_paths([ROOT / "cases" / "sphere.toml", ROOT / "cases" / "aabb.toml"]).cases)
+    cases = len(load_paths(paths).cases)
     assert len(final.drop_duplicates(["case_id", "engine"])) == cases * 2
+
+
+def test_ctrl_c_stops_cleanly_keeps_rows_and_prints_the_resume_hint(tmp_path: Path) -> None:
+    ctrl_c_and_resume(tmp_path, ("sphere.toml",), ("--samples", "3", "--timing-cases", "2"),
+                      in_process=True)
+
+
+@pytest.mark.slow
+def test_ctrl_c_of_a_timed_two_file_run_and_a_resume_from_the_command_line(
+        tmp_path: Path) -> None:
+    ctrl_c_and_resume(tmp_path, ("sphere.toml", "aabb.toml"), (), in_process=False)

@@ -18,11 +18,12 @@ import pytest
 
 import adapters
 from crosscheck.cases.load import load_paths
+from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.results.store import ResultsStore, StoreError, read_results, read_run_info
 from crosscheck.run.runner import run
 from tests import fakes
-from tests.conftest import ROOT
+from tests.conftest import ROOT, wait_for_rows
 
 TIMING = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]
 SUITE = load_paths([ROOT / "cases"]).cases
@@ -68,37 +69,59 @@ def test_new_run_refuses_a_directory_with_results(tmp_path: Path) -> None:
         ResultsStore(tmp_path / "run")
 
 
-def cli_run(out: Path, *extra: str) -> list[str]:
-    files = [str(ROOT / "cases" / name) for name in ("aabb.toml", "sphere.toml", "response.toml")]
-    return [*CLI, "run", *files, "--engine", "reference", "--engine", "pymunk",
-            "--engine", "pybullet", "--min-sample", "0.005", "--jobs", "1", "--out", str(out),
-            *extra]
+THREE_FILES = ("aabb.toml", "sphere.toml", "response.toml")
+SMALL_TIMING = ("--samples", "3", "--timing-cases", "2")
+"""A timing phase of two seconds or so, after the rows are written: the window the fast kill
+lands in."""
 
 
-def wait_for_rows(path: Path) -> None:
-    deadline = time.monotonic() + 60
-    while not (path.exists() and path.stat().st_size) and time.monotonic() < deadline:
-        time.sleep(0.05)
+def run_args(out: Path, files: tuple[str, ...], *extra: str) -> list[str]:
+    return ["run", *(str(ROOT / "cases" / name) for name in files),
+            "--engine", "reference", "--engine", "pymunk", "--engine", "pybullet",
+            "--min-sample", "0.005", "--jobs", "1", "--out", str(out), *extra]
 
 
-def test_sigkill_and_resume_loses_and_duplicates_nothing(tmp_path: Path) -> None:
+def sigkill_and_resume(tmp_path: Path, files: tuple[str, ...], extra: tuple[str, ...],
+                       kills: int, pause: tuple[float, float], in_process: bool) -> None:
+    """Run ``files`` uninterrupted; run them again, SIGKILL the run ``kills`` times, each a
+    random ``pause`` after rows are there, and resume it each time: the rows must be the
+    uninterrupted run's apart from timing.  With ``in_process`` the uninterrupted run and
+    the last resume run in this process (the killed runs are always processes of their own)."""
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    reference = tmp_path / "uninterrupted"
-    subprocess.run(cli_run(reference), env=env, check=True, capture_output=True)
-    killed = tmp_path / "killed"
+    reference, killed = tmp_path / "uninterrupted", tmp_path / "killed"
+    if in_process:
+        assert main(run_args(reference, files, *extra)) == 0
+    else:
+        subprocess.run([*CLI, *run_args(reference, files, *extra)], env=env, check=True,
+                       capture_output=True)
     rng = random.Random(7)
-    process = subprocess.Popen(cli_run(killed), env=env, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.DEVNULL)
-    for _ in range(3):
+    process = subprocess.Popen([*CLI, *run_args(killed, files, *extra)], env=env,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    for kill in range(kills):
         wait_for_rows(killed / "results.jsonl")
-        time.sleep(rng.uniform(0.3, 1.2))
+        time.sleep(rng.uniform(*pause))
         process.send_signal(signal.SIGKILL)
         process.wait()
         assert read_run_info(killed).finished is None, "the run finished before it was killed"
+        if in_process and kill == kills - 1:
+            assert main(["run", "--resume", str(killed)]) == 0
+            break
         process = subprocess.Popen([*CLI, "run", "--resume", str(killed)], env=env,
                                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    assert process.wait(timeout=300) == 0
+    else:
+        assert process.wait(timeout=300) == 0
     pd.testing.assert_frame_equal(without_timing(read_results(reference)),
                                   without_timing(read_results(killed)))
     info = json.loads((killed / "run.json").read_text())
     assert info["resumed"] and info["finished"]
+
+
+def test_sigkill_and_resume_loses_and_duplicates_nothing(tmp_path: Path) -> None:
+    sigkill_and_resume(tmp_path, ("sphere.toml",), SMALL_TIMING, kills=1, pause=(0.0, 0.2),
+                       in_process=True)
+
+
+@pytest.mark.slow
+def test_three_sigkills_on_three_files_and_resume_lose_and_duplicate_nothing(
+        tmp_path: Path) -> None:
+    sigkill_and_resume(tmp_path, THREE_FILES, (), kills=3, pause=(0.3, 1.2), in_process=False)
