@@ -242,7 +242,9 @@ class Record:
     the contact (NaN when it reported none elsewhere than the case's own centres)."""
 
     def row(self) -> dict[str, object]:
-        """The record as a plain dict, ready for a DataFrame or CSV writer."""
+        """The record as a plain dict, ready for a DataFrame or CSV writer (its line in
+        ``results.jsonl`` is :func:`crosscheck.results.rows.line`: this dict as json.dumps
+        writes it)."""
         # every field is a scalar: no deep copy (asdict is ~20x slower, once per record)
         out = {f.name: getattr(self, f.name) for f in fields(self)}
         out["status"] = str(self.status)

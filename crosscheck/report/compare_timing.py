@@ -33,7 +33,6 @@ samples is ``unknown``: never a change, only counted.
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -93,14 +92,9 @@ def run_timings(run: StoredRun) -> RunTimings:
     timed = set(samples) | set(zip(results["case_id"], results["engine"], strict=True))
     missing = None
     if not (run.directory / FILE).exists():
-        missing = OLD_FORMAT if _format(run) < 3 else "no samples stored (no timing phase)"
+        missing = OLD_FORMAT if run.format_version < 3 else "no samples stored (no timing phase)"
     return RunTimings(samples, timed, yardstick(run.info.timing),
                       yardstick_doubt(run.info.timing), missing)
-
-
-def _format(run: StoredRun) -> int:
-    raw = json.loads((run.directory / "run.json").read_text(encoding="utf-8"))
-    return int(raw.get("format_version", 0))
 
 
 def _measurements(timing: dict[str, Any] | None) -> dict[str, list[dict[str, Any]]]:

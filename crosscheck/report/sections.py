@@ -110,7 +110,7 @@ class Section:
 
 def _verdict(view: RunView) -> Context | None:
     """Per engine: agreeing shares, speed ranks and failure modes (None: an empty run)."""
-    return None if view.frame.empty else verdict.verdict(view.frame, view.stored.directory)
+    return None if view.frame.empty else verdict.verdict(view.frame, view.stored.repros)
 
 
 def _errors(view: RunView) -> Context | None:
@@ -158,7 +158,7 @@ def _stability(view: RunView) -> Context | None:
 def _disagreements(view: RunView) -> Context:
     """The results table: every case x engine once, packed, with each row's repro link (if
     written) and the case inputs the page's case details are built from."""
-    return table.results_table(view.frame, view.cases, view.stored.directory)
+    return table.results_table(view.frame, view.cases, view.stored.repros)
 
 
 def _advise(view: RunView) -> Context:

@@ -26,7 +26,6 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Collection, Mapping
-from pathlib import Path
 from typing import Any
 
 import pandas as pd
@@ -35,7 +34,7 @@ from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
 from crosscheck.report.style import datatables, packed
 from crosscheck.report.tables import case_group
-from crosscheck.results.store import repro_name
+from crosscheck.results.store import REPRO_DIR, repro_name
 
 INPUTS = {"a", "b", "restitution", "tolerance"}
 """The fields of a case shown as its inputs in its details."""
@@ -47,12 +46,6 @@ def _number(value: Any) -> float | None:
     """A finite float, or None (JSON has no NaN: the page sorts None last)."""
     number = float(value)
     return number if math.isfinite(number) else None
-
-
-def written_repros(directory: Path) -> set[str]:
-    """The repro scripts a run wrote (``repro/<name>.py``), by file name."""
-    folder = directory / "repro"
-    return {p.name for p in folder.glob("*.py")} if folder.is_dir() else set()
 
 
 def _case(case_id: str, case: AnyCase | None, first: Mapping[str, Any]) -> dict[str, Any]:
@@ -87,7 +80,7 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             name = f"{repro_name(case_id, engine)}.py"
             row = rows[(case_id, engine)] = {
                 "case": index[case_id], "engine": engine, "q": {},
-                "repro": f"repro/{name}" if name in repros else "",
+                "repro": f"{REPRO_DIR}/{name}" if name in repros else "",
                 "query_s": _number(record.get("query_s", math.nan)),
                 "query_iqr_s": _number(record.get("query_iqr_s", math.nan)),
                 "folded": False, "twins": []}
@@ -114,10 +107,10 @@ def _verdicts(row: Mapping[str, Any]) -> dict[str, tuple[str, str]]:
 
 
 def results_table(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
-                  directory: Path) -> dict[str, Any]:
+                  repros: Collection[str]) -> dict[str, Any]:
     """The section's context: the packed data, the packed DataTables bundle and CSS, and the
-    counts its heading shows."""
-    data = results_data(frame, cases, written_repros(directory))
+    counts its heading shows (``repros``: the run's repro scripts, by file name)."""
+    data = results_data(frame, cases, repros)
     dt_js, dt_css = datatables()
     shown = sum(not row["folded"] for row in data["rows"])
     return {"packed": packed(json.dumps(data, separators=(",", ":"), allow_nan=False)),

@@ -16,14 +16,13 @@ from __future__ import annotations
 import re
 from collections.abc import Collection
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.report.tables import share_colour
-from crosscheck.results.store import repro_name
+from crosscheck.results.store import REPRO_DIR, repro_name
 
 KINDS = ("aabb", "sphere", "sphere_response", "sphere_scene")
 """The kinds in their column order; a run's other kinds follow, in run order."""
@@ -148,12 +147,6 @@ def speed_ranks(frame: pd.DataFrame) -> pd.DataFrame:
                          "ranked": by_kind.transform("size")})
 
 
-def written_repros(directory: Path) -> set[str]:
-    """The names of the repro scripts in a run folder (``repro/*.py``)."""
-    folder = directory / "repro"
-    return {p.name for p in folder.glob("*.py")} if folder.is_dir() else set()
-
-
 def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mode]:
     """Every failure mode of every engine, most rows first (ties: in the order first seen).
 
@@ -176,7 +169,7 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
     modes = modes.sort_values("count", ascending=False, kind="stable")
     return [Mode(engine=str(r["engine"]), status=str(r["status"]), category=str(r["_category"]),
                  pattern=str(r["_pattern"]), count=int(r["count"]), example=str(r["case_id"]),
-                 repro=f"repro/{r['_repro']}" if r["_has"] else "")
+                 repro=f"{REPRO_DIR}/{r['_repro']}" if r["_has"] else "")
             for r in modes.to_dict("records")]
 
 
@@ -207,8 +200,9 @@ def verdicts(frame: pd.DataFrame, written: Collection[str] = ()) -> list[EngineV
     return sorted(rows, key=lambda v: 1.0 if v.overall.share is None else -v.overall.share)
 
 
-def verdict(frame: pd.DataFrame, directory: Path) -> dict[str, Any]:
-    """The verdict section's context for the run stored in ``directory``."""
-    rows = verdicts(frame, written_repros(directory))
+def verdict(frame: pd.DataFrame, repros: Collection[str] = ()) -> dict[str, Any]:
+    """The verdict section's context: ``repros`` are the file names of the run's repro
+    scripts (:attr:`crosscheck.results.store.StoredRun.repros`)."""
+    rows = verdicts(frame, repros)
     return {"kinds": kinds_of(frame), "rows": rows, "shown": SHOWN,
             "modes": [m for row in rows for m in row.modes]}

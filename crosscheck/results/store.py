@@ -9,9 +9,13 @@
 - ``run.json``: a :class:`~crosscheck.results.runinfo.RunInfo` (format
   version, machine, versions, engines and their conventions, options, start
   and end times);
-- ``results.csv``: the tidy table, written from ``results.jsonl``.
+- ``results.csv``: the tidy table, written from ``results.jsonl``;
+- ``repro/``: a standalone script per breaking case x engine (:func:`repro_name`, written by
+  :mod:`crosscheck.studies.repro`; :func:`written_repros` says which are there).
 
-Running writes these; reporting only reads them, through :func:`read_run`.
+Running writes these; reporting only reads them, through :func:`read_run` (a
+:class:`StoredRun` also answers the format the run was written in, and its repro scripts).
+Every row of ``results.jsonl`` is written as :mod:`crosscheck.results.rows` defines it.
 
 A write that fails (a full disk: ENOSPC, a quota) raises :class:`StoreError`
 saying so; the rows written before it stay loadable (a half-written last line
@@ -37,7 +41,8 @@ from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.core.values import upgrade
 from crosscheck.results import legacy
-from crosscheck.results.runinfo import FormatError, RunInfo
+from crosscheck.results.rows import line
+from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
 from crosscheck.results.timings import TimingRecord, read_timings
 
@@ -72,7 +77,6 @@ class ResultsStore:
                              f"'crosscheck run --resume {directory}' or choose another --out")
         self.done: set[tuple[str, str]] = _keep_finished(results) if resume else set()
         self._results: IO[str] = open_append(results)
-        self._case_ids: list[str] | None = None  # the cases last written to cases.jsonl
         if resume:  # drop a half-written last line, so that appends start on a line of their own
             _replace_if_exists(directory / TIMINGS)
         timings = read_timings(directory) if resume else None
@@ -82,15 +86,10 @@ class ResultsStore:
         """The (case id, engine) pairs the timing phase has already measured."""
 
     def add_cases(self, cases: Iterable[AnyCase]) -> None:
-        """Record the inputs of every case of the run, in suite order (replacing any; the
-        same cases again, as launch then the runner give them, are not written twice)."""
-        cases = list(cases)
-        ids = [case.id for case in cases]
-        if ids == self._case_ids:
-            return
+        """Record the inputs of every case of the run, in suite order (replacing any): once
+        per run, before ``run.json`` (:func:`crosscheck.run.launch.launch`)."""
         lines = [json.dumps(case.model_dump() | {"source": case.source}) for case in cases]
         _replace(self.directory / "cases.jsonl", lines)
-        self._case_ids = ids
 
     def append(self, records: Iterable[Record]) -> None:
         """Append finished records in one write and flush them to disk.
@@ -98,11 +97,12 @@ class ResultsStore:
         Raises :class:`StoreError` if the write fails (a full disk); what was
         written before stays readable, and ``--resume`` drops any half-written line.
         """
-        self.append_lines("".join(json.dumps(r.row()) + "\n" for r in records))
+        self.append_lines("".join(map(line, records)))
 
     def append_lines(self, text: str) -> None:
         """Append finished rows already written as JSON lines (each ending in a newline, as
-        :meth:`append` writes them: columnar scoring makes them from columns) and flush."""
+        :mod:`crosscheck.results.rows` writes them: columnar scoring makes them from columns)
+        and flush."""
         try:
             self._results.write(text)
             self._results.flush()
@@ -166,29 +166,36 @@ def _replace(path: Path, lines: list[str]) -> None:
 
 def _replace_if_exists(path: Path) -> None:
     if path.exists():
-        _replace(path, [json.dumps(row) for row in _parsed_lines(path)])
+        _replace(path, [text for text, _ in _lines(path)])
+
+
+def _lines(path: Path) -> list[tuple[str, dict[str, Any]]]:
+    """Every whole line of a JSON-lines file, as written and parsed (a half-written last line
+    of a killed run is left out)."""
+    out = []
+    if path.exists():
+        for text in path.read_text(encoding="utf-8").splitlines():
+            try:
+                out.append((text, json.loads(text)))
+            except json.JSONDecodeError:
+                continue  # a half-written last line of a killed run
+    return out
 
 
 def _parsed_lines(path: Path) -> list[dict[str, Any]]:
-    rows = []
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                rows.append(json.loads(line))
-            except json.JSONDecodeError:
-                continue  # a half-written last line of a killed run
-    return rows
+    return [row for _, row in _lines(path)]
 
 
 def _keep_finished(path: Path) -> set[tuple[str, str]]:
-    """Keep only the rows of finished case x engine pairs; return those pairs."""
-    rows = _parsed_lines(path)
+    """Keep only the rows of finished case x engine pairs, as they were written; return
+    those pairs."""
+    lines = _lines(path)
     seen: dict[tuple[str, str], set[str]] = {}
-    for row in rows:
+    for _, row in lines:
         seen.setdefault((row["case_id"], row["engine"]), set()).add(row["quantity"])
-    kinds = {(row["case_id"], row["engine"]): row["kind"] for row in rows}
+    kinds = {(row["case_id"], row["engine"]): row["kind"] for _, row in lines}
     done = {pair for pair, qs in seen.items() if qs == set(quantities_of(Kind(kinds[pair])))}
-    _replace(path, [json.dumps(row) for row in rows if (row["case_id"], row["engine"]) in done])
+    _replace(path, [text for text, row in lines if (row["case_id"], row["engine"]) in done])
     return done
 
 
@@ -235,10 +242,9 @@ def _with_timings(frame: pd.DataFrame, timings: pd.DataFrame) -> pd.DataFrame:
 
 
 def _engine_names(directory: Path) -> list[str]:
-    path = directory / "run.json"
-    if not path.exists():
+    if not (directory / "run.json").exists():
         return []
-    return [e["name"] for e in json.loads(path.read_text()).get("engines", [])]
+    return [e["name"] for e in _run_json(directory).get("engines", [])]
 
 
 def _case_ids(directory: Path) -> list[str]:
@@ -251,32 +257,71 @@ def read_cases(directory: Path) -> dict[str, AnyCase]:
             for case in _parsed_lines(directory / "cases.jsonl")}
 
 
-def read_run_info(directory: Path) -> RunInfo:
-    """``run.json`` of a run, of any format version this harness has written."""
+def _run_json(directory: Path) -> dict[str, Any]:
+    """``run.json`` as written (the one place that parses it)."""
     path = directory / "run.json"
     try:
-        return RunInfo.from_json(json.loads(path.read_text(encoding="utf-8")))
+        data: dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise StoreError(f"{path} does not exist: not a run folder, or a run killed before "
                          "it started") from None
-    except (json.JSONDecodeError, KeyError, TypeError, FormatError) as exc:
+    except json.JSONDecodeError as exc:
         raise StoreError(f"{path}: {exc}") from exc
+    return data
+
+
+def _info(directory: Path, data: dict[str, Any]) -> RunInfo:
+    try:
+        return RunInfo.from_json(data)
+    except (KeyError, TypeError, FormatError) as exc:
+        raise StoreError(f"{directory / 'run.json'}: {exc}") from exc
+
+
+def read_run_info(directory: Path) -> RunInfo:
+    """``run.json`` of a run, of any format version this harness has written."""
+    return _info(directory, _run_json(directory))
 
 
 @dataclass(frozen=True)
 class StoredRun:
-    """A run read back: its info, its results table and its typed cases (by id, suite order)."""
+    """A run read back: its info, its results table and its typed cases (by id, suite order),
+    the format version its run.json was written in (``info`` is migrated to the current one),
+    and the repro scripts it holds."""
 
     directory: Path
     info: RunInfo
     results: pd.DataFrame
     cases: dict[str, AnyCase]
+    format_version: int = FORMAT_VERSION
+    """The format of ``run.json`` as written (:mod:`crosscheck.results.runinfo`'s history)."""
+
+    @property
+    def repros(self) -> set[str]:
+        """The file names of the repro scripts in the run folder (:func:`written_repros`)."""
+        return written_repros(self.directory)
 
 
 def read_run(directory: Path) -> StoredRun:
     """Everything a report, compare, stability study or resume needs from a run folder."""
-    info = read_run_info(directory)
-    return StoredRun(directory, info, read_results(directory), read_cases(directory))
+    data = _run_json(directory)
+    info = _info(directory, data)
+    return StoredRun(directory, info, read_results(directory), read_cases(directory),
+                     int(data["format_version"]))  # an int: else RunInfo refused it
+
+
+REPRO_DIR = "repro"
+"""The folder of a run's repro scripts, beside report.html."""
+
+
+def repro_path(directory: Path, case_id: str, engine: str) -> Path:
+    """Where the repro script of ``case_id`` on ``engine`` goes in a run folder."""
+    return directory / REPRO_DIR / f"{repro_name(case_id, engine)}.py"
+
+
+def written_repros(directory: Path) -> set[str]:
+    """The file names of the repro scripts in a run folder (``repro/*.py``)."""
+    folder = directory / REPRO_DIR
+    return {p.name for p in folder.glob("*.py")} if folder.is_dir() else set()
 
 
 def repro_name(case_id: str, engine: str) -> str:

@@ -34,7 +34,7 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.results.runinfo import RunInfo, now
 from crosscheck.results.store import ResultsStore
 from crosscheck.run import environment
-from crosscheck.run.runner import Progress, run
+from crosscheck.run.runner import Progress, run_pending
 from crosscheck.run.timing_phase import time_phase
 
 
@@ -77,7 +77,7 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
         store.write_run_info(info)
         if progress is None and phases is not None:
             progress = phases("verdicts", pending(cases, engines, store))
-        run(cases, engines, store, options, progress)
+        run_pending(cases, engines, store, options, progress)
         if not options.quick and options.timing_cases > 0:
             start = (lambda total: phases("timing", total)) if phases else None
             info = replace(info, timing=time_phase(store, cases, engines, options, start))

@@ -10,7 +10,9 @@ Scoring is columnar by default: lanes return the unscored outcomes of each case
 (:class:`Executed`), and the parent judges them in chunks of up to
 :data:`CHUNK_CASES` cases, one engine at a time, with
 :func:`crosscheck.truth.columnar.judge_batch`, then writes their JSON lines straight
-from the columns (:func:`score_lines`), without a Record per row.  A chunk is
+from the columns (:func:`score_lines`, with :class:`crosscheck.results.rows.ColumnLines`,
+which shares the row's one definition with the per-record writer), without a Record per
+row.  A chunk is
 written when it is full, :data:`FLUSH_S` after the last write, and when the run
 ends or is interrupted, so an interrupted run keeps every outcome it received.
 ``run(..., columnar=False)`` scores record by record in the lanes (:func:`score_case`),
@@ -32,10 +34,10 @@ from crosscheck.core.model import Observation, Record, Status, quantities_of
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, PairCase, SceneCase
 from crosscheck.core.values import encode
+from crosscheck.results.rows import ColumnLines, line
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome, case_options
-from crosscheck.run.rowtext import ColumnLines
 from crosscheck.run.worker import LocalLanes
 from crosscheck.truth import oracle
 from crosscheck.truth.columnar import judge_batch
@@ -59,22 +61,29 @@ def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
     return records
 
 
+def case_fields(case: AnyCase, engine: str, outcome: Outcome) -> dict[str, Any]:
+    """The fields every row of ``case`` on ``engine`` shares
+    (:data:`~crosscheck.results.rows.CASE_FIELDS`: the case, the engine, the timing)."""
+    timing = outcome.timing
+    return {
+        "case_id": case.id, "source": case.source, "kind": case.kind, "dim": int(case.dim),
+        "tags": " ".join(case.tags), "engine": engine, "setup_s": outcome.setup_s,
+        "query_s": timing.median_s if timing else math.nan,
+        "query_iqr_s": timing.iqr_s if timing else math.nan,
+        "loops": int(timing.loops) if timing else 0,
+        "unstable": bool(timing.unstable) if timing else False,
+        "origin": case.origin, "coords": json.dumps(case.coords) if case.coords else "",
+        "twin_of": case.twin_of}
+
+
 def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observation,
             verdict: Verdict, outcome: Outcome) -> Record:
-    timing = outcome.timing
     return Record(
-        case_id=case.id, source=case.source, kind=case.kind, dim=case.dim,
-        tags=" ".join(case.tags), engine=engine, quantity=quantity,
+        **case_fields(case, engine, outcome), quantity=quantity,
         value=encode(value), truth=encode(truth.get(quantity)),
         error=verdict.error, tolerance=verdict.tolerance, status=verdict.status,
-        category=verdict.category, reason=verdict.reason, setup_s=outcome.setup_s,
-        query_s=timing.median_s if timing else math.nan,
-        query_iqr_s=timing.iqr_s if timing else math.nan,
-        loops=timing.loops if timing else 0,
-        unstable=timing.unstable if timing else False,
-        origin=case.origin, coords=json.dumps(case.coords) if case.coords else "",
-        twin_of=case.twin_of, error_at_contact=verdict.error_at_contact,
-    )
+        category=verdict.category, reason=verdict.reason,
+        error_at_contact=verdict.error_at_contact)
 
 
 Progress = Callable[[int], None]
@@ -229,7 +238,17 @@ def _skip_declared_hang(executor: Executor, adapter: Adapter, case: AnyCase,
 def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
         options: RunOptions | None = None, progress: Progress | None = None,
         columnar: bool = True) -> int:
+    """Record the cases in ``store`` (``cases.jsonl``), then :func:`run_pending`: the verdict
+    pass alone, without a run.json (a whole run is :func:`crosscheck.run.launch.launch`)."""
+    store.add_cases(cases)
+    return run_pending(cases, adapters, store, options, progress, columnar)
+
+
+def run_pending(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
+                options: RunOptions | None = None, progress: Progress | None = None,
+                columnar: bool = True) -> int:
     """Run every case on every adapter, appending records to ``store``; return the count.
+    The cases are already recorded in ``store`` (by the caller, once per run).
 
     Engines run in worker processes unless ``options.isolate`` is False, so a
     crash or hang costs one case, not the run.  With ``options.jobs`` > 1,
@@ -240,7 +259,6 @@ def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsSto
     parent in chunks (see the module docstring); False scores record by record.
     """
     options = options or RunOptions()
-    store.add_cases(cases)
     todo = [c for c in cases if any((c.id, a.name) not in store.done for a in adapters)]
     done: dict[str, set[tuple[str, str]]] = {}
     for pair in store.done:
@@ -313,10 +331,10 @@ def score_lines(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence[O
     marked = set(plain)
     for k, case in enumerate(cases):
         if k in marked:
-            lines += rows.lines(case, adapter.name, outcomes[k], truths[k])
+            lines += rows.lines(case_fields(case, adapter.name, outcomes[k]),
+                                _observed(outcomes[k]), truths[k])
         else:
-            lines += [json.dumps(r.row()) + "\n"
-                      for r in score_outcome(case, adapter, outcomes[k], truths[k])]
+            lines += map(line, score_outcome(case, adapter, outcomes[k], truths[k]))
     return "".join(lines)
 
 

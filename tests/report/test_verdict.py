@@ -14,7 +14,7 @@ import pandas as pd
 from crosscheck.core.model import Status
 from crosscheck.report import verdict
 from crosscheck.report.style import templates
-from crosscheck.results.store import repro_name
+from crosscheck.results.store import repro_name, written_repros
 
 NAN = math.nan
 EVIL = "<script>alert('pwned')</script>"
@@ -117,12 +117,13 @@ def test_the_good_engine_has_no_failure_modes() -> None:
 
 
 def test_a_repro_link_only_when_its_script_is_in_the_run_folder(tmp_path: Path) -> None:
-    context = verdict.verdict(frame(), tmp_path)
+    context = verdict.verdict(frame(), written_repros(tmp_path))
     assert all(m.repro == "" for m in context["modes"])
     (tmp_path / "repro").mkdir()
     script = f"{repro_name('s2', 'bad')}.py"
     (tmp_path / "repro" / script).write_text("# fake repro\n")
-    modes = {(m.engine, m.status): m for m in verdict.verdict(frame(), tmp_path)["modes"]}
+    modes = {(m.engine, m.status): m
+             for m in verdict.verdict(frame(), written_repros(tmp_path))["modes"]}
     assert modes["bad", "disagree"].repro == f"repro/{script}"
     assert modes["bad", "disagree"].example == "s2"  # the example with a script is preferred
     assert modes["bad", "crash"].repro == "" and modes["bad", "crash"].example == "b1"
@@ -141,7 +142,7 @@ def test_the_block_shows_the_top_modes_and_lists_them_all() -> None:
 def test_the_template_escapes_text_and_shows_counts(tmp_path: Path) -> None:
     data = frame()
     data.loc[data["status"] == "crash", "reason"] = EVIL
-    html = templates().get_template("_verdict.html.j2").render(**verdict.verdict(data, tmp_path))
+    html = templates().get_template("_verdict.html.j2").render(**verdict.verdict(data))
     assert EVIL not in html and "&lt;script&gt;" in html
     assert html.index(">good<") < html.index(">boxonly<") < html.index(">bad<")
     assert '<b class="count">3</b>' in html and '<b class="count">2</b>' in html

@@ -29,10 +29,9 @@ from crosscheck.cli import main
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
-from crosscheck.results.store import ResultsStore, read_run, repro_name
+from crosscheck.results.store import REPRO_DIR, ResultsStore, read_run, repro_name
 from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.repro.script import (
-    REPRO_DIR,
     ReproError,
     RunRows,
     breaking_pairs,

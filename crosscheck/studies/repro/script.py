@@ -38,7 +38,7 @@ from adapters.reference import ReferenceF32, ReferenceF64
 from crosscheck.core.contract import TEXTBOOK_TOUCHING, Adapter
 from crosscheck.core.model import Status, quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
-from crosscheck.results.store import StoredRun, read_run, repro_name
+from crosscheck.results.store import StoredRun, read_run, repro_name, repro_path
 from crosscheck.studies.repro.engines import EngineCode, fcl_code, pymunk_code, reference_code
 from crosscheck.studies.repro.pybullet import pybullet_code
 
@@ -54,8 +54,6 @@ WRITERS: dict[type[Adapter], Writer] = {
     ReferenceF32: lambda adapter, case, hung: reference_code(adapter, case),
 }
 """The script writer of each adapter class (exact classes: a subclass may call otherwise)."""
-REPRO_DIR = "repro"
-"""The folder of a run's scripts, beside report.html."""
 
 ENCODE = '''\
 def number(x):
@@ -352,7 +350,7 @@ def write_run_scripts(directory: Path) -> list[Path]:
             made = build(runs, case_id, engine)
         except ReproError:
             continue
-        path = directory / REPRO_DIR / f"{made.name}.py"
+        path = repro_path(directory, case_id, engine)
         path.parent.mkdir(exist_ok=True)
         path.write_text(made.text, encoding="utf-8")
         written.append(path)
