@@ -195,6 +195,7 @@ REFUSALS = {
 }
 
 
+@pytest.mark.engine
 def test_engines_lists_every_plugin_with_its_origin_and_every_refusal(
         plugins: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["engines"]) == 0
@@ -239,6 +240,7 @@ def test_a_plugin_never_shadows_a_built_in(plugins: Path,
     assert "crosscheck-clash 1.0" in note and "the built-in runs" in note
 
 
+@pytest.mark.engine
 def test_every_engine_means_every_usable_one_and_a_note_for_the_rest(
         plugins: Path, capsys: pytest.CaptureFixture[str]) -> None:
     chosen = [adapter.name for adapter in engine_choice.select(None)]

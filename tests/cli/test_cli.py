@@ -61,6 +61,7 @@ def test_new_case_appends_a_valid_block(tmp_path: Path, monkeypatch: pytest.Monk
                  "--file", str(target)]) == 2
 
 
+@pytest.mark.engine
 def test_run_writes_results_run_info_and_report(small_suite: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     assert main(["run", str(small_suite), "--quick", "--out", str(out)]) == 0
@@ -84,6 +85,7 @@ def test_report_escapes_case_text(small_suite: Path, tmp_path: Path) -> None:
     assert EVIL in json.dumps(cases)  # and the page shows it as text (tests/report/test_browser)
 
 
+@pytest.mark.engine
 def test_report_rerenders_without_running_engines(small_suite: Path, tmp_path: Path,
                                                   monkeypatch: pytest.MonkeyPatch) -> None:
     out = tmp_path / "out"
@@ -101,6 +103,7 @@ def test_report_rerenders_without_running_engines(small_suite: Path, tmp_path: P
     assert (out / "report.html").exists()
 
 
+@pytest.mark.engine
 def test_run_goes_on_past_a_bad_case_and_exits_nonzero(small_suite: Path, tmp_path: Path) -> None:
     with small_suite.open("a") as handle:
         handle.write(sphere_text("bad-radius", ra="nan"))
@@ -111,6 +114,7 @@ def test_run_goes_on_past_a_bad_case_and_exits_nonzero(small_suite: Path, tmp_pa
     assert any("bad-radius" in e and "a.radius" in e for e in info["case_errors"])
 
 
+@pytest.mark.engine
 def test_unwritable_output_is_a_clear_error(small_suite: Path, tmp_path: Path,
                                             capsys: pytest.CaptureFixture[str]) -> None:
     blocker = tmp_path / "file"
@@ -173,6 +177,7 @@ def test_version(capsys: pytest.CaptureFixture[str]) -> None:
     assert re.fullmatch(expected, capsys.readouterr().out)
 
 
+@pytest.mark.engine
 def test_the_summary_reads_whole_at_80_columns(small_suite: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     assert main(["run", str(small_suite), "--quick", "--out", str(out)]) == 0

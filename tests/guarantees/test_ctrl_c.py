@@ -17,6 +17,8 @@ from crosscheck.cli import main
 from crosscheck.results.store import read_results
 from tests.conftest import ROOT, wait_for_rows
 
+pytestmark = pytest.mark.engine
+
 CLI = [sys.executable, "-m", "crosscheck.cli"]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}
 

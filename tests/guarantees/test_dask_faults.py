@@ -34,7 +34,7 @@ ENV = {**os.environ, "PYTHONPATH": str(ROOT), "DASK_DISTRIBUTED__WORKER__DAEMON"
 FILES = [str(ROOT / "cases" / f"{name}.toml")
          for name in ("aabb", "sphere", "response", "touching", "near_touching", "offset")]
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.engine, pytest.mark.slow]
 
 
 def run_args(out: Path, *extra: str) -> list[str]:

@@ -76,6 +76,7 @@ def state(out: Path) -> str:
 
 
 @pytest.mark.slow
+@pytest.mark.engine
 def test_sigkill_at_any_moment_then_resume_gives_the_uninterrupted_rows(tmp_path: Path) -> None:
     reference = tmp_path / "uninterrupted"
     subprocess.run(command(reference), env=ENV, check=True, capture_output=True, timeout=300)

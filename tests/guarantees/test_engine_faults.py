@@ -16,6 +16,7 @@ import math
 from pathlib import Path
 
 import pandas as pd
+import pytest
 
 import adapters
 from crosscheck.cases.load import load_paths
@@ -26,6 +27,8 @@ from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.run.runner import run
 from crosscheck.truth import oracle
 from tests.conftest import ROOT, response, sphere
+
+pytestmark = pytest.mark.engine
 
 BAD = ["bad-input"]
 ENDINGS = {str(s) for s in Status}

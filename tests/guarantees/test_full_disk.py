@@ -19,6 +19,8 @@ import pytest
 from crosscheck.results.store import read_results
 from tests.conftest import ROOT
 
+pytestmark = pytest.mark.engine
+
 TIMING = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]
 CLI = [sys.executable, "-m", "crosscheck.cli"]
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}

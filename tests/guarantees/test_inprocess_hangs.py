@@ -83,6 +83,7 @@ print(json.dumps(dict(zip(frame["quantity"], zip(frame["status"], frame["reason"
 """
 
 
+@pytest.mark.engine
 def test_fcl_in_process_skips_its_hanging_signed_distance_and_answers_the_rest(
         tmp_path: Path) -> None:
     pytest.importorskip("fcl")

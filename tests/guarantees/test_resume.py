@@ -25,6 +25,8 @@ from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import ROOT, wait_for_rows
 
+pytestmark = pytest.mark.engine
+
 TIMING = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]
 SUITE = load_paths([ROOT / "cases"]).cases
 CLI = [sys.executable, "-m", "crosscheck.cli"]

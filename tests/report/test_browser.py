@@ -24,6 +24,8 @@ from crosscheck.run.launch import launch, new_info
 from tests.conftest import ROOT, sphere
 from tests.fakes import AlwaysRight, OffByOne
 
+pytestmark = pytest.mark.browser
+
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"]
@@ -68,6 +70,7 @@ def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.engine
 def test_report_renders_without_console_errors(run_dir: Path) -> None:
     messages: list[str] = []
     with opened(run_dir / "report.html", messages) as page:

@@ -6,6 +6,7 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
+import pytest
 
 import adapters
 from crosscheck.cases.load import load_paths
@@ -72,6 +73,7 @@ def test_generated_bodies_are_deterministic() -> None:
     assert one == two and len(getattr(one, "bodies")) == 12  # noqa: B009
 
 
+@pytest.mark.engine
 def test_engines_converge_to_the_exact_reference_as_dt_shrinks(tmp_path: Path) -> None:
     cases = load_paths([scene_file(tmp_path)]).cases
     frame = run_scenes(tmp_path, cases, ["pymunk", "pybullet"])
@@ -89,6 +91,7 @@ def test_engines_converge_to_the_exact_reference_as_dt_shrinks(tmp_path: Path) -
     assert (momentum["error"] < 1e-9).all()
 
 
+@pytest.mark.engine
 def test_quick_skips_long_scenes_with_a_reason(tmp_path: Path) -> None:
     text = HEAD_ON.replace("dt = [1e-3, 1e-2, 1e-1]", "dt = [1e-4, 1e-1]")
     cases = load_paths([scene_file(tmp_path, text)]).cases
@@ -101,6 +104,7 @@ def test_quick_skips_long_scenes_with_a_reason(tmp_path: Path) -> None:
     assert "skip" not in set(short["status"])
 
 
+@pytest.mark.engine
 def test_report_has_the_dynamics_section(tmp_path: Path) -> None:
     out = tmp_path / "out"
     assert main(["run", str(scene_file(tmp_path)), "--engine", "pymunk", "--quick",

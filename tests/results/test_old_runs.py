@@ -84,6 +84,7 @@ def test_report_renders_a_format_3_run(tmp_path: Path) -> None:
     assert len(read_results(run)) == len((FORMAT3 / "results.jsonl").read_text().splitlines())
 
 
+@pytest.mark.engine
 def test_compare_reads_a_format_3_run_against_a_new_one(tmp_path: Path) -> None:
     old = copy_of(FORMAT3, tmp_path / "old")
     new = tmp_path / "new"

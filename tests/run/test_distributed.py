@@ -74,6 +74,7 @@ def _tasks(cluster: LocalCluster) -> int:
     return plugin.count
 
 
+@pytest.mark.engine
 def test_cluster_results_match_local(cluster: LocalCluster, tmp_path: Path) -> None:
     cases = load_paths(CASE_FILES).cases
     engines = [adapters.get("reference"), adapters.get("pymunk")]
@@ -99,6 +100,7 @@ def test_engine_crash_and_hang_are_caught_on_the_workers(cluster: LocalCluster,
     assert status[("boom", "fake-right")] <= {"agree", "undefined"}
 
 
+@pytest.mark.engine
 def test_resumed_run_on_cluster_skips_done_pairs(cluster: LocalCluster, tmp_path: Path) -> None:
     cases = load_paths(CASE_FILES[:1]).cases
     engines = [adapters.get("reference"), adapters.get("pymunk")]

@@ -24,6 +24,7 @@ def test_batch_figures_agree_with_the_pure_oracle() -> None:
         assert f.detail["refined"] > 0 and f.detail["fallbacks"] == 0
 
 
+@pytest.mark.engine
 def test_overhead_figures_measure_raw_engine_path_and_harness() -> None:
     figures = bench.overhead_figures(60)
     assert [f.name for f in figures] == [
@@ -37,6 +38,7 @@ def test_overhead_figures_measure_raw_engine_path_and_harness() -> None:
         assert f.ok == (f.value <= 50.0)
 
 
+@pytest.mark.engine
 def test_pybullet_stream_reports_memory_and_bodies() -> None:
     stream, memory = bench.pybullet_figures(400)
     assert stream.detail["cases"] == 400 and stream.value > 0
@@ -81,6 +83,7 @@ def test_compare_matches_figures_by_name_and_lists_machine_differences() -> None
     assert math.isnan(result.rows[1].ratio) and result.rows[1].ok_old is None
 
 
+@pytest.mark.engine
 def test_spread_and_the_seven_variants_are_registered() -> None:
     s = bench_suite.spread([3.0, 1.0, 2.0, 4.0])
     assert (s["median"], s["min"], s["max"], s["n"]) == (2.5, 1.0, 4.0, 4.0)
@@ -100,6 +103,7 @@ def test_values_figure_checks_every_near_pair_bit_for_bit() -> None:
     assert "near ones included" in figure.note and d["stage_exact"] >= 0
 
 
+@pytest.mark.engine
 def test_campaign_figure_reports_every_engine_and_memory() -> None:
     figure = bench.campaign_figure(1_000, ["reference", "pymunk"])
     assert set(figure.detail["engine_cases_per_s"]) == {"reference", "pymunk"}

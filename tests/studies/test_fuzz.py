@@ -148,6 +148,7 @@ def findings(directory: Path) -> list[dict[str, str]]:
         return list(csv.DictReader(handle))
 
 
+@pytest.mark.engine
 def test_real_run_finds_disagreements_and_writes_valid_case_files(runs: tuple[Path, Path]
                                                                    ) -> None:
     directory = runs[0]
@@ -178,6 +179,7 @@ def test_real_run_finds_disagreements_and_writes_valid_case_files(runs: tuple[Pa
                if k.split()[1] in Status.members("breaking")) == len(rows)  # all listed
 
 
+@pytest.mark.engine
 def test_same_seed_gives_byte_identical_outputs(runs: tuple[Path, Path]) -> None:
     first, second = runs
     names = sorted(p.name for p in first.glob("*.toml"))
@@ -186,6 +188,7 @@ def test_same_seed_gives_byte_identical_outputs(runs: tuple[Path, Path]) -> None
         assert (first / name).read_bytes() == (second / name).read_bytes(), name
 
 
+@pytest.mark.engine
 def test_refuses_a_folder_with_output_and_unknown_engines(runs: tuple[Path, Path],
                                                           tmp_path: Path) -> None:
     assert fuzz_cli(*ARGS, "--out", str(runs[0])) == 2

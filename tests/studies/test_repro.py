@@ -42,6 +42,8 @@ from crosscheck.studies.repro.script import (
 )
 from tests.conftest import ROOT
 
+pytestmark = pytest.mark.engine
+
 ENGINES = ("fcl", "pybullet", "pybullet-default", "pymunk", "pymunk-default", "reference",
            "reference-f32")
 FILES = ("aabb", "touching", "float_traps", "scale", "sphere", "degenerate", "response",
