@@ -121,11 +121,13 @@ assert tuple(n for n in COLUMNS if n in ROW_FIELDS) == ROW_FIELDS
 _STATUS = {status: text(str(status)) for status in Status}
 _BY_TYPE: dict[str, Callable[[Any], str]] = {
     "str": text, "float": number, "int": int.__repr__, "bool": lambda b: "true" if b else "false"}
-_TYPED = tuple(tuple((key, name, _BY_TYPE[str(Record.__dataclass_fields__[name].type)])
-                     for key, name in group) for group, _ in _PLAN)
-"""Per cut, its case fields' key texts, names and encoders (by the Record field's type)."""
+_FILLED = tuple(
+    (k, "".join(key.replace("%", "%%") + "%s" for key, _ in group),
+     tuple((name, _BY_TYPE[str(Record.__dataclass_fields__[name].type)]) for _, name in group))
+    for k, (group, _) in enumerate(_PLAN) if group)
+"""Per cut with case fields before it: its index, its keys as a ``%`` format, and the fields'
+names and encoders (by the Record field's declared type)."""
 _AFTER = [after for _, after in _PLAN]
-_FILLED = tuple((k, group) for k, group in enumerate(_TYPED) if group)
 _EVERY = "%s".join(_KEYS[name].replace("%", "%%") for name in COLUMNS) + "%s}\n"
 """The line of a row as a ``%`` format, a ``%s`` for each value."""
 
@@ -140,8 +142,8 @@ def gaps(fixed: Mapping[str, Any]) -> list[str]:
     10
     """
     out = _AFTER.copy()
-    for k, group in _FILLED:
-        out[k] = "".join([key + encoder(fixed[name]) for key, name, encoder in group]) + out[k]
+    for k, form, group in _FILLED:
+        out[k] = form % tuple([encoder(fixed[name]) for name, encoder in group]) + out[k]
     return out
 
 
