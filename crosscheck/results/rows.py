@@ -48,9 +48,11 @@ text = json.encoder.encode_basestring_ascii
 def number(x: float) -> str:
     """A float as json.dumps writes it (NaN and the infinities as bare tokens).
 
-    >>> number(0.1), number(float("nan")), number(-math.inf)
-    ('0.1', 'NaN', '-Infinity')
+    >>> number(0.1), number(float("nan")), number(-math.inf), number(3)
+    ('0.1', 'NaN', '-Infinity', '3')
     """
+    if type(x) is not float:
+        return json.dumps(x)  # an int where a float was declared: as json.dumps writes it
     if math.isfinite(x):
         return float.__repr__(x)
     return "NaN" if x != x else ("Infinity" if x > 0 else "-Infinity")
