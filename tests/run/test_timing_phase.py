@@ -74,6 +74,7 @@ def test_timing_runs_in_the_engine_worker_or_in_process(tmp_path: Path, isolate:
     assert len(read_timings(folder)) == 3
 
 
+@pytest.mark.wallclock  # the same rules on injected times: tests/report/test_compare.py
 def test_compare_catches_a_twice_slower_engine_and_nothing_in_a_repeat(tmp_path: Path) -> None:
     # in the engines' own worker, pinned apart from this test process, as a real run times
     options = replace(OPTIONS, samples=20, min_sample_s=0.005, timing_cases=12, isolate=True)
