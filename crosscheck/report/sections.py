@@ -22,7 +22,7 @@ import pandas as pd
 from markupsafe import Markup
 
 from crosscheck.core.schema import AnyCase
-from crosscheck.report import charts, dynamics, speed, stability, table, verdict
+from crosscheck.report import charts, dynamics, profiles, speed, stability, table, verdict
 from crosscheck.report.mirror import asymmetries
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.results.runinfo import RunInfo
@@ -109,8 +109,12 @@ class Section:
 
 
 def _verdict(view: RunView) -> Context | None:
-    """Per engine: agreeing shares, speed ranks and failure modes (None: an empty run)."""
-    return None if view.frame.empty else verdict.verdict(view.frame, view.stored.repros)
+    """The standard profiles on common ground, then per engine and kind: agreeing shares,
+    speed ranks and failure modes (None: an empty run)."""
+    if view.frame.empty:
+        return None
+    repros = view.stored.repros
+    return verdict.verdict(view.frame, repros) | profiles.context(view.frame, repros)
 
 
 def _errors(view: RunView) -> Context | None:

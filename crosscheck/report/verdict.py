@@ -99,6 +99,8 @@ class Mode:
     example: str
     repro: str
     """``repro/<name>.py`` when the example's script is in the run folder, else ``""``."""
+    reason: str = ""
+    """The example row's own reason, its numbers intact."""
 
     @property
     def label(self) -> str:
@@ -158,18 +160,20 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
         return []
     names = [f"{repro_name(str(c), str(e))}.py" for c, e in zip(bad["case_id"], bad["engine"],
                                                                 strict=True)]
-    bad = bad.assign(_pattern=bad["reason"].fillna("").astype(str).map(reason_pattern),
+    reasons = bad["reason"].fillna("").astype(str)
+    bad = bad.assign(_pattern=reasons.map(reason_pattern), _reason=reasons,
                      _category=bad["category"].fillna("").astype(str), _repro=names,
                      _has=[n in written for n in names])
     keys = ["engine", "status", "_category", "_pattern"]
     counts = bad.groupby(keys, sort=False).size().rename("count")
     firsts = bad.sort_values("_has", ascending=False, kind="stable").groupby(
-        keys, sort=False)[["case_id", "_repro", "_has"]].first()
+        keys, sort=False)[["case_id", "_repro", "_has", "_reason"]].first()
     modes = counts.to_frame().join(firsts).reset_index()
     modes = modes.sort_values("count", ascending=False, kind="stable")
     return [Mode(engine=str(r["engine"]), status=str(r["status"]), category=str(r["_category"]),
                  pattern=str(r["_pattern"]), count=int(r["count"]), example=str(r["case_id"]),
-                 repro=f"{REPRO_DIR}/{r['_repro']}" if r["_has"] else "")
+                 repro=f"{REPRO_DIR}/{r['_repro']}" if r["_has"] else "",
+                 reason=str(r["_reason"]))
             for r in modes.to_dict("records")]
 
 

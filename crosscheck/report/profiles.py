@@ -1,0 +1,237 @@
+"""The verdict on common ground: four standard scene profiles, each judged over the rows
+that every ranked engine answers.
+
+A share of agreeing rows taken over whatever each engine supports favours the engines
+that skip: a 2-D-only engine is never asked a 3-D question, and an engine without a
+separation query is never asked a separated pair's distance.  So each profile here
+(3-D detection, 2-D detection, responses, scenes) is answered in three steps:
+
+1. **The profile's rows**: the case x quantity rows of its kinds and dimension, bad-input
+   cases left out (an answer to an invalid input is robustness, shown apart in
+   :func:`robustness`, never accuracy).
+2. **The ranked engines**: the engine variants that answer (any status but ``skip``) some
+   row of every kind and dimension of the profile; the textbook formulas
+   (:data:`BASELINES`) are scored beside them as baselines, never ranked.  An engine that
+   answers only part of the profile's kinds or dimensions is listed as not ranked, with
+   what it lacks.
+3. **The common ground**: the rows that every ranked engine answers.  Each engine's score
+   is agree / judged over those rows, so no engine gains by skipping; its coverage (rows
+   it answers / the profile's rows) is shown beside the score.
+
+Ranked engines are ordered by score, then by coverage, then by median query time
+(cheapest first): of two engines as right on the common ground, the one that answers
+more of the profile comes first.
+
+>>> rows = pd.DataFrame([
+...     {"case_id": c, "kind": "sphere", "dim": 3, "source": "cases/sphere.toml",
+...      "engine": e, "quantity": "hit", "status": s, "category": "", "reason": "",
+...      "query_s": 1e-6, "unstable": False}
+...     for c, e, s in [("a", "fast", "agree"), ("b", "fast", "disagree"),
+...                     ("a", "skipper", "agree"), ("b", "skipper", "skip")]])
+>>> [(r.engine, r.score.text, r.coverage_text) for r in profile(rows, PROFILES[0]).ranked]
+[('fast', '100%', '100%'), ('skipper', '100%', '50.0%')]
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection
+from dataclasses import dataclass, field
+from typing import Any
+
+import pandas as pd
+
+from crosscheck.core.model import Status
+from crosscheck.report.speed import with_iqr
+from crosscheck.report.tables import case_group
+from crosscheck.report.verdict import Cell, Mode, failure_modes, share_text
+from crosscheck.results.timings import Spread, spread
+
+BASELINES = ("reference", "reference-f32")
+"""The textbook formulas: drawn beside the engines as baselines, never ranked."""
+BAD_INPUT = "bad_input"
+"""The case group whose answers are robustness, not accuracy."""
+SHOWN = 2
+"""Failure modes shown per engine and profile."""
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A standard scene profile: its kinds and dimensions (empty: any dimension)."""
+
+    name: str
+    kinds: tuple[str, ...]
+    dims: tuple[int, ...] = ()
+
+    def holds(self, kind: str, dim: int) -> bool:
+        return kind in self.kinds and (not self.dims or dim in self.dims)
+
+
+PROFILES = (
+    Profile("3-D detection", ("aabb", "sphere"), (3,)),
+    Profile("2-D detection", ("aabb", "sphere"), (2,)),
+    Profile("responses", ("sphere_response",)),
+    Profile("scenes", ("sphere_scene",)),
+)
+
+
+@dataclass(frozen=True)
+class EngineScore:
+    """One engine on one profile: its score on the common ground, coverage, cost, modes."""
+
+    engine: str
+    score: Cell
+    answered: int
+    """Rows of the profile it answers (not ``skip``)."""
+    total: int
+    """Rows of the profile."""
+    cost: Spread | None
+    """Its per-case query times over the profile's timed cases; None: none timed."""
+    modes: list[Mode] = field(default_factory=list)
+
+    @property
+    def coverage(self) -> float:
+        return self.answered / self.total if self.total else 0.0
+
+    @property
+    def coverage_text(self) -> str:
+        return share_text(self.coverage)
+
+    @property
+    def top(self) -> list[Mode]:
+        return self.modes[:SHOWN]
+
+    @property
+    def cost_text(self) -> str:
+        """Its median query time with the IQR over its timed cases ('-': none timed)."""
+        return "\u2013" if self.cost is None else f"{with_iqr(self.cost)}, {self.cost.n} cases"
+
+
+@dataclass(frozen=True)
+class NotRanked:
+    """An engine that answers only part of a profile: what it lacks."""
+
+    engine: str
+    answered: int
+    lacks: tuple[str, ...]
+    """The profile's kinds and dimensions it answers nothing of, e.g. ``sphere 3-D``."""
+
+
+@dataclass(frozen=True)
+class ProfileVerdict:
+    """One profile's answer."""
+
+    profile: Profile
+    total: int
+    """The profile's rows (bad input left out)."""
+    common: int
+    """Rows every ranked engine answers."""
+    cases: int
+    """Cases with a row on the common ground."""
+    ranked: list[EngineScore] = field(default_factory=list)
+    baselines: list[EngineScore] = field(default_factory=list)
+    not_ranked: list[NotRanked] = field(default_factory=list)
+
+
+def _answered(rows: pd.DataFrame) -> pd.DataFrame:
+    return rows[rows["status"] != Status.SKIP]
+
+
+def _slots(rows: pd.DataFrame) -> list[str]:
+    """The (kind, dim) slots of these rows, as ``sphere 3-D``."""
+    return [f"{k} {d}-D" for k, d in sorted(set(zip(rows["kind"], rows["dim"], strict=True)))]
+
+
+def profile_rows(frame: pd.DataFrame, wanted: Profile) -> pd.DataFrame:
+    """The rows of ``wanted``'s kinds and dimensions, bad-input cases left out."""
+    inside = [wanted.holds(str(k), int(d)) and case_group(str(s)) != BAD_INPUT
+              for k, d, s in zip(frame["kind"], frame["dim"], frame["source"], strict=True)]
+    return frame[pd.Series(inside, index=frame.index, dtype=bool)]
+
+
+def _score(engine: str, rows: pd.DataFrame, common: pd.Index, total: int,
+           repros: Collection[str]) -> EngineScore:
+    mine = rows[rows["engine"] == engine]
+    on_ground = mine[_keys(mine).isin(common)]
+    judged = on_ground[on_ground["status"].isin(Status.members("judged"))]
+    timed = mine.drop_duplicates("case_id")["query_s"].dropna().tolist()
+    return EngineScore(
+        engine, Cell(int((judged["status"] == Status.AGREE).sum()), len(judged)),
+        len(_answered(mine)), total, spread(timed) if timed else None,
+        failure_modes(on_ground, repros))
+
+
+def _keys(rows: pd.DataFrame) -> pd.Index:
+    return pd.Index(rows["case_id"].astype(str) + "\x00" + rows["quantity"].astype(str))
+
+
+def profile(frame: pd.DataFrame, wanted: Profile,
+            repros: Collection[str] = ()) -> ProfileVerdict:
+    """``wanted`` judged on common ground (see the module docstring)."""
+    rows = profile_rows(frame, wanted)
+    slots = set(_slots(rows))
+    engines = [str(e) for e in dict.fromkeys(rows["engine"])]
+    answered = _answered(rows)
+    ranked, not_ranked = [], []
+    for engine in (e for e in engines if e not in BASELINES):
+        mine = answered[answered["engine"] == engine]
+        lacks = tuple(sorted(slots - set(_slots(mine))))
+        if lacks:
+            not_ranked.append(NotRanked(engine, len(mine), lacks))
+        else:
+            ranked.append(engine)
+    per_engine = [set(_keys(answered[answered["engine"] == e])) for e in ranked]
+    common = pd.Index(sorted(set.intersection(*per_engine))) if per_engine else pd.Index([])
+    total = len(rows.drop_duplicates(["case_id", "quantity"]))
+    scores = [_score(e, rows, common, total, repros) for e in ranked]
+    scores.sort(key=lambda s: (s.score.share is None, -(s.score.share or 0.0), -s.coverage,
+                               s.cost is None, s.cost.median if s.cost else 0.0))
+    baselines = [_score(e, rows, common, total, repros) for e in engines
+                 if e in BASELINES and len(answered[answered["engine"] == e])]
+    cases = len({str(key).split("\x00")[0] for key in common})
+    return ProfileVerdict(wanted, total, len(common), cases, scores, baselines, not_ranked)
+
+
+def profiles(frame: pd.DataFrame, repros: Collection[str] = ()) -> list[ProfileVerdict]:
+    """The standard profiles that have rows in ``frame``."""
+    needed = {"dim", "source"}
+    if not needed <= set(frame.columns):
+        return []
+    made = [profile(frame, p, repros) for p in PROFILES]
+    return [v for v in made if v.total]
+
+
+@dataclass(frozen=True)
+class Robustness:
+    """One engine on the bad-input cases: how its answers failed."""
+
+    engine: str
+    answered: int
+    crash: int
+    timeout: int
+    error: int
+
+    @property
+    def text(self) -> str:
+        return (f"{self.crash} crash, {self.timeout} timeout, {self.error} error "
+                f"of {self.answered} answered rows")
+
+
+def robustness(frame: pd.DataFrame) -> list[Robustness]:
+    """Per engine, what became of its answers to the bad-input cases (none: empty)."""
+    if "source" not in frame.columns:
+        return []
+    bad = frame[[case_group(str(s)) == BAD_INPUT for s in frame["source"]]]
+    out = []
+    for engine in (str(e) for e in dict.fromkeys(bad["engine"])):
+        mine = _answered(bad[bad["engine"] == engine])
+        counts = mine["status"].value_counts()
+        out.append(Robustness(engine, len(mine), int(counts.get(Status.CRASH, 0)),
+                              int(counts.get(Status.TIMEOUT, 0)),
+                              int(counts.get(Status.ERROR, 0))))
+    return out
+
+
+def context(frame: pd.DataFrame, repros: Collection[str] = ()) -> dict[str, Any]:
+    """The profile part of the verdict section's context."""
+    return {"profiles": profiles(frame, repros), "robustness": robustness(frame),
+            "profile_shown": SHOWN}
