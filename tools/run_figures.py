@@ -20,11 +20,10 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Category, Status
-from crosscheck.report import speed, tables, verdict
+from crosscheck.report import profiles, speed, tables, verdict
 from crosscheck.results.store import StoredRun
 
 DASH = "\u2013"
-DETECTION = ("aabb", "sphere")
 """The kinds whose query is one detection call: the headline's time is theirs."""
 
 
@@ -256,35 +255,33 @@ def query_times(run: StoredRun) -> str:
         "Timed cases per engine x kind:", "", table(["engine", *kinds], timed)])
 
 
-def _top_category(rows: pd.DataFrame) -> str:
-    bad = rows[rows["status"] == str(Status.DISAGREE)]["category"].fillna("")
-    if bad.empty:
-        return DASH
-    counts = bad.value_counts()
-    order = {str(c): i for i, c in enumerate(Category)}
-    best = sorted(counts.index, key=lambda c: (-int(counts[c]), order.get(str(c), len(order))))
-    return f"{best[0] or 'none'} ({count(int(counts[best[0]]))} of {count(len(bad))})"
+HEADLINE_TOP = 3
+"""Ranked engines shown per profile in the headline (the report shows them all)."""
 
 
 def headline(run: StoredRun) -> str:
-    """Per engine: agreeing share of judged rows per kind, the most common disagreement
-    category, and the median detection query time with its IQR."""
+    """The report's verdict on common ground, short: per standard profile, its top ranked
+    engines and the float64 textbook baseline, with score, coverage and median query time."""
     frame = run.results
     if frame.empty:
         return "The run has no results rows.\n"
-    found = verdict.verdicts(frame)
-    kinds = verdict.kinds_of(frame)
     rows = []
-    for row in found:
-        of_engine = frame[frame["engine"] == row.engine]
-        detection = of_engine[of_engine["kind"].isin(DETECTION)]
-        rows.append([row.engine, *(c.text for c in row.cells), row.overall.text,
-                     _top_category(of_engine), _spread(detection)[0]])
+    for answer in profiles.profiles(frame, run.repros):
+        ground = (f"{answer.profile.name} ({count(answer.common)} of {count(answer.total)} "
+                  "rows)")
+        shown = [(str(k + 1), s) for k, s in enumerate(answer.ranked[:HEADLINE_TOP])]
+        shown += [("baseline", s) for s in answer.baselines[:1]]
+        for k, (rank, s) in enumerate(shown):
+            rows.append([ground if k == 0 else "", rank, s.engine,
+                         f"{s.score.text} ({count(s.score.agree)} / {count(s.score.judged)})",
+                         s.coverage_text, s.cost_text])
     return "\n".join([
-        "Agreeing share of the judged rows per kind (agree / agree, disagree, error, crash, "
-        "timeout), the most common category of its disagreements, and the median detection "
-        f"query time ({', '.join(DETECTION)}) with its IQR over the timed cases:", "",
-        table(["engine", *kinds, "all", "most common disagreement", "query time"], rows)])
+        "The verdict on common ground, per standard profile: each engine is scored over the "
+        "rows every ranked engine answers (bad input left out), with its coverage of the "
+        "profile beside the score and its median query time with the IQR over its timed "
+        f"cases; the top {HEADLINE_TOP} ranked engines and the float64 textbook baseline:", "",
+        table(["profile (common ground)", "rank", "engine", "score", "coverage",
+               "median query (IQR)"], rows)])
 
 
 # --- conventions and the report --------------------------------------------------------------

@@ -103,7 +103,9 @@ class EngineScore:
     @property
     def cost_text(self) -> str:
         """Its median query time with the IQR over its timed cases ('-': none timed)."""
-        return "\u2013" if self.cost is None else f"{with_iqr(self.cost)}, {self.cost.n} cases"
+        if self.cost is None:
+            return "\u2013"
+        return f"{with_iqr(self.cost)}, {self.cost.n} case{'' if self.cost.n == 1 else 's'}"
 
 
 @dataclass(frozen=True)

@@ -129,7 +129,10 @@ def test_the_numbers_are_the_runs(files: dict[str, str], run_dir: Path) -> None:
     assert "| sphere | 1 | 2 | 1 | 0 | 0 | 1 |" in files["suite.md"]  # a case and its A/B swap
     disagree = int((stored.results["status"] == "disagree").sum())
     assert f"**{disagree} disagree rows**" in files["categories.md"]
-    assert "| fake-right | 100% | 100% | 100% |" in files["headline.md"]
+    headline = files["headline.md"]  # the always-right fake tops every profile, with the baseline
+    assert headline.count("| 1 | fake-right | 100% (") == 2  # 3-D and 2-D detection
+    assert headline.count("| baseline | reference | 100% (") == 2
+    assert "| 2 | fake-off |" in headline
     size = (run_dir / "report.html").stat().st_size
     assert f"{size:,} bytes" in files["report-size.md"]
     assert "not measured for this report" in files["report-size.md"]
