@@ -11,6 +11,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from rich import box
 from rich.markup import escape
 from rich.table import Table
 
@@ -24,21 +25,30 @@ if TYPE_CHECKING:
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``advise``."""
-    p = sub.add_parser("advise", help="which engines pass every stored case inside a scene's "
-                                      "envelope, cheapest first")
+    p = sub.add_parser("advise", help="which engine for my scene: a graded, ranked answer "
+                                      "from a stored run")
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a stored run folder")
     p.add_argument("--dim", action="append", metavar="2|3",
                    help="dimension of the scene (repeatable; default: all)")
     p.add_argument("--kind", action="append", metavar="K",
                    help="kind of query (repeatable; default: every pair kind in the run)")
-    p.add_argument("--scale", metavar="LO:HI", help="body sizes (radius, largest half-width)")
+    p.add_argument("--scale", metavar="LO:HI",
+                   help="body sizes: every radius and half-width within LO:HI")
     p.add_argument("--offset", metavar="MAX", help="largest |coordinate| of any centre")
     p.add_argument("--speed", metavar="MAX", help="largest |velocity component| (responses)")
     p.add_argument("--mass-ratio", metavar="MAX", help="largest max(m)/min(m) (responses)")
     p.add_argument("--tolerance", metavar="T",
-                   help="accuracy needed: a disagreement within T passes (never a wrong hit)")
-    p.add_argument("--include-bad-input", action="store_true",
-                   help="also judge cases tagged bad-input")
+                   help="absolute accuracy needed (a hit verdict: on pairs whose exact "
+                        "|gap| exceeds it)")
+    p.add_argument("--rtol", metavar="R",
+                   help="accuracy needed relative to the smallest body extent (lengths)")
+    p.add_argument("--quantities", metavar="Q,Q",
+                   help="the quantities that matter (default: all), e.g. hit,distance")
+    p.add_argument("--touching-contact", action="store_true",
+                   help="touching must count as contact (a touching rule then fails)")
+    p.add_argument("--strict-conventions", action="store_true",
+                   help="judge declared conventions (margins, soft contact) like any answer")
+    p.add_argument("--no-float32", action="store_true", help="float32 is not acceptable")
     p.add_argument("--json", action="store_true", help="print the advice as JSON")
     p.set_defaults(func=cmd_advise)
 
@@ -86,6 +96,18 @@ def _kinds(texts: list[str] | None) -> tuple[str, ...]:
     return tuple(dict.fromkeys(texts or []))
 
 
+def _quantities(text: str | None) -> tuple[str, ...]:
+    from crosscheck.core.model import quantities_of
+
+    known = list(dict.fromkeys(q for k in Kind for q in quantities_of(k)))
+    names = tuple(dict.fromkeys(q.strip() for q in (text or "").split(",") if q.strip()))
+    for name in names:
+        if name not in known:
+            raise OptionError(f"--quantities: unknown quantity {name!r} "
+                              f"(choose from {', '.join(known)})")
+    return names
+
+
 def envelope_of(args: argparse.Namespace) -> Envelope:
     """The envelope the options state; OptionError or EnvelopeError naming a bad option."""
     from crosscheck.report.advise import Envelope
@@ -94,8 +116,9 @@ def envelope_of(args: argparse.Namespace) -> Envelope:
         dims=_dims(args.dim), kinds=_kinds(args.kind), scale=_scale(args.scale),
         offset=_number("--offset", args.offset), speed=_number("--speed", args.speed),
         mass_ratio=_number("--mass-ratio", args.mass_ratio),
-        tolerance=_number("--tolerance", args.tolerance),
-        include_bad_input=args.include_bad_input)
+        tolerance=_number("--tolerance", args.tolerance), rtol=_number("--rtol", args.rtol),
+        quantities=_quantities(args.quantities), touching_contact=args.touching_contact,
+        strict_conventions=args.strict_conventions, float32=not args.no_float32)
     envelope.check()
     return envelope
 
@@ -135,40 +158,72 @@ def cmd_advise(args: argparse.Namespace) -> int:
     return 0
 
 
-def _seconds(value: float | None) -> str:
-    return "-" if value is None else f"{value * 1e6:.3g} µs"
+def _micros(engine: EngineAdvice) -> str:
+    if engine.median_query_s is None:
+        return "-"
+    return f"{_short(engine.median_query_s * 1e6)}±{_short((engine.query_iqr_s or 0.0) * 1e6)}"
 
 
-def _why(engine: EngineAdvice) -> str:
-    """One line per reason: unsupported kinds and dimensions, then the worst cases."""
-    lines = [f"does not support {', '.join(engine.unsupported)}"] if engine.unsupported else []
-    lines += [f"{c.case_id}  {c.quantity} {c.status}" + (f"/{c.category}" if c.category else "")
-              + ("" if c.error is None else f" error {c.error:.3g}") for c in engine.culprits]
-    if engine.failing_cases > len(engine.culprits):
-        lines.append(f"... and {engine.failing_cases - len(engine.culprits)} more cases")
-    return escape("\n".join(lines) or "answered no case here")
+def _short(value: float) -> str:
+    """At most four characters for 0.001 to 9999 (µs)."""
+    return f"{value:.0f}" if value >= 99.5 else f"{value:.2g}"
+
+
+def _percent(share: float | None) -> str:
+    return "-" if share is None else f"{share:.0%}"
+
+
+def worst_text(engine: EngineAdvice) -> str:
+    """The worst answer in a few words: quantity, status, number against the need, case."""
+    worst = engine.worst
+    if worst is None:
+        return "-" if engine.answered else "answers no case here"
+    number = "" if worst.measure is None else f" {_g(worst.measure)}>{_g(worst.allowed)}"
+    what = worst.status if worst.status != "disagree" else ""
+    return f"{worst.quantity} {what}{number} {worst.case_id}".replace("  ", " ")
+
+
+def _g(value: float) -> str:
+    """A number in at most about five characters: 0.42, 1e-04, 3e+08."""
+    text = f"{value:.2g}"
+    return text if len(text) <= 5 else f"{value:.0e}"
+
+
+TIER_WORDS = {"passes": "[green]pass[/green]", "partial": "[yellow]part[/yellow]",
+              "fails": "[red]fail[/red]", "unsupported": "none"}
+
+
+def _row(table: Table, rank: str, engine: EngineAdvice) -> None:
+    table.add_row(rank, engine.engine, TIER_WORDS[engine.tier], _percent(engine.coverage),
+                  _percent(engine.share_within), _micros(engine), escape(worst_text(engine)))
 
 
 def print_advice(advice: Advice) -> None:
-    """The engines that pass, cheapest first, then the others with the cases that rule them out."""
-    tolerance = advice.envelope.tolerance
-    title = (f"{advice.cases} cases inside the envelope ({', '.join(advice.kinds)}; "
-             f"{', '.join(f'{d}-D' for d in advice.dims)}; tolerance "
-             f"{'none: agree only' if tolerance is None else f'{tolerance:g}'})")
-    table = Table(title=title)
-    table.add_column("engine", no_wrap=True)
-    table.add_column("verdict", no_wrap=True)
-    table.add_column("cases", justify="right", no_wrap=True)
-    table.add_column("median query", justify="right", no_wrap=True)
-    table.add_column("failing", justify="right", no_wrap=True)
-    table.add_column("ruled out by (worst first)", overflow="fold")
-    for engine in advice.passing:
-        table.add_row(engine.engine, "[green]passes[/green]", str(engine.cases),
-                      _seconds(engine.median_query_s), "0", "")
-    for engine in advice.failing:
-        table.add_row(engine.engine, "[red]ruled out[/red]", str(engine.cases),
-                      _seconds(engine.median_query_s), str(engine.failing_cases),
-                      _why(engine))
-    out.print(table)
-    say(f"{len(advice.passing)} of {len(advice.passing) + len(advice.failing)} engines pass "
-        "every case inside this envelope" + (", cheapest first" if advice.passing else ""))
+    """One line per engine, ranked; the baselines apart; at 80 columns (details: --json)."""
+    need = advice.envelope
+    accuracy = ", ".join(x for x in (
+        None if need.tolerance is None else f"tolerance {need.tolerance:g}",
+        None if need.rtol is None else f"rtol {need.rtol:g}") if x) or "agree only"
+    table = Table(title=f"{advice.cases} cases ({', '.join(advice.kinds)}; "
+                        f"{', '.join(f'{d}-D' for d in advice.dims)}; {accuracy})",
+                  box=box.SIMPLE_HEAD, pad_edge=False)
+    for name, width in (("#", 2), ("engine", 16), ("tier", 4), ("cover", 5), ("within", 6),
+                        ("µs±IQR", 9)):
+        table.add_column(name, justify="right" if width > 4 and width != 16 else "left",
+                         no_wrap=True, min_width=width)
+    table.add_column("worst answer", no_wrap=True, overflow="ellipsis", max_width=26)
+    for rank, engine in enumerate(advice.ranking, 1):
+        _row(table, str(rank), engine)
+    for engine in advice.baselines:
+        _row(table, "b", engine)
+    out.print(table, width=min(out.width, 80), soft_wrap=False)
+    for label, engines in (("answer no case (not ranked)", advice.unsupported),
+                           ("float32, not accepted", advice.excluded)):
+        if engines:
+            say(f"{label}: {', '.join(e.engine for e in engines)}")
+    if advice.passing:
+        say(f"passing: {', '.join(e.engine for e in advice.passing)} (cheapest first)")
+    else:
+        more = f" and {len(advice.deciding) - 3} more" if len(advice.deciding) > 3 else ""
+        say(f"nothing passes the whole envelope; closest: {advice.closest or '-'}, decided by "
+            f"{'; '.join(advice.deciding[:3]) or '-'}{more} (details: --json)")

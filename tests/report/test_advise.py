@@ -1,13 +1,14 @@
-"""``crosscheck advise``: which engines pass every stored case inside a scene's envelope.
+"""``crosscheck advise``: a graded, ranked answer for a scene profile from a stored run.
 
-The run is made by fake engines whose failures are known (tests/fakes.py and
-``WrongFar`` here), so every verdict below follows from the cases' inputs.
+The run is made by fake engines whose failures are known (tests/fakes.py and the fakes
+here), so every grade below follows from the cases' inputs and the oracle.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -17,7 +18,8 @@ from crosscheck.cli import main
 from crosscheck.core.model import Observation
 from crosscheck.core.options import RunOptions
 from crosscheck.report.advise import Advice, EngineAdvice, Envelope, EnvelopeError, advise
-from crosscheck.results.store import ResultsStore, StoredRun, read_run
+from crosscheck.report.advise_judge import judge
+from crosscheck.results.store import ResultsStore, StoredRun, read_run, repro_name
 from crosscheck.run.launch import launch, new_info
 from crosscheck.truth import oracle
 from tests import fakes
@@ -37,10 +39,30 @@ class WrongFar(fakes.AlwaysRight):
         return dataclasses.replace(truth, distance=truth.distance + 1.0)
 
 
+class WrongNearTouch(fakes.AlwaysRight):
+    """Right, except the hit verdict flipped on pairs whose exact gap is within 1e-3."""
+
+    name: ClassVar[str] = "fake-near"
+
+    def query(self, prepared: Any) -> Observation:
+        truth = oracle.truth(prepared)
+        if isinstance(truth.distance, float) and 0.0 < abs(truth.distance) < 1e-3:
+            return dataclasses.replace(truth, hit=not truth.hit)
+        return truth
+
+
+class Textbook(fakes.AlwaysRight):
+    """Exact, under the name of the textbook baseline: shown apart, never a contender."""
+
+    name: ClassVar[str] = "reference"
+
+
+NEAR_GAP = 1.000001 - 1.0
 CASES = [
     sphere(0.0, 2.0, id="s3-apart"),
     sphere(0.0, 2.0, dim=2, id="s2-apart"),
     sphere(0.0, 4.0, ra=2.0, rb=2.0, id="s3-touch"),
+    sphere(0.0, 1.000001, id="s3-near"),
     aabb([0.0, 0.0, 0.0], [10.0, 10.0, 10.0], [30.0, 0.0, 0.0], [10.0, 10.0, 10.0],
          id="b3-big"),
     aabb([1000.0, 0.0], [0.5, 0.5], [1002.0, 0.0], [0.5, 0.5], id="b2-far"),
@@ -48,7 +70,7 @@ CASES = [
     sphere(0.0, 2.0, ra=-0.5, id="s3-bad", tags=["bad-input"]),
 ]
 ENGINES = [fakes.AlwaysRight(), fakes.OffByOne(), fakes.HitOnly(), fakes.Raises(),
-           fakes.TouchingIsContact(), WrongFar()]
+           fakes.TouchingIsContact(), WrongFar(), WrongNearTouch(), Textbook()]
 
 
 @pytest.fixture(scope="module")
@@ -69,60 +91,106 @@ def names(engines: list[EngineAdvice]) -> list[str]:
     return [e.engine for e in engines]
 
 
-def verdict(advice: Advice, engine: str) -> EngineAdvice:
-    return next(e for e in advice.passing + advice.failing if e.engine == engine)
+def grade(advice: Advice, engine: str) -> EngineAdvice:
+    everyone = (advice.ranking + advice.unsupported + advice.excluded + advice.baselines)
+    return next(e for e in everyone if e.engine == engine)
 
 
-def test_only_the_always_right_engine_passes_everything(stored: StoredRun) -> None:
+def test_the_exact_engines_pass_and_the_baseline_is_shown_apart(stored: StoredRun) -> None:
     advice = advise(stored, Envelope())
-    assert names(advice.passing) == ["fake-right"]
-    assert advice.cases == 6 and advice.kinds == ("aabb", "sphere", "sphere_response")
-    off = verdict(advice, "fake-off")
-    # every pair case but the response fails its distance; the response raises (no distance)
-    assert off.failing_cases == 6
-    assert (off.culprits[0].case_id, off.culprits[0].status) == ("r3", "error")
-    assert [(c.quantity, c.status, c.error) for c in off.culprits[1:]] == [
-        ("distance", "disagree", 1.0)] * 2
-    raises = verdict(advice, "fake-raises")
-    assert raises.failing_cases == 6 and {c.status for c in raises.culprits} == {"error"}
+    assert advice.cases == 7 and advice.kinds == ("aabb", "sphere", "sphere_response")
+    assert "fake-right" in names(advice.passing)
+    assert "reference" not in names(advice.ranking)
+    assert names(advice.baselines) == ["reference"] and advice.baselines[0].passes
+    off = grade(advice, "fake-off")
+    # every pair case fails its distance by 1.0; the response raises (OffByOne has no v1)
+    assert off.tier == "fails" and off.answered == 7 and off.within == 0
+    assert off.worst is not None and off.worst.status == "error"
+    distance = next(m for m in off.failure_modes if m.quantity == "distance")
+    assert (distance.cases, distance.largest, distance.allowed) == (6, 1.0, 0.0)
 
 
-def test_the_failing_cases_named_are_the_ones_the_data_says(stored: StoredRun) -> None:
+def test_a_wrong_verdict_within_the_accuracy_of_the_exact_gap_is_within(
+        stored: StoredRun) -> None:
+    tight = grade(advise(stored, Envelope(tolerance=1e-9)), "fake-near")
+    assert tight.tier == "fails" and tight.failing_cases == ("s3-near",)
+    assert tight.worst is not None and tight.worst.quantity == "hit"
+    assert tight.worst.measure == pytest.approx(NEAR_GAP) and tight.worst.allowed == 1e-9
+    assert grade(advise(stored, Envelope(tolerance=1e-5)), "fake-near").passes
+    # relative to the smallest body (0.5): 1e-5 x 0.5 still forgives a gap of 1e-6
+    assert grade(advise(stored, Envelope(rtol=1e-5)), "fake-near").passes
+    assert not grade(advise(stored, Envelope(rtol=1e-7)), "fake-near").passes
+
+
+def test_a_declared_touching_rule_is_a_convention_unless_touching_must_count(
+        stored: StoredRun) -> None:
+    touch = grade(advise(stored, Envelope(kinds=("sphere",))), "fake-touch")
+    assert touch.passes
+    assert [(m.quantity, m.example, m.cases, m.largest) for m in touch.conventions] == [
+        ("hit", "s3-touch", 1, 0.0)]
+    strict = grade(advise(stored, Envelope(kinds=("sphere",), touching_contact=True)),
+                   "fake-touch")
+    assert strict.tier == "fails" and strict.failing_cases == ("s3-touch",)
+
+
+def test_conventions_are_judged_on_their_error_only_when_the_profile_says_so() -> None:
+    row = ("disagree", "distance", "convention", 0.002, math.nan, 1e-9)
+    assert judge(Envelope(), *row) == "convention"
+    assert judge(Envelope(strict_conventions=True), *row) == "wrong"
+    assert judge(Envelope(strict_conventions=True), *row[:-1], 0.01) == "within"
+
+
+def test_an_engine_that_skips_part_of_the_envelope_never_outranks_by_skipping(
+        stored: StoredRun) -> None:
     advice = advise(stored, Envelope())
-    assert [(c.case_id, c.quantity, c.status, c.category) for c in
-            verdict(advice, "fake-touch").culprits] == [
-        ("s3-touch", "hit", "disagree", "convention")]
-    assert [(c.case_id, c.quantity) for c in verdict(advice, "fake-far").culprits] == [
-        ("b2-far", "distance")]
-    assert verdict(advice, "fake-hit-only").unsupported == ("sphere_response",)
-    assert verdict(advice, "fake-hit-only").failing_cases == 0
+    hit_only = grade(advice, "fake-hit-only")
+    assert hit_only.tier == "partial" and hit_only.unsupported == ("sphere_response",)
+    assert hit_only.answered == 6 and hit_only.coverage == pytest.approx(6 / 7)
+    assert [(p.kind, p.answered, p.cases) for p in hit_only.parts if p.kind != "aabb"] == [
+        ("sphere", 1, 1), ("sphere", 3, 3), ("sphere_response", 0, 1)]
+    ranking = names(advice.ranking)
+    assert ranking.index("fake-right") < ranking.index("fake-hit-only")
+    assert ranking.index("fake-hit-only") < ranking.index("fake-far")
+    # failing engines by the cases of the whole envelope they get within
+    within = [e.within for e in advice.failing]
+    assert within == sorted(within, reverse=True) and advice.failing[-1].engine == "fake-raises"
 
 
-def test_tolerance_lets_small_errors_pass_but_never_a_wrong_hit(stored: StoredRun) -> None:
-    detection = ("aabb", "sphere")
-    tight = advise(stored, Envelope(kinds=detection, tolerance=0.5))
-    assert "fake-off" in names(tight.failing)
-    loose = advise(stored, Envelope(kinds=detection, tolerance=2.0))
-    assert {"fake-off", "fake-far", "fake-hit-only"} <= set(names(loose.passing))
-    assert names(advise(stored, Envelope(kinds=detection, tolerance=1e9)).failing) == [
-        "fake-touch", "fake-raises"]
+def test_an_engine_that_answers_nothing_is_listed_not_ranked(stored: StoredRun) -> None:
+    advice = advise(stored, Envelope(kinds=("sphere_response",)))
+    assert names(advice.unsupported) == ["fake-hit-only", "fake-touch"]
+    assert "fake-hit-only" not in names(advice.ranking)
 
 
-def test_envelope_filters_change_the_verdict_as_the_data_says(stored: StoredRun) -> None:
+def test_when_nothing_passes_the_closest_and_its_deciding_cases_are_named(
+        stored: StoredRun) -> None:
+    results = stored.results[stored.results["engine"] != "fake-right"]
+    without = dataclasses.replace(stored, results=results)
+    advice = advise(without, Envelope(touching_contact=True))
+    assert advice.passing == [] and advice.ranking
+    assert advice.closest == "fake-hit-only"
+    assert advice.deciding == ("sphere_response 3-D: 1 of 1 cases skipped",)
+    far = advise(without, Envelope(kinds=("aabb",), touching_contact=True))
+    assert far.passing and far.closest is None
+
+
+def test_bad_input_is_judged_apart_as_robustness(stored: StoredRun) -> None:
+    advice = advise(stored, Envelope(kinds=("sphere",)))
+    assert advice.cases == 4 and advice.bad_input_cases == 1
+    assert grade(advice, "fake-raises").robustness == {"error": 1}
+    assert "s3-bad" not in grade(advice, "fake-raises").failing_cases
+
+
+def test_the_quantities_that_matter_and_the_envelope_filter_the_verdict(
+        stored: StoredRun) -> None:
     pairs = ("aabb", "sphere")
-    assert "fake-far" in names(advise(stored, Envelope(kinds=pairs)).failing)
-    assert "fake-far" in names(advise(stored, Envelope(kinds=pairs, dims=(3,))).passing)
-    assert "fake-far" in names(advise(stored, Envelope(kinds=pairs, offset=100.0)).passing)
-    assert "fake-far" in names(advise(stored, Envelope(kinds=pairs, offset=1002.0)).failing)
-    assert "fake-touch" in names(advise(stored, Envelope(kinds=pairs, scale=(0.0, 1.0))).passing)
-    assert "fake-touch" in names(advise(stored, Envelope(kinds=pairs, scale=(1.0, 20.0))).failing)
+    assert not grade(advise(stored, Envelope(kinds=pairs)), "fake-off").passes
+    assert grade(advise(stored, Envelope(kinds=pairs, quantities=("hit",))), "fake-off").passes
+    assert grade(advise(stored, Envelope(kinds=pairs, offset=100.0)), "fake-far").passes
+    assert not grade(advise(stored, Envelope(kinds=pairs, offset=1002.0)), "fake-far").passes
+    assert grade(advise(stored, Envelope(kinds=pairs, dims=(3,))), "fake-far").passes
     assert advise(stored, Envelope(kinds=pairs, scale=(1.0, 20.0))).cases == 2
-    assert "fake-hit-only" in names(advise(stored, Envelope(kinds=("sphere",))).passing)
-
-
-def test_bad_input_is_outside_unless_included(stored: StoredRun) -> None:
-    assert advise(stored, Envelope(kinds=("sphere",))).cases == 3
-    assert advise(stored, Envelope(kinds=("sphere",), include_bad_input=True)).cases == 4
+    assert grade(advise(stored, Envelope(kinds=pairs, tolerance=2.0)), "fake-off").passes
 
 
 def test_responses_are_filtered_by_speed_and_mass_ratio(stored: StoredRun) -> None:
@@ -131,18 +199,37 @@ def test_responses_are_filtered_by_speed_and_mass_ratio(stored: StoredRun) -> No
     assert advise(stored, Envelope(kinds=("sphere_response",), mass_ratio=1.0)).cases == 1
 
 
-def test_the_cheapest_passing_engine_comes_first(stored: StoredRun) -> None:
+def test_a_float32_engine_ranks_only_when_float32_is_acceptable(stored: StoredRun) -> None:
+    engines = tuple({**e, "settings": "float32 throughout"} if e["name"] == "fake-far" else e
+                    for e in stored.info.engines)
+    f32 = dataclasses.replace(stored, info=dataclasses.replace(stored.info, engines=engines))
+    assert "fake-far" in names(advise(f32, Envelope()).ranking)
+    refused = advise(f32, Envelope(float32=False))
+    assert names(refused.excluded) == ["fake-far"] and "fake-far" not in names(refused.ranking)
+
+
+def test_the_cheapest_passing_engine_comes_first_with_its_spread(stored: StoredRun) -> None:
     results = stored.results.copy()
-    speeds = {"fake-right": 3e-6, "fake-far": 1e-6, "fake-hit-only": 2e-6}
+    speeds = {"fake-right": 3e-6, "fake-far": 1e-6, "fake-touch": 2e-6}
     results["query_s"] = results["engine"].map(speeds)
     # one slow case does not move a median: fake-far stays the cheapest
-    results.loc[(results["engine"] == "fake-far") & (results["case_id"] == "s3-apart"),
-                "query_s"] = 1.0
+    slow = (results["engine"] == "fake-far") & (results["case_id"] == "s3-apart")
+    results.loc[slow, "query_s"] = 1.0
     timed = dataclasses.replace(stored, results=results)
-    advice = advise(timed, Envelope(kinds=("aabb", "sphere"), tolerance=2.0))
-    assert names(advice.passing) == ["fake-far", "fake-hit-only", "fake-right", "fake-off"]
-    assert advice.passing[-1].median_query_s is None
+    advice = advise(timed, Envelope(kinds=("sphere",)))
+    assert names(advice.passing)[:3] == ["fake-far", "fake-touch", "fake-right"]
     assert advice.passing[0].median_query_s == 1e-6
+    assert advice.passing[0].query_iqr_s == pytest.approx(0.25 * (1.0 - 1e-6))
+    assert advice.passing[-1].median_query_s is None
+
+
+def test_the_worst_answer_links_its_repro_when_the_run_wrote_one(stored: StoredRun) -> None:
+    worst = grade(advise(stored, Envelope()), "fake-off").worst
+    assert worst is not None
+    written = f"{repro_name(worst.case_id, 'fake-off')}.py" in stored.repros
+    assert (worst.repro is not None) == written
+    if worst.repro is not None:
+        assert Path(worst.repro).is_file()
 
 
 def test_impossible_envelopes_name_the_option(stored: StoredRun) -> None:
@@ -150,28 +237,41 @@ def test_impossible_envelopes_name_the_option(stored: StoredRun) -> None:
         advise(stored, Envelope(scale=(5.0, 1.0)))
     with pytest.raises(EnvelopeError, match="--kind"):
         advise(stored, Envelope(kinds=("sphere_scene",)))
+    with pytest.raises(EnvelopeError, match="--rtol"):
+        advise(stored, Envelope(rtol=-1.0))
 
 
-def test_cli_prints_the_table(run_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["advise", str(run_dir), "--kind", "sphere", "--tolerance", "2"]) == 0
+def test_cli_prints_one_line_per_engine_at_80_columns(
+        run_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["advise", str(run_dir), "--tolerance", "1e-9"]) == 0
     text = capsys.readouterr().out
-    for engine in ("fake-right", "fake-off", "fake-touch", "fake-raises", "s3-touch"):
-        assert engine in text
-    assert "3 cases inside the envelope" in text
+    lines = text.splitlines()
+    assert max(len(line) for line in lines) <= 80
+    for engine in ENGINES:
+        assert sum(f" {engine.name} " in line and "%" in line for line in lines) == 1
+    near = next(line for line in lines if " fake-near " in line)
+    assert "fail" in near and "hit 1e-06>1e-09" in near
+    assert "7 cases" in text and "passing: fake-right" in text
 
 
-def test_cli_json_parses(run_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_json_keeps_passing_and_adds_the_grades(
+        run_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["advise", str(run_dir), "--dim", "3", "--offset", "100", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert [e["engine"] for e in data["passing"]] == ["fake-right", "fake-far"]
+    passing = [e["engine"] for e in data["passing"]]
+    assert {"fake-right", "fake-far"} <= set(passing) and "reference" not in passing
+    assert data["ranking"][:len(passing)] == passing
     assert data["envelope"]["offset"] == 100.0 and data["dims"] == [3]
-    assert data["failing"][0]["culprits"][0]["case_id"]
+    off = next(e for e in data["failing"] if e["engine"] == "fake-off")
+    assert off["worst"]["case_id"] and off["failure_modes"][0]["cases"] >= 1
+    assert [e["engine"] for e in data["baselines"]] == ["reference"]
 
 
 @pytest.mark.parametrize(("options", "named"), [
     (["--scale", "5:1"], "--scale"), (["--scale", "1"], "--scale"),
     (["--offset", "far"], "--offset"), (["--speed", "-1"], "--speed"),
     (["--mass-ratio", "0.5"], "--mass-ratio"), (["--tolerance", "nan"], "--tolerance"),
+    (["--rtol", "-1"], "--rtol"), (["--quantities", "hit,speed"], "--quantities"),
     (["--dim", "4"], "--dim"), (["--kind", "boxes"], "--kind"),
     (["--kind", "sphere_scene"], "--kind"),
 ])

@@ -1,0 +1,220 @@
+"""``advise``'s graded answer for one engine variant over a profile's envelope.
+
+An engine's grade: how much of the envelope it answers (coverage), the share of
+its answers within the needed accuracy, its worst error with the case and the
+repro script, its failure modes and declared conventions with their numbers,
+its cost (median time per query over cases, with the interquartile range), its
+coverage per kind and dimension (the part of the envelope it answers), and its
+robustness on the bad-input cases of the same kinds (judged apart).
+
+A case is *within* when the engine answers it (some row not ``skip``) and no row
+of it is ``wrong`` or ``failed`` (:mod:`crosscheck.report.advise_judge`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import pandas as pd
+
+from crosscheck.core.model import Status
+from crosscheck.report.advise_judge import CONVENTION, FAILED, SKIP, WRONG
+from crosscheck.report.profiles import BASELINES
+from crosscheck.results.store import StoredRun, repro_name, repro_path
+
+PASSES, PARTIAL, FAILS, UNSUPPORTED = "passes", "partial", "fails", "unsupported"
+"""The tiers: meets the accuracy on the whole envelope; on the part it answers; not on
+every case it answers; answers no case of the envelope."""
+
+
+@dataclass(frozen=True)
+class Worst:
+    """The worst answer of an engine: its case, what went wrong and by how much."""
+
+    case_id: str
+    quantity: str
+    status: str
+    category: str
+    measure: float | None
+    """The error (for a hit verdict: the pair's exact |gap|); None: no number."""
+    allowed: float
+    repro: str | None
+    """The run's repro script of the case on this engine, when written."""
+    reason: str
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One failure mode or convention: a quantity, status and category, with its numbers."""
+
+    quantity: str
+    status: str
+    category: str
+    cases: int
+    largest: float | None
+    """Largest error (for hit verdicts: largest exact |gap|); None: no number."""
+    allowed: float
+    """The accuracy allowed at the case of the largest."""
+    example: str
+    reason: str
+
+
+@dataclass(frozen=True)
+class Part:
+    """The engine on one kind x dimension of the envelope."""
+
+    kind: str
+    dim: int
+    cases: int
+    answered: int
+    within: int
+
+
+@dataclass(frozen=True)
+class EngineAdvice:
+    """One engine variant's grade inside the envelope (see the module docstring)."""
+
+    engine: str
+    tier: str
+    baseline: bool
+    float32: bool
+    cases: int
+    """Cases of the envelope."""
+    answered: int
+    within: int
+    coverage: float
+    """answered / cases."""
+    share_within: float | None
+    """within / answered; None: answers nothing."""
+    median_query_s: float | None
+    query_iqr_s: float | None
+    worst: Worst | None
+    failure_modes: tuple[Mode, ...]
+    conventions: tuple[Mode, ...]
+    parts: tuple[Part, ...]
+    unsupported: tuple[str, ...]
+    """Requested kinds and dimensions it skips entirely (``sphere_response``, ``3-D``)."""
+    failing_cases: tuple[str, ...]
+    """Answered cases not within, the worst first (all of them)."""
+    robustness: dict[str, int]
+    """Bad-input cases of the requested kinds and dimensions, by the worst status of each."""
+
+    @property
+    def passes(self) -> bool:
+        return self.tier == PASSES
+
+
+def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
+          bad: pd.DataFrame) -> EngineAdvice:
+    """The grade of ``engine`` from its judged in-envelope ``rows`` and its ``bad`` rows."""
+    info = next(e for e in run.info.engines if e["name"] == engine)
+    answered_rows = rows[rows["judgment"] != SKIP]
+    answered = set(answered_rows["case_id"])
+    broken = answered_rows[answered_rows["judgment"].isin((WRONG, FAILED))]
+    failing = _worst_first(broken)
+    within = len(answered) - len(set(failing["case_id"]))
+    parts = _parts(rows)
+    unsupported = _unsupported(parts)
+    float32 = _is_float32(info)
+    times = answered_rows.drop_duplicates("case_id")["query_s"].dropna().astype(float)
+    return EngineAdvice(
+        engine=engine, tier=_tier(len(answered), within, cases),
+        baseline=engine in BASELINES, float32=float32, cases=cases,
+        answered=len(answered), within=within,
+        coverage=len(answered) / cases if cases else 0.0,
+        share_within=within / len(answered) if answered else None,
+        median_query_s=float(times.median()) if len(times) else None,
+        query_iqr_s=float(times.quantile(0.75) - times.quantile(0.25)) if len(times) else None,
+        worst=_worst(run, engine, failing), failure_modes=_modes(failing),
+        conventions=_modes(_worst_first(answered_rows[answered_rows["judgment"] == CONVENTION])),
+        parts=parts, unsupported=unsupported,
+        failing_cases=tuple(dict.fromkeys(failing["case_id"])), robustness=_robustness(bad))
+
+
+def _tier(answered: int, within: int, cases: int) -> str:
+    if not answered:
+        return UNSUPPORTED
+    if within < answered:
+        return FAILS
+    return PASSES if answered == cases else PARTIAL
+
+
+def _is_float32(info: dict[str, object]) -> bool:
+    """Declared float32 arithmetic: ``float32`` or ``f32`` in its settings or notes."""
+    conventions = info.get("conventions")
+    notes = conventions.get("notes", "") if isinstance(conventions, dict) else ""
+    text = f"{info.get('settings', '')} {notes}".lower()
+    return "float32" in text or "f32" in text
+
+
+def _worst_first(rows: pd.DataFrame) -> pd.DataFrame:
+    """Most severe status first, then the largest disagreement relative to its allowance."""
+    if rows.empty:
+        return rows
+    ratio = [m / a if a > 0 else (math.inf if m > 0 else 0.0) if math.isfinite(m) else math.inf
+             for m, a in zip(rows["measure"], rows["allowed"], strict=True)]
+    ranked = rows.assign(severity=[Status(s).severity for s in rows["status"]],
+                         ratio=[-r for r in ratio])
+    return ranked.sort_values(["severity", "ratio"], kind="stable")
+
+
+def _finite(value: object) -> float | None:
+    number = float(str(value))
+    return number if math.isfinite(number) else None
+
+
+def _worst(run: StoredRun, engine: str, failing: pd.DataFrame) -> Worst | None:
+    if failing.empty:
+        return None
+    row = failing.iloc[0]
+    case_id = str(row["case_id"])
+    written = f"{repro_name(case_id, engine)}.py" in run.repros
+    return Worst(case_id, str(row["quantity"]), str(row["status"]), _text(row["category"]),
+                 _finite(row["measure"]), float(row["allowed"]),
+                 str(repro_path(run.directory, case_id, engine)) if written else None,
+                 _text(row["reason"]))
+
+
+def _text(value: object) -> str:
+    return "" if value is None or (isinstance(value, float) and math.isnan(value)) else str(value)
+
+
+def _modes(rows: pd.DataFrame) -> tuple[Mode, ...]:
+    """One mode per quantity x status x category, most cases first (rows worst first)."""
+    modes = []
+    for (quantity, status, category), group in rows.groupby(
+            ["quantity", "status", rows["category"].fillna("")], sort=False):
+        first = group.iloc[0]
+        modes.append(Mode(str(quantity), str(status), str(category),
+                          int(group["case_id"].nunique()), _finite(first["measure"]),
+                          float(first["allowed"]), str(first["case_id"]),
+                          _text(first["reason"])))
+    return tuple(sorted(modes, key=lambda m: -m.cases))
+
+
+def _parts(rows: pd.DataFrame) -> tuple[Part, ...]:
+    parts = []
+    for (kind, dim), group in rows.groupby(["kind", "dim"], sort=True):
+        answered = group[group["judgment"] != SKIP]
+        bad = set(answered[answered["judgment"].isin((WRONG, FAILED))]["case_id"])
+        done = set(answered["case_id"])
+        parts.append(Part(str(kind), int(str(dim)), int(group["case_id"].nunique()), len(done),
+                          len(done - bad)))
+    return tuple(parts)
+
+
+def _unsupported(parts: tuple[Part, ...]) -> tuple[str, ...]:
+    kinds = dict.fromkeys(p.kind for p in parts)
+    dims = dict.fromkeys(p.dim for p in parts)
+    return (tuple(k for k in kinds if not any(p.answered for p in parts if p.kind == k))
+            + tuple(f"{d}-D" for d in dims if not any(p.answered for p in parts if p.dim == d)))
+
+
+def _robustness(bad: pd.DataFrame) -> dict[str, int]:
+    """Each bad-input case once, by its worst status."""
+    if bad.empty:
+        return {}
+    ranked = bad.assign(severity=[Status(s).severity for s in bad["status"]])
+    worst = ranked.sort_values("severity", kind="stable").drop_duplicates("case_id")
+    return {str(k): int(v) for k, v in worst["status"].value_counts().items()}
