@@ -87,7 +87,7 @@ def row(case_id: str, engine: str, quantity: str, error: float, query_s: float,
     status = Status.AGREE if error == 0 else Status.DISAGREE
     return Record(case_id=case_id, source="cases/x.toml", kind=kind, dim=3, tags="",
                   engine=engine, quantity=quantity, value="0.0", truth="0.0", error=error,
-                  tolerance=0.0, status=status, category="", reason="", setup_s=1e-6,
+                  tolerance=1e-9, status=status, category="", reason="", setup_s=1e-6,
                   query_s=query_s, query_iqr_s=0.0, loops=1, unstable=False)
 
 
@@ -105,7 +105,7 @@ def speed_info() -> RunInfo:
 def speed_figure() -> tuple[charts.SpeedChart, dict[str, Any]]:
     rows = [row(f"s{i}", engine, quantity, error if quantity == "distance" else 0.0, query_s)
             for engine, (errors, query_s) in SPEED.items()
-            for i, error in enumerate(errors) for quantity in ("hit", "distance")]
+            for i, error in enumerate(errors) for quantity in ("hit", "distance", "normal")]
     chart = charts.speed_chart(pd.DataFrame([r.row() for r in rows]), "sphere", speed_info(),
                                {})
     return chart, charts.figure(chart, list(SPEED)).to_plotly_json()
@@ -113,26 +113,30 @@ def speed_figure() -> tuple[charts.SpeedChart, dict[str, Any]]:
 
 def test_speed_log_axes_share_the_style(speed_figure: tuple[Any, dict[str, Any]]) -> None:
     _, fig = speed_figure
-    assert set(log_axes(fig["layout"])) == {"xaxis", "yaxis"}
+    assert set(log_axes(fig["layout"])) == {"xaxis", "yaxis", "xaxis2", "yaxis2"}  # 2 panels
     assert_one_style(fig["layout"])
     assert "(s;" in fig["layout"]["xaxis"]["title"]["text"]  # time axis with its unit
+    assert "float64 bound" in fig["layout"]["yaxis"]["title"]["text"]  # what one unit is
 
 
 def test_speed_floor_and_ceiling_are_labelled(speed_figure: tuple[Any, dict[str, Any]]) -> None:
     chart, fig = speed_figure
-    assert chart.ceiling and chart.floor
-    notes = {a["text"]: a["y"] for a in fig["layout"]["annotations"]}
-    assert notes[axes.FLOOR_LABEL] == math.log10(chart.floor)
-    assert notes["infinite error"] == math.log10(chart.ceiling)
-    lines = {s["y0"] for s in fig["layout"]["shapes"]}
-    assert {chart.floor, chart.ceiling} <= lines
+    notes = [(a["text"], a["y"], a["yref"]) for a in fig["layout"]["annotations"]]
+    for yref, quantity in (("y", "distance"), ("y2", "normal")):
+        assert (charts.FLOOR_TEXT, math.log10(charts.FLOOR), yref) in notes
+        label = charts.off_label(chart.off_scale(quantity))
+        assert (label, math.log10(charts.CEILING), yref) in notes
+    assert charts.off_label(1) == "off scale (above 10<sup>15</sup>): 1 answer"
+    assert chart.off_scale("distance") == 1 and chart.off_scale("normal") == 0  # slow's inf
+    lines = {(s["y0"], s["yref"]) for s in fig["layout"]["shapes"]}
+    assert {(charts.FLOOR, "y"), (charts.CEILING, "y"), (charts.FLOOR, "y2")} <= lines
 
 
-def test_speed_coincident_engines_are_drawn_apart_and_named(
+def test_speed_coincident_engines_are_drawn_apart_and_named_in_the_hover(
         speed_figure: tuple[Any, dict[str, Any]]) -> None:
     chart, fig = speed_figure
     points = {t["legendgroup"]: t for t in fig["data"]
-              if t["type"] == "scatter" and t.get("showlegend") is not False}
+              if t["type"] == "scatter" and t.get("showlegend") is True}
     tuned, default = points["tuned"], points["tuned-default"]
     assert tuned["y"] == default["y"]  # the error axis keeps the true values
     assert tuned["x"][0] != default["x"][0]
@@ -140,13 +144,21 @@ def test_speed_coincident_engines_are_drawn_apart_and_named(
     assert abs(math.log10(tuned["x"][0] / true_x)) < 0.1  # a few per cent of the axis
     assert points["slow"]["x"][0] == {p.engine: p.query_s for p in chart.plotted}["slow"]
     assert "2 µs" in tuned["hovertext"][0] and "2 µs" in default["hovertext"][0]
-    label = [t for t in annotations(fig["layout"]) if t.startswith("same point")]
-    assert label == ["same point: tuned, tuned-default"]
+    assert "drawn beside (same spot): tuned-default" in tuned["hovertext"][0]
+    named = [t for t in annotations(fig["layout"]) if "tuned" in t or "slow" in t]
+    assert named == []  # engines are named in the legend and the hover, never in labels
 
 
-def test_speed_chart_says_lower_left_is_better(speed_figure: tuple[Any, dict[str, Any]]) -> None:
-    _, fig = speed_figure
-    assert any("lower left is better" in t for t in annotations(fig["layout"]))
+def test_speed_accuracy_is_a_labelled_line_on_every_panel(
+        speed_figure: tuple[Any, dict[str, Any]]) -> None:
+    chart, fig = speed_figure
+    drawn = [(a["text"], a["y"]) for a in fig["layout"]["annotations"]]
+    assert drawn.count(("accuracy: the float64 bound", 0.0)) == 2  # 1 bound, on both panels
+    moved = charts.figure(chart, list(SPEED), accuracy={"distance": 1e6}).to_plotly_json()
+    texts = {a["text"]: a["y"] for a in moved["layout"]["annotations"]}
+    assert texts["accuracy: 1e+06 \u00d7 the float64 bound"] == 6.0
+    assert texts["accuracy: the float64 bound"] == 0.0  # the normal panel keeps the default
+    assert (1e6, "y") in {(s["y0"], s["yref"]) for s in moved["layout"]["shapes"]}
 
 
 # --- dynamics -------------------------------------------------------------------------------

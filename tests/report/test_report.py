@@ -28,6 +28,7 @@ from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.results.timings import FILE, TimingRecord
 from crosscheck.run.launch import launch, new_info
+from crosscheck.truth.bounds import bound
 from tests import fakes
 from tests.conftest import sphere
 
@@ -198,12 +199,14 @@ def test_one_point_per_engine_per_kind() -> None:
                      "sphere_response": ["fast"]}
 
 
-def test_x_is_median_query_time_per_case_and_y_median_distance_error() -> None:
+def test_x_is_median_query_time_per_case_and_y_median_error_per_quantity() -> None:
     fast = by_engine(chart_of(FRAME, "sphere"))["fast"]
     assert fast.query_s == pytest.approx(3e-6)  # median of five cases, not their mean
     assert fast.timed == fast.cases == 5
-    assert fast.median == 2e-12  # distance errors only: not s1's normal error nor hit errors
-    assert (fast.p95, fast.max, fast.zeros) == (1.0, 1.0, 1)
+    distance, normal = fast.errors["distance"], fast.errors["normal"]
+    assert distance.median == pytest.approx(2e-12 / 1e-9)  # in tolerances (1e-9 here)
+    assert (distance.p95, distance.max, distance.zeros) == (1 / 1e-9, 1 / 1e-9, 1)
+    assert (normal.median, normal.max, normal.zeros) == (0.0, pytest.approx(0.5 / 1e-9), 4)
     assert (fast.wrong, fast.verdicts) == (1, 5)
 
 
@@ -220,44 +223,44 @@ def test_error_stats_median_nearest_rank_95th_percentile_and_max() -> None:
     assert all(math.isnan(v) for v in charts.error_stats(pd.Series([], dtype=float)))
 
 
-def test_response_error_is_the_worse_velocity_of_each_case() -> None:
+def test_response_errors_are_read_per_velocity() -> None:
     fast = by_engine(chart_of(FRAME, "sphere_response"))["fast"]
-    assert fast.median == pytest.approx((3e-3 + 1e-9) / 2)
+    assert fast.errors["v1"].median == pytest.approx(1e-3 / 2 / 1e-9)
+    assert fast.errors["v2"].median == pytest.approx((3e-3 + 1e-9) / 2 / 1e-9)
     assert (fast.scored, fast.wrong, fast.verdicts) == (2, 1, 2)
 
 
 def test_zero_errors_sit_at_the_labelled_floor() -> None:
     chart = chart_of(FRAME, "sphere")
     exact = by_engine(chart)["exact"]
-    assert exact.median == 0.0 and chart.floor == style.ZERO_FLOOR
+    assert exact.errors["distance"].median == 0.0
     fig = charts.figure(chart, list(dict.fromkeys(FRAME["engine"])))
-    drawn = {t.name: t.y[0] for t in fig.data if t.type == "scatter" and t.showlegend is not False}
-    assert drawn["exact"] == style.ZERO_FLOOR
-    assert drawn["fast"] == 2e-12
-    assert fig.layout.yaxis.ticktext[0] == "0"
-    assert "0 on the dotted lines" in fig.layout.yaxis.title.text
-    assert any(a.text.startswith("exact (error 0)") for a in fig.layout.annotations)
+    drawn = {t.name: t.y[0] for t in fig.data if t.type == "scatter" and t.showlegend is True}
+    assert drawn["exact"] == charts.FLOOR
+    assert drawn["fast"] == pytest.approx(2e-3)
+    assert sum(a.text == charts.FLOOR_TEXT for a in fig.layout.annotations) == 2  # per panel
 
 
-def test_floor_moves_below_a_smaller_real_error() -> None:
+def test_errors_below_the_floor_are_drawn_on_it() -> None:
     tiny = pd.DataFrame([r.row() for r in detection("s1", "a", 3e-21, 1e-6)
-                         + detection("s2", "a", 0.0, 1e-6) + detection("s3", "a", 0.0, 1e-6)])
-    chart = chart_of(tiny, "sphere")
-    assert chart.floor == pytest.approx(1e-22) and chart.y(0.0) == chart.floor
-    assert chart.y(3e-21) == 3e-21
+                         + detection("s2", "a", 0.0, 1e-6) + detection("s3", "a", 2e-9, 1e-6)])
+    errors = by_engine(chart_of(tiny, "sphere"))["a"].errors["distance"]
+    assert (errors.below, errors.zeros, errors.off) == (2, 1, 0)
+    assert charts.SpeedChart.y(3e-21 / 1e-9) == charts.FLOOR
+    assert charts.SpeedChart.y(2.0) == 2.0
 
 
-def test_infinite_errors_sit_at_a_labelled_ceiling() -> None:
-    rows = [r for c, err in (("s1", 1.0), ("s2", 1.0), ("s3", math.inf))
+def test_infinite_errors_sit_at_the_ceiling_counted() -> None:
+    rows = [r for c, err in (("s1", 1e-9), ("s2", 1e-9), ("s3", math.inf))
             for r in detection(c, "a", err, 1e-6)]
     chart = chart_of(pd.DataFrame([r.row() for r in rows]), "sphere")
-    assert chart.ceiling == 100.0 and chart.y(math.inf) == 100.0
+    assert chart.y(math.inf) == charts.CEILING and chart.off_scale("distance") == 1
     fig = charts.figure(chart, ["a"])
     whisker_top = fig.data[0].y[0] + fig.data[0].error_y.array[0]
-    assert fig.data[0].y[0] == 1.0 and whisker_top == 100.0 and fig.data[1].y[0] == 100.0
-    assert fig.layout.yaxis.ticktext[-1] == "inf"
-    assert "inf on the dotted lines" in fig.layout.yaxis.title.text
-    assert any(a.text == "infinite error" for a in fig.layout.annotations)
+    assert fig.data[0].y[0] == pytest.approx(1.0) and whisker_top == charts.CEILING
+    assert fig.data[1].y[0] == charts.CEILING and fig.data[1].marker.symbol == charts.OFF_SYMBOL
+    assert charts.off_label(1) in [a.text for a in fig.layout.annotations]
+    assert "1 off scale" in fig.data[0].hovertext[0]
 
 
 def test_untimed_and_unscored_engines_are_listed_not_plotted(rendered: str) -> None:
@@ -274,7 +277,7 @@ def test_quick_run_draws_no_chart_and_inlines_no_plotly(tmp_path: Path) -> None:
     quick = [Record(**{**r.row(), "status": r.status, "query_s": math.nan}) for r in quick]
     html = report.render(write_run(tmp_path / "q", quick))["report"].read_text()
     assert "Plotly.newPlot" not in html and "* plotly.js" not in html
-    assert "<b>Not timed</b>" in html and "exact (median error 0" in html
+    assert "<b>Not timed</b>" in html and "exact (distance: median error\n0, max 0" in html
 
 
 def test_case_group_matrix_counts() -> None:
@@ -365,8 +368,9 @@ def test_chart_from_a_real_run_of_fakes(tmp_path: Path) -> None:
         times = frame[frame["engine"] == engine].drop_duplicates("case_id")["query_s"]
         assert points[engine].query_s == times.median() > 0
         assert points[engine].time.q1 <= points[engine].query_s <= points[engine].time.q3
-        assert points[engine].median == error
-    assert chart_of(frame, "sphere").y(points["fake-right"].median) == style.ZERO_FLOOR
+        in_bounds = [error / bound(c, "distance") for c in cases]  # scale-free errors
+        assert points[engine].errors["distance"].median == pytest.approx(np.median(in_bounds))
+    assert charts.SpeedChart.y(points["fake-right"].errors["distance"].median) == charts.FLOOR
     section = part(report.render(folder)["report"].read_text(encoding="utf-8"),
                    '<h2 id="timing">', "<h2")
     assert 'id="yardstick"' in section and 'id="binding"' in section
