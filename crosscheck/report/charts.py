@@ -174,8 +174,9 @@ def _add_verdicts(fig: go.Figure, chart: SpeedChart, styles: dict[str, dict[str,
         hoverinfo="text", showlegend=False,
         hovertext=[f"{html.escape(p.engine)}: {_share(p.wrong, p.verdicts)}" for p in shown],
     ), row=1, col=col)
-    fig.update_xaxes(range=[0, 1.4], tickvals=[0, 0.5, 1], tickformat=".0%", row=1, col=col)
-    fig.update_yaxes(autorange="reversed", row=1, col=col)
+    fig.update_xaxes(range=[0, 1.75], tickvals=[0, 0.5, 1], tickformat=".0%", row=1, col=col)
+    # the engine names on the right, in the page's margin: never over the panel beside
+    fig.update_yaxes(autorange="reversed", side="right", row=1, col=col)
 
 
 def error_range() -> tuple[float, float]:
@@ -219,7 +220,7 @@ def _panel_axes(fig: go.Figure, chart: SpeedChart, quantity: str, col: int,
                 accuracy: float) -> None:
     title = ERROR_TITLE if col == 1 else ""
     fig.update_yaxes(axes.log_axis(title, *error_range()), row=1, col=col)
-    time_title = "median time per call (s; whisker: IQR over cases)"
+    time_title = "median time per call (s)"
     fig.update_xaxes(axes.log_axis(time_title, *time_range(chart)), row=1, col=col)
     _line(fig, col, FLOOR, FLOOR_TEXT, left=False, above=False, dash="dot", colour="#666")
     _line(fig, col, CEILING, off_label(chart.off_scale(quantity)), left=False, above=True,

@@ -115,7 +115,7 @@ def test_speed_log_axes_share_the_style(speed_figure: tuple[Any, dict[str, Any]]
     _, fig = speed_figure
     assert set(log_axes(fig["layout"])) == {"xaxis", "yaxis", "xaxis2", "yaxis2"}  # 2 panels
     assert_one_style(fig["layout"])
-    assert "(s;" in fig["layout"]["xaxis"]["title"]["text"]  # time axis with its unit
+    assert "(s)" in fig["layout"]["xaxis"]["title"]["text"]  # time axis with its unit
     assert "float64 bound" in fig["layout"]["yaxis"]["title"]["text"]  # what one unit is
 
 

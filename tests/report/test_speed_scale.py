@@ -143,6 +143,15 @@ def box(note: dict[str, Any], layout: dict[str, Any], width: int) -> tuple[float
     return x0, y0, x0 + w, y0 + h
 
 
+def x_titles(layout: dict[str, Any]) -> list[dict[str, Any]]:
+    """Each x axis title as a label: centred under its panel, a tick label's height below."""
+    return [{"text": axis["title"]["text"], "xref": f"x{name[5:]} domain", "x": 0.5,
+             "yref": "paper", "y": -0.06, "xanchor": "center", "yanchor": "top",
+             "font": {"size": 12}}
+            for name, axis in layout.items() if name.startswith("xaxis")
+            and axis.get("title", {}).get("text")]
+
+
 def overlap(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
@@ -162,11 +171,13 @@ def test_labels_do_not_overlap(kind: str, quantities: tuple[str, ...], width: in
     chart = many(kind, quantities)
     assert chart.off_scale(chart.measure.errors[0]) > 0
     layout = charts.figure(chart, []).to_plotly_json()["layout"]
-    boxes = [box(note, layout, width) for note in layout["annotations"]]
-    assert len(boxes) == 3 + 3 * 2  # the panels' titles; floor, ceiling, accuracy per panel
+    labels = [*layout["annotations"], *x_titles(layout)]
+    boxes = [box(note, layout, width) for note in labels]
+    assert len(boxes) == 3 + 3 * 2 + 2  # the panels' titles; floor, ceiling, accuracy per
+    # panel; the time axes' titles
     for (i, a), (j, b) in itertools.combinations(enumerate(boxes), 2):
-        assert not overlap(a, b), (layout["annotations"][i]["text"],
-                                   layout["annotations"][j]["text"])
+        assert not overlap(a, b), (labels[i]["text"], labels[j]["text"])
+    assert layout["yaxis3"]["side"] == "right"  # the verdict bars' engine names: in the margin
 
 
 def test_the_overlap_check_can_fail() -> None:
