@@ -116,7 +116,7 @@ def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
     within = len(answered) - len(set(failing["case_id"]))
     parts = _parts(rows)
     unsupported = _unsupported(parts)
-    float32 = _is_float32(info)
+    float32 = is_float32(info)
     times = answered_rows.drop_duplicates("case_id")["query_s"].dropna().astype(float)
     return EngineAdvice(
         engine=engine, tier=_tier(len(answered), within, cases),
@@ -140,7 +140,7 @@ def _tier(answered: int, within: int, cases: int) -> str:
     return PASSES if answered == cases else PARTIAL
 
 
-def _is_float32(info: dict[str, object]) -> bool:
+def is_float32(info: dict[str, object]) -> bool:
     """Declared float32 arithmetic: ``float32`` or ``f32`` in its settings or notes."""
     conventions = info.get("conventions")
     notes = conventions.get("notes", "") if isinstance(conventions, dict) else ""
@@ -152,11 +152,19 @@ def _worst_first(rows: pd.DataFrame) -> pd.DataFrame:
     """Most severe status first, then the largest disagreement relative to its allowance."""
     if rows.empty:
         return rows
-    ratio = [m / a if a > 0 else (math.inf if m > 0 else 0.0) if math.isfinite(m) else math.inf
-             for m, a in zip(rows["measure"], rows["allowed"], strict=True)]
     ranked = rows.assign(severity=[Status(s).severity for s in rows["status"]],
-                         ratio=[-r for r in ratio])
+                         ratio=[-_ratio(m, a) for m, a in
+                                zip(rows["measure"], rows["allowed"], strict=True)])
     return ranked.sort_values(["severity", "ratio"], kind="stable")
+
+
+def _ratio(measure: float, allowed: float) -> float:
+    """How many times the allowance a disagreement is (no number: the worst)."""
+    if not math.isfinite(measure):
+        return math.inf
+    if allowed > 0:
+        return measure / allowed
+    return math.inf if measure > 0 else 0.0
 
 
 def _finite(value: object) -> float | None:

@@ -142,8 +142,10 @@ def extents(case: AnyCase) -> list[float]:
 
 
 def smallest_size(case: AnyCase) -> float:
-    """The smallest extent of the case (:func:`extents`): the length ``rtol`` is relative to."""
-    return min(extents(case))
+    """The smallest extent of the case (:func:`extents`): the length ``rtol`` is relative to
+    (NaN when an extent is not finite: then only the absolute tolerance applies)."""
+    values = extents(case)
+    return min(values) if all(math.isfinite(v) for v in values) else math.nan
 
 
 def centres(case: AnyCase) -> list[float]:

@@ -13,6 +13,7 @@ Adding a section is one builder, one template and one entry in the list.
 from __future__ import annotations
 
 import functools
+import json
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -22,8 +23,18 @@ import pandas as pd
 from markupsafe import Markup
 
 from crosscheck.core.schema import AnyCase
-from crosscheck.report import charts, dynamics, profiles, speed, stability, table, verdict
+from crosscheck.report import (
+    advise_page,
+    charts,
+    dynamics,
+    profiles,
+    speed,
+    stability,
+    table,
+    verdict,
+)
 from crosscheck.report.mirror import asymmetries
+from crosscheck.report.style import packed
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import StoredRun
@@ -166,9 +177,14 @@ def _disagreements(view: RunView) -> Context:
 
 
 def _advise(view: RunView) -> Context:
-    """The advise form: it works in the page, over the results table's packed data."""
+    """The advise form: it works in the page, over the results table's packed data and the
+    facts of :func:`crosscheck.report.advise_page.form_data`."""
     kinds = [str(k) for k in dict.fromkeys(view.frame["kind"])] if len(view.frame) else []
-    return {"kinds": kinds, "run_id": view.info.run_id}
+    data = advise_page.form_data(view.frame, view.cases, view.info.engines)
+    return {"kinds": kinds, "run_id": view.info.run_id,
+            "quantities": [str(q) for q in dict.fromkeys(view.frame["quantity"])]
+            if len(view.frame) else [],
+            "packed": packed(json.dumps(data, separators=(",", ":"), allow_nan=False))}
 
 
 def _symmetry(view: RunView) -> Context:

@@ -8,6 +8,8 @@ Playwright.  Outside CI the test is skipped when chromium is missing; in CI
 from __future__ import annotations
 
 import contextlib
+import json
+import math
 import os
 import shutil
 from collections.abc import Iterator
@@ -209,10 +211,12 @@ def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
 
 @pytest.fixture(scope="module")
 def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A run of two fakes with known behaviour: one always right, one off by 1.0 in distance."""
+    """A run of two fakes with known behaviour: one always right, one off by 1.0 in distance;
+    with a bad-input case of NaN and infinite inputs (judged apart, never a thrown error)."""
     needs_chromium()
     folder = tmp_path_factory.mktemp("advise") / "run"
     cases = [sphere(0.0, 2.0 + i / 4, id=f"s{i}") for i in range(4)]
+    cases += [sphere(math.nan, math.inf, ra=math.nan, id="s-nan", tags=["bad-input"])]
     options, engines = RunOptions(quick=True, isolate=False), [AlwaysRight(), OffByOne()]
     launch(ResultsStore(folder), cases, engines, options,
            new_info(folder, "test", options, engines, cases))
@@ -220,18 +224,87 @@ def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder
 
 
-def test_the_advise_form_names_the_engines_that_pass_and_the_cases_that_rule_out(
-        fakes_dir: Path) -> None:
+def submit(page: Page, fields: dict[str, str]) -> list[tuple[str, ...]]:
+    """Fill the advise form (every field not given is cleared), submit it and return the answer
+    table's rows as (engine, tier, cover, within)."""
+    for name in ("dim", "kind"):
+        page.select_option(f"#advise-form select[name={name}]", fields.get(name, ""))
+    for name in ("lo", "hi", "offset", "speed", "ratio", "tolerance", "rtol", "quantities"):
+        page.fill(f"#advise-form input[name={name}]", fields.get(name, ""))
+    page.click("#advise-go")
+    page.wait_for_function("!/Judging/.test(document.getElementById('advise-out').textContent)")
+    rows: list[tuple[str, ...]] = page.eval_on_selector_all(
+        "#advise-out tr[data-engine]",
+        "rows => rows.map(r => [r.dataset.engine, r.cells[2].textContent,"
+        " r.cells[3].textContent, r.cells[4].textContent])")
+    return [tuple(row) for row in rows]
+
+
+def errors(messages: list[str]) -> list[str]:
+    return [m for m in messages if m.startswith(("error", "pageerror"))]
+
+
+def test_the_advise_form_grades_and_ranks_the_engines(fakes_dir: Path) -> None:
     messages: list[str] = []
     with opened(fakes_dir / "report.html", messages) as page:
-        page.locator("#advise-form input[name=tolerance]").fill("0.5")
-        page.locator("#advise-go").click()
-        page.wait_for_selector("#advise-out .advise-pass")
-        tight = page.locator("#advise-out").inner_text()
-        page.locator("#advise-form input[name=tolerance]").fill("2")
-        page.locator("#advise-go").click()
-        page.wait_for_function("!document.querySelector('#advise-out .advise-fail')")
-        loose = page.locator("#advise-out").inner_text()
-    assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
-    assert "cheapest first: fake-right" in tight and "fake-off: fails 4 of 4 cases" in tight
-    assert "fake-off" in loose.split("\n")[0] and "fake-right" in loose.split("\n")[0]
+        tight = submit(page, {"tolerance": "0.5"})
+        tight_text = page.locator("#advise-out").inner_text()
+        loose = submit(page, {"tolerance": "2"})
+        relative = submit(page, {"rtol": "2"})  # 2 x the radius 0.5 forgives 1.0 on a distance
+        submit(page, {"tolerance": "-1"})
+        refused = page.locator("#advise-out .advise-message").inner_text()
+        submit(page, {"offset": "0.5"})
+        empty = page.locator("#advise-out .advise-message").inner_text()
+    assert errors(messages) == []
+    assert tight == [("fake-right", "passes", "100%", "100%"), ("fake-off", "fails", "100%", "0%")]
+    assert "Passing (cheapest first): fake-right" in tight_text and "4 cases" in tight_text
+    assert [row[1] for row in loose] == ["passes", "passes"]
+    assert [row[1] for row in relative] == ["passes", "passes"]
+    assert "tolerance: must be a finite number >= 0" in refused
+    assert "No case of this run lies inside this envelope" in empty
+
+
+REAL_PROFILES = [
+    ({"dim": "3", "kind": "sphere", "lo": "0.01", "hi": "10", "offset": "10",
+      "tolerance": "1e-9"},
+     ["--dim", "3", "--kind", "sphere", "--scale", "0.01:10", "--offset", "10",
+      "--tolerance", "1e-9"]),
+    ({"dim": "2", "kind": "sphere", "lo": "0.1", "hi": "10", "offset": "1e3",
+      "tolerance": "1e-6"},
+     ["--dim", "2", "--kind", "sphere", "--scale", "0.1:10", "--offset", "1e3",
+      "--tolerance", "1e-6"]),
+    ({"kind": "sphere_response", "ratio": "1e3", "speed": "10", "tolerance": "1e-9"},
+     ["--kind", "sphere_response", "--mass-ratio", "1e3", "--speed", "10",
+      "--tolerance", "1e-9"]),
+]
+
+
+@pytest.fixture(scope="module")
+def real_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A real run (textbook formula, pybullet, pymunk) of a real slice of the suite: spheres,
+    responses and every bad-input case (NaN, infinities, negative sizes and masses)."""
+    needs_chromium()
+    out = tmp_path_factory.mktemp("advise-real") / "run"
+    paths = [str(ROOT / "cases" / f"{name}.toml") for name in ("sphere", "response", "bad_input")]
+    assert main(["run", *paths, "--engine", "reference", "--engine", "pybullet", "--engine",
+                 "pymunk", "--quick", "--out", str(out)]) == 0
+    return out
+
+
+@pytest.mark.engine
+def test_the_advise_form_on_a_real_run_ranks_as_the_cli_does(
+        real_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    expected = []
+    for _, options in REAL_PROFILES:
+        capsys.readouterr()
+        assert main(["advise", str(real_dir), *options, "--json"]) == 0
+        data = json.loads(capsys.readouterr().out)
+        expected.append([(e["engine"], e["tier"], f"{round(e['coverage'] * 100)}%")
+                         for e in [*data["passing"], *data["partial"], *data["failing"],
+                                   *data["baselines"]]])
+    messages: list[str] = []
+    with opened(real_dir / "report.html", messages) as page:
+        found = [[row[:3] for row in submit(page, fields)] for fields, _ in REAL_PROFILES]
+    assert errors(messages) == []
+    assert found == expected
+    assert found[0][0][0] == "pybullet" and "pymunk" not in [row[0] for row in found[0]]
