@@ -238,6 +238,7 @@ FILES: dict[str, Callable[[Inputs], str]] = {
     "bench.md": bench,
     "setup.md": setup,
     "conventions.md": lambda i: run_figures.conventions(i.run),
+    "advice.md": lambda i: run_figures.advice(i.run),
 }
 """Every file ``make docs-figures`` writes (``cli.md`` is written by ``make docs``)."""
 

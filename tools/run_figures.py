@@ -317,3 +317,67 @@ def conventions(run: StoredRun) -> str:
         parts += (["Sources: " + ", ".join(_source(str(s)) for s in sources) + ".", ""]
                   if sources else [])
     return "\n".join(parts).rstrip() + "\n"
+
+
+ADVICE_PROFILES = (
+    "--dim 3 --kind sphere --scale 0.01:10 --offset 10 --tolerance 1e-9",
+    "--dim 3 --kind aabb --scale 0.1:10 --offset 1e4 --tolerance 1e-4",
+    "--dim 2 --kind sphere --scale 0.1:10 --offset 1e3 --tolerance 1e-6",
+    "--kind sphere_response --mass-ratio 1e3 --speed 10 --tolerance 1e-9",
+    "--kind sphere_response --mass-ratio 1e3 --speed 10 --tolerance 1e-9 --scale 0.01:10",
+)
+"""The four scene profiles of docs/comparing-and-advice.md, as ``advise`` options, and the
+fourth again with its bodies' sizes bounded (no zero radius)."""
+
+
+def advice(run: StoredRun) -> str:
+    """``crosscheck advise`` on each of :data:`ADVICE_PROFILES`: the command and its answer."""
+    from crosscheck.cli import build_parser
+    from crosscheck.cli.advise import envelope_of, worst_text
+    from crosscheck.report.advise import EnvelopeError, advise
+
+    parts = []
+    for options in ADVICE_PROFILES:
+        args = build_parser().parse_args(["advise", str(run.directory), *options.split()])
+        parts += ["```sh", f"crosscheck advise {run.directory} {options}", "```", ""]
+        try:
+            answer = advise(run, envelope_of(args))
+        except EnvelopeError as exc:
+            parts += [f"No answer from this run: {exc}.", ""]
+            continue
+        if not answer.cases:
+            parts += ["No case of this run lies inside this envelope.", ""]
+            continue
+        rows = [[str(rank), *_grade_cells(e, worst_text(e))]
+                for rank, e in enumerate(answer.ranking, 1)]
+        rows += [["baseline", *_grade_cells(e, worst_text(e))] for e in answer.baselines]
+        parts += [f"{answer.cases:,} cases inside the envelope "
+                  f"({', '.join(answer.kinds)}; {', '.join(f'{d}-D' for d in answer.dims)}).",
+                  "", table(["#", "engine", "tier", "coverage", "within", "median µs (IQR)",
+                             "worst answer"], rows)]
+        if answer.unsupported:
+            parts += [f"Answer no case (not ranked): "
+                      f"{', '.join(e.engine for e in answer.unsupported)}.", ""]
+        parts += [f"Passing, cheapest first: {', '.join(e.engine for e in answer.passing)}."
+                  if answer.passing else
+                  f"Nothing passes the whole envelope; closest: {answer.closest}, decided by "
+                  f"{', '.join(answer.deciding)}" + _mode_text(answer), ""]
+    return "\n".join(parts).rstrip() + "\n"
+
+
+def _grade_cells(engine: Any, worst: str) -> list[str]:
+    cost = ("-" if engine.median_query_s is None else
+            f"{engine.median_query_s * 1e6:.3g} ({(engine.query_iqr_s or 0.0) * 1e6:.2g})")
+    share = "-" if engine.share_within is None else f"{engine.share_within:.0%}"
+    return [engine.engine, engine.tier, f"{engine.coverage:.0%}", share, cost, worst]
+
+
+def _mode_text(answer: Any) -> str:
+    """The closest engine's failure modes, with their numbers and an example's reason."""
+    closest = next((e for e in answer.ranking if e.engine == answer.closest), None)
+    if closest is None or not closest.failure_modes:
+        return "."
+    modes = [f"{m.quantity} {m.status} on {m.cases} cases"
+             + ("" if m.largest is None else f" (up to {m.largest:.3g}, needed {m.allowed:g})")
+             + (f": {m.reason}" if m.reason else "") for m in closest.failure_modes[:2]]
+    return ". Its failure modes: " + "; ".join(modes) + "."

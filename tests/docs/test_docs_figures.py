@@ -22,7 +22,7 @@ from tools.measure_report import sha256
 
 CONTRACT = {"provenance.md", "suite.md", "run-time.md", "status-counts.md", "categories.md",
             "group-matrix.md", "query-times.md", "headline.md", "report-size.md", "bench.md",
-            "setup.md", "conventions.md"}
+            "setup.md", "conventions.md", "advice.md"}
 """The files docs/generated/ holds besides cli.md (the contract of the docs pages)."""
 CASES = """
 [[case]]
