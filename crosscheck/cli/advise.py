@@ -221,6 +221,11 @@ def print_advice(advice: Advice) -> None:
                            ("float32, not accepted", advice.excluded)):
         if engines:
             say(f"{label}: {', '.join(e.engine for e in engines)}")
+    broken = [f"{e.engine} {status} {n}" for e in advice.ranking + advice.baselines
+              for status, n in e.robustness.items() if status in ("crash", "timeout")]
+    if advice.bad_input_cases:
+        say(f"bad input, judged apart ({advice.bad_input_cases} cases): "
+            + (", ".join(broken) if broken else "no crash or timeout"))
     if advice.passing:
         say(f"passing: {', '.join(e.engine for e in advice.passing)} (cheapest first)")
     else:

@@ -252,6 +252,7 @@ def test_cli_prints_one_line_per_engine_at_80_columns(
     near = next(line for line in lines if " fake-near " in line)
     assert "fail" in near and "hit 1e-06>1e-09" in near
     assert "7 cases" in text and "passing: fake-right" in text
+    assert "bad input, judged apart (1 cases): no crash or timeout" in text
 
 
 def test_cli_json_keeps_passing_and_adds_the_grades(
