@@ -174,8 +174,13 @@ def _percent(share: float | None) -> str:
 
 
 def worst_text(engine: EngineAdvice) -> str:
-    """The worst answer in a few words: quantity, status, number against the need, case."""
+    """The worst answer in a few words: quantity, status, number against the need, case; with
+    none, the engine's most frequent declared convention (quantity, cases, largest number)."""
     worst = engine.worst
+    if worst is None and engine.conventions:
+        mode = engine.conventions[0]
+        number = "" if mode.largest is None else f" ≤{_g(mode.largest)}"
+        return f"conv {mode.quantity} n={mode.cases}{number}"
     if worst is None:
         return "-" if engine.answered else "answers no case here"
     number = "" if worst.measure is None else f" {_g(worst.measure)}>{_g(worst.allowed)}"

@@ -251,6 +251,8 @@ def test_cli_prints_one_line_per_engine_at_80_columns(
         assert sum(f" {engine.name} " in line and "%" in line for line in lines) == 1
     near = next(line for line in lines if " fake-near " in line)
     assert "fail" in near and "hit 1e-06>1e-09" in near
+    touch = next(line for line in lines if " fake-touch " in line)
+    assert "part" in touch and "conv hit n=1 ≤0" in touch  # its touching rule, at gap 0
     assert "7 cases" in text and "passing: fake-right" in text
     assert "bad input, judged apart (1 cases): no crash or timeout" in text
 
