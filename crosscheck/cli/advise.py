@@ -175,8 +175,13 @@ def _percent(share: float | None) -> str:
 
 def worst_text(engine: EngineAdvice) -> str:
     """The worst answer in a few words: quantity, status, number against the need, case; with
-    none, the engine's most frequent declared convention (quantity, cases, largest number)."""
+    none, the part of the envelope it skips (kind, dimension, cases skipped of all), or else
+    its most frequent declared convention (quantity, cases, largest number)."""
     worst = engine.worst
+    skipped = [f"{p.kind} {p.dim}-D {p.cases - p.answered}/{p.cases}"
+               for p in engine.parts if p.answered < p.cases]
+    if worst is None and engine.answered and skipped:
+        return "skips " + ", ".join(skipped)
     if worst is None and engine.conventions:
         mode = engine.conventions[0]
         number = "" if mode.largest is None else f" ≤{_g(mode.largest)}"

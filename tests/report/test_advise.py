@@ -15,6 +15,7 @@ from typing import Any, ClassVar
 import pytest
 
 from crosscheck.cli import main
+from crosscheck.cli.advise import worst_text
 from crosscheck.core.model import Observation
 from crosscheck.core.options import RunOptions
 from crosscheck.report.advise import Advice, EngineAdvice, Envelope, EnvelopeError, advise
@@ -252,7 +253,12 @@ def test_cli_prints_one_line_per_engine_at_80_columns(
     near = next(line for line in lines if " fake-near " in line)
     assert "fail" in near and "hit 1e-06>1e-09" in near
     touch = next(line for line in lines if " fake-touch " in line)
-    assert "part" in touch and "conv hit n=1 ≤0" in touch  # its touching rule, at gap 0
+    assert "part" in touch and "skips sphere_respon" in touch  # cut to fit 80 columns
+    assert worst_text(grade(advise(read_run(run_dir), Envelope()), "fake-touch")) == (
+        "skips sphere_response 3-D 1/1")
+    assert main(["advise", str(run_dir), "--kind", "sphere"]) == 0
+    touch = next(line for line in capsys.readouterr().out.splitlines() if " fake-touch " in line)
+    assert "pass" in touch and "conv hit n=1 ≤0" in touch  # its touching rule, at gap 0
     assert "7 cases" in text and "passing: fake-right" in text
     assert "bad input, judged apart (1 cases): no crash or timeout" in text
 
