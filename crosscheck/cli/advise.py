@@ -33,7 +33,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--kind", action="append", metavar="K",
                    help="kind of query (repeatable; default: every pair kind in the run)")
     p.add_argument("--scale", metavar="LO:HI",
-                   help="body sizes: every radius and half-width within LO:HI")
+                   help="body sizes: every radius and half-width within LO:HI (default: any "
+                        "positive size; 0:HI admits zero-size bodies)")
     p.add_argument("--offset", metavar="MAX", help="largest |coordinate| of any centre")
     p.add_argument("--speed", metavar="MAX", help="largest |velocity component| (responses)")
     p.add_argument("--mass-ratio", metavar="MAX", help="largest max(m)/min(m) (responses)")

@@ -111,7 +111,19 @@ def _within(values: Iterable[float], limit: float | None) -> bool:
 
 
 def _within_scale(case: AnyCase, scale: tuple[float, float] | None) -> bool:
-    return scale is None or all(scale[0] <= s <= scale[1] for s in extents(case))
+    """Every radius and half-width within ``scale``; with no ``--scale``, every one positive:
+    a scene's bodies have a size, and a zero-size body (a point, a flat plate) is in the
+    envelope only when the profile says so with ``--scale 0:HI``.
+
+    >>> from crosscheck.testing.samples import sphere_pair
+    >>> point = sphere_pair(0.0, 1.0, ra=0.0)
+    >>> _within_scale(point, None), _within_scale(point, (0.0, 1.0))
+    (False, True)
+    """
+    sizes = extents(case)
+    if scale is None:
+        return all(s > 0 for s in sizes)
+    return all(scale[0] <= s <= scale[1] for s in sizes)
 
 
 def _bodies(case: AnyCase) -> tuple[Any, ...]:

@@ -297,3 +297,13 @@ def test_cli_refuses_a_folder_that_is_not_a_run(
     assert "RUN_DIR" in capsys.readouterr().err
     assert main(["advise", str(tmp_path)]) == 2
     assert "RUN_DIR" in capsys.readouterr().err
+
+
+def test_zero_size_bodies_are_in_the_envelope_only_when_the_profile_admits_them() -> None:
+    point = sphere(0.0, 1.0, ra=0.0)
+    plate = aabb([0.0, 0.0, 0.0], [0.0, 1.0, 1.0], [2.0, 0.0, 0.0], [1.0, 1.0, 1.0])
+    for case in (point, plate):
+        assert not Envelope().holds(case)  # no --scale: every body has a positive size
+        assert Envelope(scale=(0.0, 1.0)).holds(case)  # --scale 0:1 admits them
+        assert not Envelope(scale=(0.1, 1.0)).holds(case)
+    assert Envelope().holds(sphere(0.0, 1.0))
