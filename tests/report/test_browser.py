@@ -14,6 +14,7 @@ import os
 import shutil
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from playwright.sync_api import Page, sync_playwright
@@ -293,21 +294,56 @@ def real_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
-@pytest.mark.engine
-def test_the_advise_form_on_a_real_run_ranks_as_the_cli_does(
-        real_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def form_and_cli(run_dir: Path, profiles: list[tuple[dict[str, str], list[str]]],
+                 capsys: pytest.CaptureFixture[str]) -> tuple[list[Any], list[Any], list[str]]:
+    """Per profile: the form's answer rows, advise --json's as the same (engine, tier, cover,
+    within) rows, and the page's console errors."""
     expected = []
-    for _, options in REAL_PROFILES:
+    for _, options in profiles:
         capsys.readouterr()
-        assert main(["advise", str(real_dir), *options, "--json"]) == 0
+        assert main(["advise", str(run_dir), *options, "--json"]) == 0
         data = json.loads(capsys.readouterr().out)
         expected.append([
             (e["engine"], e["tier"], f"{e['coverage']:.0%}",
              "-" if e["share_within"] is None else f"{e['share_within']:.0%}")
             for e in [*data["passing"], *data["partial"], *data["failing"], *data["baselines"]]])
     messages: list[str] = []
-    with opened(real_dir / "report.html", messages) as page:
-        found = [submit(page, fields) for fields, _ in REAL_PROFILES]
-    assert errors(messages) == []
+    with opened(run_dir / "report.html", messages) as page:
+        found = [submit(page, fields) for fields, _ in profiles]
+    return found, expected, errors(messages)
+
+
+@pytest.mark.engine
+def test_the_advise_form_on_a_real_run_ranks_as_the_cli_does(
+        real_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    found, expected, console = form_and_cli(real_dir, REAL_PROFILES, capsys)
+    assert console == []
     assert found == expected
     assert found[0][0][0] == "pybullet" and "pymunk" not in [row[0] for row in found[0]]
+
+
+FULL_PROFILES = [
+    REAL_PROFILES[0],
+    ({"dim": "3", "kind": "aabb", "lo": "0.1", "hi": "10", "offset": "1e4",
+      "tolerance": "1e-4"},
+     ["--dim", "3", "--kind", "aabb", "--scale", "0.1:10", "--offset", "1e4",
+      "--tolerance", "1e-4"]),
+    REAL_PROFILES[1],
+    REAL_PROFILES[2],
+]
+"""The four scene profiles of docs/comparing-and-advice.md."""
+
+
+@pytest.mark.slow
+@pytest.mark.engine
+def test_the_advise_form_on_a_full_run_of_the_suite_ranks_as_the_cli_does(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # the whole suite on every available engine (quick: no timing phase), then the four
+    # profiles through the page's form and through advise --json
+    needs_chromium()
+    assert main(["run", "--quick", "--out", str(tmp_path / "run")]) == 0
+    found, expected, console = form_and_cli(tmp_path / "run", FULL_PROFILES, capsys)
+    assert console == []
+    assert found == expected
+    for rows in found:  # every profile has engines that pass its whole envelope
+        assert rows and rows[0][1] == "passes"
