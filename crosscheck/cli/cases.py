@@ -61,7 +61,8 @@ def cmd_new_case(args: argparse.Namespace) -> int:
         for problem in exc.problems:
             fail(problem)
         return 2
-    say(f"appended case {args.id!r} to {args.file}; check: crosscheck validate")
+    say(f"appended case {args.id!r} to {args.file.resolve()}; check: crosscheck validate "
+        f"{args.file}")
     return 0
 
 
@@ -89,7 +90,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--kind", required=True, choices=PAIR_KINDS)
     p.add_argument("--dim", required=True, type=int, choices=[2, 3])
     p.add_argument("--id", required=True)
-    p.add_argument("--file", type=Path, default=Path("cases/user.toml"))
+    p.add_argument("--file", type=Path, default=Path("cases/user.toml"),
+                   help="case file to append to, created if missing (default: cases/user.toml, "
+                        "relative to the current folder)")
     p.add_argument("--description", help="what the case probes")
     p.add_argument("--tag", action="append", help="a tag (repeatable)")
     p.add_argument("--restitution", type=float, help="sphere_response only (default 1)")

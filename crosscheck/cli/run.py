@@ -191,7 +191,8 @@ def _unresumable(directory: Path) -> str | None:
     again = (f"start it again with the same command and --out {directory} "
              "(the folder is reused)")
     if not directory.is_dir():
-        return f"no such folder; the run was killed before it made it: {again}"
+        return (f"no such folder: {directory} does not exist; check the path (a run killed "
+                f"before it made its folder left nothing to resume: {again})")
     if not (directory / "run.json").exists():
         return (f"it has no run.json: the run was killed before it started, so no result "
                 f"was lost; {again}")

@@ -46,6 +46,9 @@ from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
 from crosscheck.results.timings import TimingRecord, read_timings
 
+LOCK = ".lock"
+"""The file a run holds locked while it writes the folder; removed when the run closes."""
+
 
 class StoreError(RuntimeError):
     """The results directory cannot be used."""
@@ -127,24 +130,51 @@ class ResultsStore:
         except OSError:
             pass  # the write that failed has raised already; its rows were never on disk
         finally:
-            self._lock.close()  # closing the file releases the lock
+            _release(self.directory, self._lock)
 
 
 def _lock(directory: Path) -> IO[str]:
-    """Hold ``directory/.lock`` for this run; a second run into the directory is refused."""
-    handle = (directory / ".lock").open("a+", encoding="utf-8")
-    try:
-        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
-        handle.seek(0)
-        holder = handle.read().strip() or "another process"
-        handle.close()
-        raise StoreError(f"another crosscheck run ({holder}) is writing to {directory}; "
-                         "wait for it or choose another --out") from None
+    """Hold ``directory/.lock`` for this run; a second run into the directory is refused.
+
+    A run that finishes removes the file while it still holds it (:func:`_release`), so a
+    lock taken on a file that is no longer at that path is taken again on the new one.
+    """
+    path = directory / LOCK
+    while True:
+        handle = path.open("a+", encoding="utf-8")
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            handle.seek(0)
+            holder = handle.read().strip() or "another process"
+            handle.close()
+            raise StoreError(f"another crosscheck run ({holder}) is writing to {directory}; "
+                             "wait for it or choose another --out") from None
+        if _same_file(handle, path):
+            break
+        handle.close()  # the run that held it finished and removed it: lock the new one
     handle.truncate(0)
     handle.write(f"pid {os.getpid()}")
     handle.flush()
     return handle
+
+
+def _same_file(handle: IO[str], path: Path) -> bool:
+    try:
+        return os.fstat(handle.fileno()).st_ino == path.stat().st_ino
+    except FileNotFoundError:
+        return False
+
+
+def _release(directory: Path, handle: IO[str]) -> None:
+    """Remove ``directory/.lock`` while holding it, then release it: a closed run leaves no
+    lock file behind."""
+    try:
+        (directory / LOCK).unlink(missing_ok=True)
+    except OSError:
+        pass  # a read-only or vanished folder: the lock is released all the same
+    finally:
+        handle.close()
 
 
 def _check_writable(directory: Path) -> None:

@@ -61,6 +61,16 @@ def test_new_case_appends_a_valid_block(tmp_path: Path, monkeypatch: pytest.Monk
                  "--file", str(target)]) == 2
 
 
+def test_new_case_says_the_whole_path_of_the_file_it_appended_to(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.chdir(tmp_path)  # the default file is relative to the current folder
+    assert main(["new-case", "--kind", "sphere", "--dim", "2", "--id", "mine"]) == 0
+    said = " ".join(capsys.readouterr().out.split())
+    assert f"to {tmp_path / 'cases' / 'user.toml'};" in said
+    assert "mine" in (tmp_path / "cases" / "user.toml").read_text()
+
+
 @pytest.mark.engine
 def test_run_writes_results_run_info_and_report(small_suite: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"

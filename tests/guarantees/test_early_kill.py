@@ -117,6 +117,7 @@ def test_resume_of_a_folder_never_made_says_how_to_start(
     assert main(["run", "--resume", str(tmp_path / "never")]) == 2
     message = " ".join(capsys.readouterr().err.split())
     assert "no such folder" in message and "start it again" in message
+    assert f"{tmp_path / 'never'} does not exist; check the path" in message
 
 
 class Recording(ResultsStore):

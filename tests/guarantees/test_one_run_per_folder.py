@@ -22,7 +22,37 @@ def test_a_second_run_into_the_same_directory_is_refused(tmp_path: Path) -> None
     with pytest.raises(StoreError, match="another crosscheck run"):
         ResultsStore(tmp_path / "run", resume=True)
     first.close()
+    assert not (tmp_path / "run" / ".lock").exists()  # a closed run leaves no lock file
     ResultsStore(tmp_path / "run", resume=True).close()  # free once the first is done
+
+
+def test_a_lock_file_removed_by_a_finishing_run_is_taken_again_on_the_new_file(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # the run that held the lock finishes (and removes the file) between this run's open and
+    # its flock: this run must end up holding the file at the path, not the removed one
+    import fcntl
+
+    import crosscheck.results.store as store
+
+    real, calls = fcntl.flock, []
+
+    def finishing_holder(handle: object, operation: int) -> None:
+        calls.append(operation)
+        if len(calls) == 1:
+            (tmp_path / "run" / ".lock").unlink()
+        real(handle, operation)  # type: ignore[arg-type]
+
+    (tmp_path / "run").mkdir()
+    monkeypatch.setattr(store.fcntl, "flock", finishing_holder)
+    held = ResultsStore(tmp_path / "run")
+    try:
+        assert len(calls) == 2  # locked again, on the new file
+        assert (tmp_path / "run" / ".lock").read_text() == f"pid {os.getpid()}"
+        monkeypatch.setattr(store.fcntl, "flock", real)
+        with pytest.raises(StoreError, match="another crosscheck run"):
+            ResultsStore(tmp_path / "run", resume=True)
+    finally:
+        held.close()
 
 
 def test_concurrent_cli_run_is_refused_with_a_clear_error(tmp_path: Path) -> None:
