@@ -28,7 +28,7 @@ FAMILIES = (run, report, cases, fuzz, repro, bench, stability, advise, engines)
 
 
 EXAMPLES = """examples:
-  crosscheck run                          the whole suite on every engine -> reports/<time>/
+  crosscheck run                          the whole suite on every engine
   crosscheck run --quick --engine fcl     verdicts only, one engine
   crosscheck run cases/sphere.toml --engine pybullet --engine pymunk
   crosscheck report reports/<run>         re-render a stored run
@@ -47,7 +47,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Collision Crosscheck: collision engines scored against an exact oracle.",
         epilog=EXAMPLES)
     parser.add_argument("--version", action="version", version=version_line())
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND",
+                                title="commands")
     for family in FAMILIES:
         family.register(sub)
     return parser

@@ -84,12 +84,13 @@ def cmd_schema(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``validate``, ``new-case`` and ``schema``."""
     p = sub.add_parser("validate", help="check case files")
-    p.add_argument("paths", nargs="*", type=Path)
+    p.add_argument("paths", nargs="*", type=Path,
+                   help="case files or folders (default: cases/)")
     p.set_defaults(func=cmd_validate)
     p = sub.add_parser("new-case", help="append a valid template case to a file")
-    p.add_argument("--kind", required=True, choices=PAIR_KINDS)
-    p.add_argument("--dim", required=True, type=int, choices=[2, 3])
-    p.add_argument("--id", required=True)
+    p.add_argument("--kind", required=True, choices=PAIR_KINDS, help="the kind of query")
+    p.add_argument("--dim", required=True, type=int, choices=[2, 3], help="2 or 3 dimensions")
+    p.add_argument("--id", required=True, help="the new case's id, unique in the suite")
     p.add_argument("--file", type=Path, default=Path("cases/user.toml"),
                    help="case file to append to, created if missing (default: cases/user.toml, "
                         "relative to the current folder)")
@@ -106,6 +107,7 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                            help=f"body {side.upper()}: {key}")
     p.set_defaults(func=cmd_new_case)
     p = sub.add_parser("schema", help="write the case-file JSON Schema")
-    p.add_argument("--output", type=Path, default=Path("cases/schema.json"))
+    p.add_argument("--output", type=Path, default=Path("cases/schema.json"),
+                   help="where to write it (default: %(default)s)")
     p.add_argument("--check", action="store_true", help="fail if the file is out of date")
     p.set_defaults(func=cmd_schema)

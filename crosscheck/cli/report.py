@@ -49,7 +49,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``report`` and ``compare``."""
     p = sub.add_parser("report", help="re-render CSV and HTML from a stored run")
-    p.add_argument("directory", type=Path)
+    p.add_argument("directory", type=Path, help="a stored run folder (reports/<run-id>)")
     p.add_argument("--markdown", action="store_true", help="also print the summary as Markdown")
     p.set_defaults(func=cmd_report)
     p = sub.add_parser("compare", help="verdict and timing changes between two stored runs")

@@ -242,7 +242,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--no-pin", action="store_true",
                    help="do not pin the timed engine and the harness to separate cores")
     p.add_argument("--timeout", type=_number(float, 0, False), default=3.0,
-                   help="seconds allowed per case x engine before it is marked timeout")
+                   help="seconds allowed per case x engine before it is marked timeout "
+                        "(default: %(default)s)")
     p.add_argument("--jobs", type=_number(int, 1, True), default=0,
                    help="cases run at once, each lane with its own workers (default: cores)")
     p.add_argument("--resume", type=Path, metavar="DIR",
