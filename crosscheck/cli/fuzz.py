@@ -123,24 +123,35 @@ def cmd_fuzz(args: argparse.Namespace) -> int:
         fail(f"interrupted: the finished chunks are kept; finish with "
              f"'crosscheck fuzz --resume {_directory(args)}'")
         return 130
-    print_groups(groups)
+    print_groups(groups, directory=directory)
     say(f"output: {directory}  (check: crosscheck validate {directory}; every finding: "
         f"{directory / 'findings.csv'}; counts and speed: {directory / 'fuzz.json'})")
     return 0
 
 
-def print_groups(groups: Sequence[Group], limit: int = 30) -> None:
-    """The groups, largest first, as a table (``limit`` rows)."""
+def print_groups(groups: Sequence[Group], limit: int = 30, directory: Path | None = None
+                 ) -> None:
+    """The groups, worst first (:func:`~crosscheck.studies.fuzz.by_severity`), as a table
+    (``limit`` rows), then the case files written, by name."""
+    from crosscheck.studies.fuzz import by_severity
+
     title = f"{sum(g.count for g in groups)} findings in {len(groups)} groups"
     table = Table(title=title)
-    for column in ("engine", "quantity", "status", "category", "family", "driver", "decade",
+    for column in ("engine", "quantity", "status", "category", "family", "driver",
                    "findings", "written"):
         table.add_column(column, justify="right" if column in ("findings", "written")
                          else "left", no_wrap=column == "engine")
-    ranked = sorted(groups, key=lambda g: (-g.count, g.slug))
+    ranked = by_severity(groups)
     for g in ranked[:limit]:
         table.add_row(g.engine, g.quantity, g.status, g.category, g.family, g.driver,
-                      g.decade, str(g.count), str(len(g.chosen)))
+                      str(g.count), str(len(g.chosen)))
     if len(ranked) > limit:
-        table.caption = f"... and {len(ranked) - limit} smaller groups: see findings.csv"
+        table.caption = f"... and {len(ranked) - limit} more groups: see findings.csv"
     out.print(table)
+    written = [g for g in ranked if g.chosen]
+    if written:
+        where = f" in {directory}" if directory is not None else ""
+        say(f"{len(written)} case files written{where}, worst first:")
+        for g in written:
+            out.print(f"  {g.slug}.toml  ({len(g.chosen)} cases; {g.status}"
+                      f"{' / ' + g.category if g.category else ''})", soft_wrap=True)

@@ -20,6 +20,7 @@ from crosscheck.studies.fuzz.campaign import (
 from crosscheck.studies.fuzz.findings import (
     Group,
     Groups,
+    by_severity,
     choose,
     group_findings,
     write_findings,
@@ -32,6 +33,7 @@ __all__ = [
     "Generated",
     "Group",
     "Groups",
+    "by_severity",
     "campaign_throughput",
     "choose",
     "finished_chunks",

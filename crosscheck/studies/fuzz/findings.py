@@ -142,6 +142,25 @@ def _key(row: Row) -> Key:
             row["family"], row["driver"], "")  # decades: findings.csv
 
 
+def by_severity(groups: Iterable[Group]) -> list[Group]:
+    """The groups as a reader wants them: crash, timeout and error first (worst status
+    first), then the groups that wrote a case file, then the rest; within each, the most
+    findings first, ties by slug.
+
+    >>> made = [Group("e", "sphere", "distance", status, "", "f", "scale", "", count=n,
+    ...               chosen=chosen) for status, n, chosen in [
+    ...     ("disagree", 90, []), ("disagree", 3, ["c1"]), ("crash", 1, ["c2"]),
+    ...     ("error", 5, [])]]
+    >>> [(g.status, g.count) for g in by_severity(made)]
+    [('crash', 1), ('error', 5), ('disagree', 3), ('disagree', 90)]
+    """
+    def rank(group: Group) -> tuple[int, int, int, str]:
+        failed = Status(group.status).failed
+        return (0 if failed else 1 if group.chosen else 2,
+                Status(group.status).severity if failed else 0, -group.count, group.slug)
+    return sorted(groups, key=rank)
+
+
 class Groups:
     """Findings grouped as they stream in: a count and the top candidates per group."""
 
