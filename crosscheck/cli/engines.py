@@ -14,6 +14,7 @@ import argparse
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+from rich.padding import Padding
 from rich.table import Table
 from rich.text import Text
 
@@ -110,23 +111,29 @@ def _row(entry: adapters.Entry, settings: bool) -> tuple[list[Text], str | None]
 
 def cmd_engines(args: argparse.Namespace) -> int:
     table = Table(title="engines")
-    columns = ["name", "from", "version", "available", "capabilities"]
-    for column in [*columns, "settings"] if args.settings else columns:
-        table.add_column(column, no_wrap=column in ("name", "from"), overflow="fold")
-    lines = []
+    for column in ("name", "from", "version", "available", "kinds"):  # kinds: capabilities
+        table.add_column(column, no_wrap=column in ("name", "from"))
+    lines, settings = [], []
     for entry in adapters.entries():
-        row, problem = _row(entry, args.settings)
-        table.add_row(*row)
+        row, problem = _row(entry, True)
+        table.add_row(*row[:-1])
         if problem:
             lines.append(Text(f"{entry.describe()} {entry.verdict}: {problem}", style="red"))
         elif not entry.builtin:
             lines.append(Text(entry.describe()))
+        if problem is None:
+            settings.append((row[0].plain, row[-1].plain))
     out.print(table)
+    if args.settings:  # a list, not a column: settings are sentences, too long for a cell
+        out.print(Text("settings of each variant:", style="bold"))
+        for name, text in settings:
+            out.print(Text(name, style="bold"))
+            out.print(Padding(Text(text), (0, 0, 0, 4), expand=False), soft_wrap=False)
     out.print(Text(f"Built-ins are the lines of adapters.REGISTRY; plug-ins are the entry "
                    f"points of installed distributions in the {adapters.ENTRY_POINT_GROUP!r} "
-                   f"group."))
+                   f"group."), soft_wrap=False)
     for line in lines:
-        out.print(line)
+        out.print(line, soft_wrap=False)
     return 0
 
 

@@ -1,13 +1,21 @@
-"""Every command's help reads at 80 columns, and every option and positional says what it is
-and, where it has one, its default."""
+"""The terminal reads at 80 columns: every command's help fits, every option and positional
+says what it is and, where it has one, its default; ``engines --settings`` in a file keeps
+every variant's settings whole."""
 
 from __future__ import annotations
 
 import argparse
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
+import adapters
 from crosscheck.cli import build_parser
+from crosscheck.core.contract import engine_info
+from tests.conftest import ROOT
 from tools.cli_page import commands
 
 COMMANDS = [name for name, _sub, _help in commands(build_parser())]
@@ -42,3 +50,17 @@ def test_the_checks_catch_a_silent_option() -> None:
     parser = argparse.ArgumentParser()
     silent = parser.add_argument("--speed", type=float, default=2.0, help="how fast")
     assert not _no_default(silent) and "default" not in (silent.help or "")
+
+
+@pytest.mark.engine
+def test_engines_settings_read_at_80_columns_in_a_file(tmp_path: Path) -> None:
+    # piped to a file at 80 columns: no line over 80, and every variant's settings whole
+    env = {**os.environ, "COLUMNS": "80", "PYTHONPATH": str(ROOT)}
+    printed = subprocess.run([sys.executable, "-m", "crosscheck.cli", "engines", "--settings"],
+                             env=env, capture_output=True, text=True, check=True).stdout
+    assert [line for line in printed.splitlines() if len(line) > 80] == []
+    flat = " ".join(printed.split())
+    for entry in adapters.entries():
+        if entry.problem() is None:
+            settings = str(engine_info(entry.load()())["settings"])
+            assert " ".join(settings.split()) in flat, entry.name
