@@ -20,7 +20,7 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.report.advise_judge import CONVENTION, FAILED, SKIP, WRONG
-from crosscheck.report.profiles import BASELINES
+from crosscheck.report.profiles import BASELINES, worst_statuses
 from crosscheck.results.store import StoredRun, repro_name, repro_path
 
 PASSES, PARTIAL, FAILS, UNSUPPORTED = "passes", "partial", "fails", "unsupported"
@@ -129,7 +129,7 @@ def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
         worst=_worst(run, engine, failing), failure_modes=_modes(failing),
         conventions=_modes(_worst_first(answered_rows[answered_rows["judgment"] == CONVENTION])),
         parts=parts, unsupported=unsupported,
-        failing_cases=tuple(dict.fromkeys(failing["case_id"])), robustness=_robustness(bad))
+        failing_cases=tuple(dict.fromkeys(failing["case_id"])), robustness=worst_statuses(bad))
 
 
 def _tier(answered: int, within: int, cases: int) -> str:
@@ -218,11 +218,3 @@ def _unsupported(parts: tuple[Part, ...]) -> tuple[str, ...]:
     return (tuple(k for k in kinds if not any(p.answered for p in parts if p.kind == k))
             + tuple(f"{d}-D" for d in dims if not any(p.answered for p in parts if p.dim == d)))
 
-
-def _robustness(bad: pd.DataFrame) -> dict[str, int]:
-    """Each bad-input case once, by its worst status."""
-    if bad.empty:
-        return {}
-    ranked = bad.assign(severity=[Status(s).severity for s in bad["status"]])
-    worst = ranked.sort_values("severity", kind="stable").drop_duplicates("case_id")
-    return {str(k): int(v) for k, v in worst["status"].value_counts().items()}

@@ -23,7 +23,7 @@ Ranked engines are ordered by score, then by coverage, then by median query time
 more of the profile comes first.
 
 >>> rows = pd.DataFrame([
-...     {"case_id": c, "kind": "sphere", "dim": 3, "source": "cases/sphere.toml",
+...     {"case_id": c, "kind": "sphere", "dim": 3, "tags": "basic",
 ...      "engine": e, "quantity": "hit", "status": s, "category": "", "reason": "",
 ...      "query_s": 1e-6, "unstable": False}
 ...     for c, e, s in [("a", "fast", "agree"), ("b", "fast", "disagree"),
@@ -41,15 +41,13 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
+from crosscheck.core.schema import BAD_INPUT_TAG
 from crosscheck.report.speed import with_iqr
-from crosscheck.report.tables import case_group
 from crosscheck.report.verdict import Cell, Mode, failure_modes, share_text
 from crosscheck.results.timings import Spread, spread
 
 BASELINES = ("reference", "reference-f32")
 """The textbook formulas: drawn beside the engines as baselines, never ranked."""
-BAD_INPUT = "bad_input"
-"""The case group whose answers are robustness, not accuracy."""
 SHOWN = 2
 """Failure modes shown per engine and profile."""
 
@@ -143,11 +141,18 @@ def _slots(rows: pd.DataFrame) -> list[str]:
     return [f"{k} {d}-D" for k, d in sorted(set(zip(rows["kind"], rows["dim"], strict=True)))]
 
 
+def bad_input(frame: pd.DataFrame) -> pd.Series:
+    """Which rows are of bad-input cases: tagged ``bad-input``, as
+    :attr:`~crosscheck.core.schema.AabbCase.bad_input` says of a case (rows carry the
+    case's tags, space-separated)."""
+    return frame["tags"].fillna("").astype(str).str.split().map(lambda t: BAD_INPUT_TAG in t)
+
+
 def profile_rows(frame: pd.DataFrame, wanted: Profile) -> pd.DataFrame:
     """The rows of ``wanted``'s kinds and dimensions, bad-input cases left out."""
-    inside = [wanted.holds(str(k), int(d)) and case_group(str(s)) != BAD_INPUT
-              for k, d, s in zip(frame["kind"], frame["dim"], frame["source"], strict=True)]
-    return frame[pd.Series(inside, index=frame.index, dtype=bool)]
+    inside = [wanted.holds(str(k), int(d)) for k, d in zip(frame["kind"], frame["dim"],
+                                                            strict=True)]
+    return frame[pd.Series(inside, index=frame.index, dtype=bool) & ~bad_input(frame)]
 
 
 def _score(engine: str, rows: pd.DataFrame, common: pd.Index, total: int,
@@ -195,16 +200,28 @@ def profile(frame: pd.DataFrame, wanted: Profile,
 
 def profiles(frame: pd.DataFrame, repros: Collection[str] = ()) -> list[ProfileVerdict]:
     """The standard profiles that have rows in ``frame``."""
-    needed = {"dim", "source"}
+    needed = {"dim", "tags"}
     if not needed <= set(frame.columns):
         return []
     made = [profile(frame, p, repros) for p in PROFILES]
     return [v for v in made if v.total]
 
 
+def worst_statuses(rows: pd.DataFrame) -> dict[str, int]:
+    """Each case of ``rows`` once, by its worst status (the report's severity order): how
+    many cases ended in each status.  ``advise`` and the verdict block both count an
+    engine's bad-input answers this way."""
+    if rows.empty:
+        return {}
+    ranked = rows.assign(severity=[Status(s).severity for s in rows["status"]])
+    worst = ranked.sort_values("severity", kind="stable").drop_duplicates("case_id")
+    return {str(k): int(v) for k, v in worst["status"].value_counts().items()}
+
+
 @dataclass(frozen=True)
 class Robustness:
-    """One engine on the bad-input cases: how its answers failed."""
+    """One engine on the bad-input cases: how many it answered, and how many of those
+    ended (by their worst row) in a crash, a timeout or an error."""
 
     engine: str
     answered: int
@@ -212,24 +229,17 @@ class Robustness:
     timeout: int
     error: int
 
-    @property
-    def text(self) -> str:
-        return (f"{self.crash} crash, {self.timeout} timeout, {self.error} error "
-                f"of {self.answered} answered rows")
-
 
 def robustness(frame: pd.DataFrame) -> list[Robustness]:
     """Per engine, what became of its answers to the bad-input cases (none: empty)."""
-    if "source" not in frame.columns:
+    if "tags" not in frame.columns:
         return []
-    bad = frame[[case_group(str(s)) == BAD_INPUT for s in frame["source"]]]
+    bad = frame[bad_input(frame)]
     out = []
     for engine in (str(e) for e in dict.fromkeys(bad["engine"])):
-        mine = _answered(bad[bad["engine"] == engine])
-        counts = mine["status"].value_counts()
-        out.append(Robustness(engine, len(mine), int(counts.get(Status.CRASH, 0)),
-                              int(counts.get(Status.TIMEOUT, 0)),
-                              int(counts.get(Status.ERROR, 0))))
+        counts = worst_statuses(_answered(bad[bad["engine"] == engine]))
+        out.append(Robustness(engine, sum(counts.values()), counts.get(Status.CRASH, 0),
+                              counts.get(Status.TIMEOUT, 0), counts.get(Status.ERROR, 0)))
     return out
 
 

@@ -19,9 +19,9 @@ DETECTION_3D = profiles.PROFILES[0]
 
 
 def row(case_id: str, engine: str, status: str = "agree", quantity: str = "hit",
-        kind: str = "sphere", dim: int = 3, source: str = "cases/sphere.toml",
+        kind: str = "sphere", dim: int = 3, tags: str = "basic",
         reason: str = "", query_s: float = 1e-6) -> dict[str, Any]:
-    return {"case_id": case_id, "kind": kind, "dim": dim, "source": source, "engine": engine,
+    return {"case_id": case_id, "kind": kind, "dim": dim, "tags": tags, "engine": engine,
             "quantity": quantity, "status": status, "category": "", "reason": reason,
             "query_s": query_s, "unstable": False}
 
@@ -64,11 +64,12 @@ def test_the_textbook_formulas_are_baselines_never_ranked() -> None:
 
 
 def test_bad_input_is_left_out_of_accuracy_and_counted_as_robustness() -> None:
-    bad = "cases/bad_input.toml"
+    bad = "bad-input swapped"  # the case's declared tag, whatever file it is in
     frame = pd.DataFrame([
-        row("ok", "engine"),
-        row("nan", "engine", "crash", source=bad), row("inf", "engine", "error", source=bad),
-        row("neg", "engine", "timeout", source=bad), row("big", "engine", "skip", source=bad)])
+        row("ok", "engine", tags="bad-inputs"),  # a tag that only starts alike is not it
+        row("nan", "engine", "crash", tags=bad), row("inf", "engine", "error", tags=bad),
+        row("neg", "engine", "timeout", tags=bad), row("big", "engine", "skip", tags=bad),
+        row("nan", "engine", "error", quantity="distance", tags=bad)])  # one case, worst: crash
     answer = profiles.profile(frame, DETECTION_3D)
     assert answer.total == 1 and answer.ranked[0].score.share == 1.0
     (robust,) = profiles.robustness(frame)
@@ -97,7 +98,7 @@ def test_the_block_shows_each_profile_with_coverage_beside_the_score() -> None:
         row("a", "honest"), row("b", "honest", "disagree"),
         row("a", "skipper"), row("b", "skipper", "skip"),
         row("r", "engine", kind="sphere_response", quantity="v1", dim=2),
-        row("x", "engine", "crash", source="cases/bad_input.toml")])
+        row("x", "engine", "crash", tags="bad-input")])
     html = templates().get_template("_verdict.html.j2").render(
         verdict(frame) | profiles.context(frame))
     assert html.count('class="verdict-profile"') == 2
