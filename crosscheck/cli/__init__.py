@@ -66,7 +66,11 @@ def version_line() -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run one ``crosscheck`` command; its exit code."""
     args = build_parser().parse_args(argv)
-    code: int = args.func(args)
+    try:
+        code: int = args.func(args)
+    except KeyboardInterrupt:  # a command without its own message: the shell's code for Ctrl-C
+        print("interrupted", file=sys.stderr)
+        return 130
     return code
 
 

@@ -56,15 +56,16 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     try:
         with phase_bars() as phases:
             launch(store, cases, engines, options, info, phases=phases)
-    except KeyboardInterrupt:
+        write_run_scripts(store.directory)  # repro/<case>_<engine>.py, linked from the report
+        rendered = _render(store.directory)
+    except KeyboardInterrupt:  # in the run, or after its last row (a resume then renders)
         err.print(f"interrupted; finished rows are kept. Resume with: {hint}",
                   markup=False, highlight=False)
         return 130
     except (StoreError, ClusterLost, OSError) as exc:  # a full disk, a lost Dask scheduler
         fail(f"the run stopped: {exc}. Finished rows are kept; resume with: {hint}")
         return 1
-    write_run_scripts(store.directory)  # repro/<case>_<engine>.py, linked from the report
-    if not _render(store.directory):
+    if not rendered:
         return 1
     print_summary(store.directory)
     say(f"finished in {time.monotonic() - started:.0f} s")

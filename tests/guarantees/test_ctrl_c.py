@@ -61,3 +61,30 @@ def test_ctrl_c_stops_cleanly_keeps_rows_and_prints_the_resume_hint(tmp_path: Pa
 def test_ctrl_c_of_a_timed_two_file_run_and_a_resume_from_the_command_line(
         tmp_path: Path) -> None:
     ctrl_c_and_resume(tmp_path, ("sphere.toml", "aabb.toml"), (), in_process=False)
+
+
+def test_ctrl_c_after_the_last_row_exits_130_and_a_resume_renders_the_report(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """A Ctrl-C that lands after the last row (while the repro scripts or the report are
+    written) is still a clean stop: exit 130 with the resume hint, never a traceback; the
+    resume then has no row left to run and writes the report."""
+    import crosscheck.studies.repro as repro
+
+    out = tmp_path / "run"
+    real = repro.write_run_scripts
+
+    def interrupted(directory: Path) -> list[Path]:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(repro, "write_run_scripts", interrupted)
+    args = ["run", str(ROOT / "cases" / "sphere.toml"), "--engine", "reference", "--quick",
+            "--out", str(out)]
+    assert main(args) == 130
+    assert f"crosscheck run --resume {out}" in capsys.readouterr().err.replace("\n", "")
+    rows = len(read_results(out))
+    assert not (out / "report.html").exists()
+    monkeypatch.setattr(repro, "write_run_scripts", real)
+    assert main(["run", "--resume", str(out)]) == 0
+    assert len(read_results(out)) == rows
+    assert (out / "report.html").exists()
