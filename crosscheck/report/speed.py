@@ -9,10 +9,14 @@ into each engine's Python binding and a fixed yardstick timed at the start and
 the end of the timing phase, whose drift says whether the machine's speed
 changed meanwhile.
 
+Every median with its spread is written one way, on the page, in the advise form
+and on the command line (:func:`median_iqr`): the median to three significant
+digits in ns, µs, ms or s, then ``±`` the IQR in the same unit.
+
 >>> seconds(2e-05)
 '20 µs'
 >>> with_iqr(Spread(2e-6, 1.5e-6, 2.5e-6, 5))
-'2 µs (IQR 1 µs)'
+'2 ± 1 µs'
 >>> drift({"median_s": 1.0, "q1_s": 0.9, "q3_s": 1.1}, {"median_s": 1.2, "q1_s": 1.1, "q3_s": 1.3})
 (1.2, 1.0, 1.4444444444444444)
 """
@@ -29,26 +33,71 @@ from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.timings import UNSTABLE_SPREAD, Spread, spread
 
 __all__ = ["DRIFT_WARNING", "UNSTABLE_SPREAD", "Spread", "binding", "binding_note",
-           "binding_rows", "case_times", "drift", "seconds", "timing_context", "with_iqr",
+           "binding_rows", "case_times", "drift", "median_iqr", "seconds", "timing_context",
+           "with_iqr",
            "yardstick_rows"]
 
 DRIFT_WARNING = 0.10
 """A yardstick whose end/start ratio moves further than this from 1: the machine changed speed."""
 
 
+UNITS = ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs"), (1e-9, "ns"))
+"""The units a time is written in, largest first (below 1 ns: ns with decimals)."""
+
+
+def _unit(value: float) -> tuple[float, str]:
+    """The largest unit in which ``value`` is at least 1 (after rounding to 3 digits)."""
+    return next(((scale, unit) for scale, unit in UNITS if value >= scale * 0.9995), UNITS[-1])
+
+
+def _digits(value: float, significant: int) -> str:
+    """``value`` to ``significant`` digits without an exponent (whole from 10**digits on;
+    below 0.01: '<0.01'), exactly as the page's script writes it.
+
+    >>> _digits(12.84, 3), _digits(1.25, 2), _digits(99.7, 2), _digits(0.004, 2), _digits(0.0, 2)
+    ('12.8', '1.2', '100', '<0.01', '0')
+    """
+    if value == 0:
+        return "0"
+    if value < 0.01:
+        return "<0.01"
+    if value >= 10 ** significant - 0.5:
+        return f"{value:.0f}"
+    return f"{value:.{significant}g}"
+
+
 def seconds(value: float) -> str:
-    """A duration with an SI prefix: 2e-05 -> '20 µs'."""
+    """A duration with an SI prefix, to three significant digits: 2e-05 -> '20 µs'.
+
+    >>> seconds(1.2845e-05), seconds(9.9996e-04), seconds(3e-10), seconds(float("nan"))
+    ('12.8 µs', '1 ms', '0.3 ns', 'n/a')
+    """
     if math.isnan(value):
         return "n/a"
-    for scale, unit in ((1.0, "s"), (1e-3, "ms"), (1e-6, "µs"), (1e-9, "ns")):
-        if value >= scale * 0.9995:
-            return f"{value / scale:.3g} {unit}"
-    return f"{value:.3g} s"
+    scale, unit = _unit(value)
+    return f"{_digits(value / scale, 3)} {unit}"
+
+
+def median_iqr(median: float | None, iqr: float | None) -> str:
+    """A median time and its interquartile range, in the one format of the page and the CLI:
+    the median to three significant digits, ``±`` the IQR to two, in the median's unit.
+
+    >>> median_iqr(1.2845e-05, 1.2e-06), median_iqr(8.5e-07, 3e-08), median_iqr(2e-3, None)
+    ('12.8 ± 1.2 µs', '850 ± 30 ns', '2 ms')
+    >>> median_iqr(None, None), median_iqr(float("nan"), 1.0)
+    ('n/a', 'n/a')
+    """
+    if median is None or math.isnan(median):
+        return "n/a"
+    scale, unit = _unit(median)
+    if iqr is None or math.isnan(iqr):
+        return f"{_digits(median / scale, 3)} {unit}"
+    return f"{_digits(median / scale, 3)} ± {_digits(iqr / scale, 2)} {unit}"
 
 
 def with_iqr(s: Spread) -> str:
-    """A median with its interquartile range: '2 µs (IQR 1 µs)'."""
-    return "n/a" if math.isnan(s.median) else f"{seconds(s.median)} (IQR {seconds(s.iqr)})"
+    """A spread as :func:`median_iqr` writes it: '2 ± 1 µs'."""
+    return median_iqr(s.median, s.iqr)
 
 
 def case_times(rows: pd.DataFrame) -> tuple[Spread, int]:

@@ -153,6 +153,14 @@ class SpeedChart:
         """Unstable and all timed cases of the plotted engines."""
         return sum(p.unstable for p in self.plotted), sum(p.timed for p in self.plotted)
 
+    @property
+    def within_bound(self) -> list[Point]:
+        """The plotted engines whose median error is within the float64 bound (1 on the error
+        axis) on every panel they are scored on, fastest first: the headline of the kind."""
+        scored = [(p, [e for e in p.errors.values() if e.scored]) for p in self.plotted]
+        good = [p for p, errors in scored if errors and all(e.median <= 1 for e in errors)]
+        return sorted(good, key=lambda p: p.query_s)
+
     def off_scale(self, quantity: str) -> int:
         """Answers of the plotted engines off scale on the panel of ``quantity``."""
         return sum(p.errors[quantity].off for p in self.plotted)

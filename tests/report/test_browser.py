@@ -1,64 +1,29 @@
-"""The report as a user sees it: rendered by headless Chromium, with no console errors.
-
-Uses Debian's chromium (``make test`` installs it when it can) driven by
-Playwright.  Outside CI the test is skipped when chromium is missing; in CI
-(``CI`` set) a missing browser fails it.
-"""
+"""The report as a user sees it: rendered by headless Chromium (:mod:`tests.report.browser`),
+with no console errors, its charts, its verdict block and its advise form."""
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
-import os
-import shutil
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
-from playwright.sync_api import Page, sync_playwright
+from playwright.sync_api import Page
 
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
+from crosscheck.report.speed import median_iqr
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests.conftest import ROOT, sphere
 from tests.fakes import AlwaysRight, OffByOne
+from tests.report.browser import needs_chromium, opened
 
 pytestmark = pytest.mark.browser
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-        "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"]
 EVIL = "<script>window.__pwned = true</script>"
-
-
-def needs_chromium() -> None:
-    """Skip without chromium, but fail in CI, where make test installs it."""
-    if CHROMIUM is None:
-        if os.environ.get("CI"):
-            pytest.fail("chromium is required in CI for the browser test (make test installs it)")
-        pytest.skip("chromium not installed")
-
-
-@contextlib.contextmanager
-def opened(page_file: Path, messages: list[str] | None = None) -> Iterator[Page]:
-    """``page_file`` open in headless chromium at 1400 x 1000; console lines and page errors
-    go to ``messages`` (as ``"<type>: <text>"``)."""
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        page = browser.new_page(viewport={"width": 1400, "height": 1000})
-        if messages is not None:
-            page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
-            page.on("pageerror", lambda e: messages.append(f"pageerror: {e}"))
-        page.goto(page_file.as_uri())
-        try:
-            yield page
-        finally:
-            browser.close()
-
 
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
@@ -227,7 +192,7 @@ def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def submit(page: Page, fields: dict[str, str]) -> list[tuple[str, ...]]:
     """Fill the advise form (every field not given is cleared), submit it and return the answer
-    table's rows as (engine, tier, cover, within)."""
+    table's rows as (engine, tier, cover, within, median ± IQR)."""
     for name in ("dim", "kind"):
         page.select_option(f"#advise-form select[name={name}]", fields.get(name, ""))
     for name in ("lo", "hi", "offset", "speed", "ratio", "tolerance", "rtol", "quantities"):
@@ -237,7 +202,7 @@ def submit(page: Page, fields: dict[str, str]) -> list[tuple[str, ...]]:
     rows: list[tuple[str, ...]] = page.eval_on_selector_all(
         "#advise-out tr[data-engine]",
         "rows => rows.map(r => [r.dataset.engine, r.cells[2].textContent,"
-        " r.cells[3].textContent, r.cells[4].textContent])")
+        " r.cells[3].textContent, r.cells[4].textContent, r.cells[5].textContent])")
     return [tuple(row) for row in rows]
 
 
@@ -257,7 +222,8 @@ def test_the_advise_form_grades_and_ranks_the_engines(fakes_dir: Path) -> None:
         submit(page, {"offset": "0.5"})
         empty = page.locator("#advise-out .advise-message").inner_text()
     assert errors(messages) == []
-    assert tight == [("fake-right", "passes", "100%", "100%"), ("fake-off", "fails", "100%", "0%")]
+    assert [row[:4] for row in tight] == [("fake-right", "passes", "100%", "100%"),
+                                          ("fake-off", "fails", "100%", "0%")]
     assert "Passing (cheapest first): fake-right" in tight_text and "4 cases" in tight_text
     assert [row[1] for row in loose] == ["passes", "passes"]
     assert [row[1] for row in relative] == ["passes", "passes"]
@@ -285,19 +251,21 @@ REAL_PROFILES = [
 @pytest.fixture(scope="module")
 def real_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A real run (textbook formula, pybullet, pymunk) of a real slice of the suite: spheres,
-    responses and every bad-input case (NaN, infinities, negative sizes and masses)."""
+    responses and every bad-input case (NaN, infinities, negative sizes and masses), with a
+    small timing phase (so that the form's times can be checked against the CLI's)."""
     needs_chromium()
     out = tmp_path_factory.mktemp("advise-real") / "run"
     paths = [str(ROOT / "cases" / f"{name}.toml") for name in ("sphere", "response", "bad_input")]
     assert main(["run", *paths, "--engine", "reference", "--engine", "pybullet", "--engine",
-                 "pymunk", "--quick", "--out", str(out)]) == 0
+                 "pymunk", "--samples", "3", "--min-sample", "0.001", "--timing-cases", "40",
+                 "--out", str(out)]) == 0
     return out
 
 
 def form_and_cli(run_dir: Path, profiles: list[tuple[dict[str, str], list[str]]],
                  capsys: pytest.CaptureFixture[str]) -> tuple[list[Any], list[Any], list[str]]:
     """Per profile: the form's answer rows, advise --json's as the same (engine, tier, cover,
-    within) rows, and the page's console errors."""
+    within, median ± IQR) rows, and the page's console errors."""
     expected = []
     for _, options in profiles:
         capsys.readouterr()
@@ -305,7 +273,9 @@ def form_and_cli(run_dir: Path, profiles: list[tuple[dict[str, str], list[str]]]
         data = json.loads(capsys.readouterr().out)
         expected.append([
             (e["engine"], e["tier"], f"{e['coverage']:.0%}",
-             "-" if e["share_within"] is None else f"{e['share_within']:.0%}")
+             "-" if e["share_within"] is None else f"{e['share_within']:.0%}",
+             "-" if e["median_query_s"] is None
+             else median_iqr(e["median_query_s"], e["query_iqr_s"]))
             for e in [*data["passing"], *data["partial"], *data["failing"], *data["baselines"]]])
     messages: list[str] = []
     with opened(run_dir / "report.html", messages) as page:
@@ -320,6 +290,7 @@ def test_the_advise_form_on_a_real_run_ranks_as_the_cli_does(
     assert console == []
     assert found == expected
     assert found[0][0][0] == "pybullet" and "pymunk" not in [row[0] for row in found[0]]
+    assert any(row[4] != "-" for rows in found for row in rows)  # the times are compared too
 
 
 FULL_PROFILES = [
@@ -334,16 +305,51 @@ FULL_PROFILES = [
 """The four scene profiles of docs/comparing-and-advice.md."""
 
 
-@pytest.mark.slow
+@pytest.mark.suite
 @pytest.mark.engine
 def test_the_advise_form_on_a_full_run_of_the_suite_ranks_as_the_cli_does(
-        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    # the whole suite on every available engine (quick: no timing phase), then the four
-    # profiles through the page's form and through advise --json
-    needs_chromium()
-    assert main(["run", "--quick", "--out", str(tmp_path / "run")]) == 0
-    found, expected, console = form_and_cli(tmp_path / "run", FULL_PROFILES, capsys)
+        suite_run: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # the four profiles of the docs through the page's form and through advise --json, on
+    # the whole suite's run: the same engines, tiers, shares and times
+    found, expected, console = form_and_cli(suite_run, FULL_PROFILES, capsys)
     assert console == []
     assert found == expected
     for rows in found:  # every profile has engines that pass its whole envelope
         assert rows and rows[0][1] == "passes"
+
+
+@pytest.mark.engine
+def test_results_table_keeps_case_ids_on_one_line_and_shows_only_the_pages_quantities(
+        real_dir: Path) -> None:
+    """At 1,024 px no case id wraps and the table fits its box or scrolls in a .wide one; a
+    quantity's column shows only while a row on the page has it (unless asked for every one)."""
+    import pandas as pd
+    results = pd.read_csv(real_dir / "results.csv", keep_default_na=False)
+    quantities = list(dict.fromkeys(results["quantity"]))
+    responses = set(results.loc[results["kind"] == "sphere_response", "quantity"])
+    assert responses and responses != set(quantities)  # the filter below hides columns
+    messages: list[str] = []
+    with opened(real_dir / "report.html", messages) as page:
+        page.set_viewport_size({"width": 1024, "height": 1000})
+        page.wait_for_selector("#results-table[data-ready]")
+        page.locator("#results-breaking").uncheck()
+        lines = page.evaluate("""Array.from(document.querySelectorAll('#results-table a.case-id'))
+            .map(a => a.getClientRects().length === 1 && a.getBoundingClientRect().height <
+                      1.5 * parseFloat(getComputedStyle(a).lineHeight))""")
+        fits = page.evaluate("""(t => t.scrollWidth <= t.parentElement.clientWidth ||
+            t.parentElement.classList.contains('wide'))(document.getElementById('results-table'))""")
+
+        def shown() -> set[str]:
+            page.wait_for_timeout(300)
+            heads = page.locator("#results-table thead tr:first-child th").all_inner_texts()
+            return {h.strip() for h in heads} & set(quantities)
+
+        page.locator("#results-table thead input").nth(2).fill("sphere_response")  # the kind
+        only_responses = shown()
+        page.locator("#results-every-column").check()
+        every = shown()
+    assert errors(messages) == []
+    assert lines and all(lines), "a case id wraps"
+    assert fits
+    assert only_responses == responses
+    assert every == set(quantities)

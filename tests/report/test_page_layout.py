@@ -1,0 +1,103 @@
+"""The whole suite's report as a reader sees it, at 1,400 and 1,024 px: no table hides columns
+without a cue, no stability cell is coloured without a verdict, and the page, as it opens
+(every fold closed), is at most :data:`PAGE_HEIGHT` tall."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from playwright.sync_api import Page
+
+from tests.report.browser import needs_chromium, opened
+
+pytestmark = pytest.mark.browser
+
+PAGE_HEIGHT = 16_000
+"""Pixels: the full run's page at 1,400 px, folds closed (it was 51,526 px before the folds)."""
+WIDTHS = (1400, 1024)
+
+CLIPPED = """() => {
+  const bad = [], cut = [];
+  const view = document.documentElement.clientWidth;
+  for (const table of document.querySelectorAll("table")) {
+    if (!table.checkVisibility()) continue;
+    let box = table.parentElement;
+    while (box !== document.body && !["auto", "scroll", "hidden"].includes(
+        getComputedStyle(box).overflowX)) box = box.parentElement;
+    const scrolls = box !== document.body;
+    const right = scrolls ? box.getBoundingClientRect().right : view;
+    const head = table.querySelector("thead tr:last-child") || table.querySelector("tr");
+    let hidden = 0;
+    for (const cell of head ? head.cells : []) {
+      if (cell.getBoundingClientRect().right > right + 1) hidden += cell.colSpan;
+    }
+    if (!hidden) continue;
+    const name = table.id || table.className || "a table";
+    const frame = table.closest(".wide-frame");
+    const cue = frame && frame.querySelector(":scope > .cue");
+    const text = cue && getComputedStyle(cue).display !== "none" ? cue.innerText : "";
+    cut.push([name, hidden]);
+    const says = new RegExp("\\\\b" + hidden + " more columns? \\u2192");
+    if (!scrolls || !says.test(text)) bad.push([name, hidden, text]);
+  }
+  return [bad, cut];
+}"""
+"""Per visible table whose header cells reach past the right edge of what is seen (its
+scrolling box, else the viewport): it must scroll inside a box whose cue says how many
+columns are cut off. Returns [the tables that do not, every cut table]."""
+
+
+def clipped_without_cue(page: Page) -> tuple[list[Any], list[Any]]:
+    bad, cut = page.evaluate(CLIPPED)
+    return bad, cut
+
+
+def open_every_fold(page: Page) -> None:
+    page.evaluate("document.querySelectorAll('details').forEach(d => { d.open = true; })")
+    page.wait_for_timeout(300)  # the toggle events update the cues
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_a_wide_table_without_a_cue_is_caught(tmp_path: Path, width: int) -> None:
+    """The check can fail: a bare table wider than the page, and a scrolled one whose cue
+    counts wrong, are both reported; a report-styled one is not."""
+    needs_chromium()
+    cells = "".join(f"<th>column {i}</th>" for i in range(40))
+    page_file = tmp_path / "wide.html"
+    page_file.write_text(
+        f"<html><body><table id='bare'><thead><tr>{cells}</tr></thead></table>"
+        f"<div class='wide-frame'><div class='cue'>2 more columns \u2192</div>"
+        f"<div style='overflow-x: auto'><table id='miscounted'><thead><tr>{cells}</tr>"
+        f"</thead></table></div></div></body></html>")
+    with opened(page_file, width=width) as page:
+        bad, _ = clipped_without_cue(page)
+    assert [name for name, _, _ in bad] == ["bare", "miscounted"]
+
+
+@pytest.mark.suite
+@pytest.mark.engine
+@pytest.mark.parametrize("width", WIDTHS)
+def test_no_table_of_the_full_report_hides_columns_without_a_cue(
+        suite_run: Path, width: int) -> None:
+    messages: list[str] = []
+    with opened(suite_run / "report.html", messages, width=width) as page:
+        page.wait_for_load_state("load")
+        closed, cut_closed = clipped_without_cue(page)
+        open_every_fold(page)
+        opened_up, cut_open = clipped_without_cue(page)
+    assert closed == [] and opened_up == []
+    assert cut_closed or cut_open or width == 1400, "at 1,024 px some table must scroll"
+    assert [m for m in messages if m.startswith(("error", "pageerror"))] == []
+
+
+@pytest.mark.suite
+@pytest.mark.engine
+def test_the_full_report_opens_at_most_16000_px_tall(suite_run: Path) -> None:
+    with opened(suite_run / "report.html") as page:
+        page.wait_for_load_state("load")
+        height = page.evaluate("document.documentElement.scrollHeight")
+        folds = page.locator("details").count()
+    assert height <= PAGE_HEIGHT, f"the page is {height} px tall at 1,400 px"
+    assert folds > 10  # the height is bought by folding, and the folds are there
