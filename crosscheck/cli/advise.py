@@ -8,14 +8,13 @@ from __future__ import annotations
 import argparse
 import json
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from rich import box
-from rich.markup import escape
-from rich.table import Table
+from rich.text import Text
 
-from crosscheck.cli.console import fail, out, say
+from crosscheck.cli.console import fail, out, say, wrapped
 from crosscheck.core.model import Kind
 
 if TYPE_CHECKING:
@@ -150,7 +149,7 @@ def cmd_advise(args: argparse.Namespace) -> int:
         fail(f"RUN_DIR: {exc}")
         return 2
     if args.json:
-        say(json.dumps(advice.to_json(), indent=2))
+        print(json.dumps(advice.to_json(), indent=2))  # whole lines: never wrapped
         return 0 if advice.cases else 1
     if not advice.cases:
         fail("no case of the run lies inside this envelope: widen it")
@@ -159,15 +158,12 @@ def cmd_advise(args: argparse.Namespace) -> int:
     return 0
 
 
-def _micros(engine: EngineAdvice) -> str:
-    if engine.median_query_s is None:
-        return "-"
-    return f"{_short(engine.median_query_s * 1e6)}±{_short((engine.query_iqr_s or 0.0) * 1e6)}"
+def _time(engine: EngineAdvice) -> str:
+    """The median query time ± its IQR, as the report page writes it ('-': not timed)."""
+    from crosscheck.report.speed import median_iqr
 
-
-def _short(value: float) -> str:
-    """At most four characters for 0.001 to 9999 (µs)."""
-    return f"{value:.0f}" if value >= 99.5 else f"{value:.2g}"
+    return "-" if engine.median_query_s is None else median_iqr(engine.median_query_s,
+                                                                 engine.query_iqr_s)
 
 
 def _percent(share: float | None) -> str:
@@ -200,34 +196,56 @@ def _g(value: float) -> str:
     return text if len(text) <= 5 else f"{value:.0e}"
 
 
-TIER_WORDS = {"passes": "[green]pass[/green]", "partial": "[yellow]part[/yellow]",
-              "fails": "[red]fail[/red]", "unsupported": "none"}
+TIERS = {"passes": ("pass", "green"), "partial": ("part", "yellow"), "fails": ("fail", "red"),
+         "unsupported": ("none", "")}
+"""Each tier's word in the table, and its colour."""
+HEADER = ("#", "engine", "tier", "cover", "within", "median ± IQR")
+"""The ranking's columns; the first three read left to right, the numbers align right."""
 
 
-def _row(table: Table, rank: str, engine: EngineAdvice) -> None:
-    table.add_row(rank, engine.engine, TIER_WORDS[engine.tier], _percent(engine.coverage),
-                  _percent(engine.share_within), _micros(engine), escape(worst_text(engine)))
+def _cells(rank: str, engine: EngineAdvice) -> tuple[str, ...]:
+    return (rank, engine.engine, TIERS[engine.tier][0], _percent(engine.coverage),
+            _percent(engine.share_within), _time(engine))
+
+
+def ranking_lines(rows: Sequence[tuple[str, EngineAdvice]], width: int) -> list[Text]:
+    """The ranking as aligned columns, one line per engine, with its worst answer on the
+    line below (indented, wrapped at spaces to ``width``, never cut): a case id is too long
+    to share a line with the figures in 80 columns."""
+    table = [HEADER, *(_cells(rank, engine) for rank, engine in rows)]
+    widths = [max(len(cells[i]) for cells in table) for i in range(len(HEADER))]
+
+    def line(cells: Sequence[str], tier_style: str = "", style: str = "") -> Text:
+        text = Text(style=style)
+        for i, (cell, size) in enumerate(zip(cells, widths, strict=True)):
+            text.append("  " if i else "")
+            text.append(cell.ljust(size) if i < 3 else cell.rjust(size),
+                        tier_style if i == 2 else "")
+        return text
+
+    lines = [line(HEADER, style="bold"), Text("─" * (sum(widths) + 2 * (len(widths) - 1)))]
+    indent = " " * (widths[0] + 2)
+    for rank, engine in rows:
+        lines.append(line(_cells(rank, engine), TIERS[engine.tier][1]))
+        worst = worst_text(engine)
+        if worst != "-":
+            lines += [Text(text) for text in wrapped(f"{indent}worst: {worst}", width)]
+    return lines
 
 
 def print_advice(advice: Advice) -> None:
-    """One line per engine, ranked; the baselines apart; at 80 columns (details: --json)."""
+    """A line per engine, ranked, its worst answer below; the baselines apart; whole at 80
+    columns (details: --json)."""
     need = advice.envelope
     accuracy = ", ".join(x for x in (
         None if need.tolerance is None else f"tolerance {need.tolerance:g}",
         None if need.rtol is None else f"rtol {need.rtol:g}") if x) or "agree only"
-    table = Table(title=f"{advice.cases} cases ({', '.join(advice.kinds)}; "
-                        f"{', '.join(f'{d}-D' for d in advice.dims)}; {accuracy})",
-                  box=box.SIMPLE_HEAD, pad_edge=False)
-    for name, width in (("#", 2), ("engine", 16), ("tier", 4), ("cover", 5), ("within", 6),
-                        ("µs±IQR", 9)):
-        table.add_column(name, justify="right" if width > 4 and width != 16 else "left",
-                         no_wrap=True, min_width=width)
-    table.add_column("worst answer", no_wrap=True, overflow="ellipsis", max_width=26)
-    for rank, engine in enumerate(advice.ranking, 1):
-        _row(table, str(rank), engine)
-    for engine in advice.baselines:
-        _row(table, "b", engine)
-    out.print(table, width=min(out.width, 80), soft_wrap=False)
+    say(f"{advice.cases} cases ({', '.join(advice.kinds)}; "
+        f"{', '.join(f'{d}-D' for d in advice.dims)}; {accuracy})")
+    rows = [*((str(rank), e) for rank, e in enumerate(advice.ranking, 1)),
+            *(("b", e) for e in advice.baselines)]
+    for text in ranking_lines(rows, out.width):
+        out.print(text, soft_wrap=True)
     for label, engines in (("answer no case (not ranked)", advice.unsupported),
                            ("float32, not accepted", advice.excluded)):
         if engines:

@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING
 
 from rich.table import Table
 
-from crosscheck.cli.console import out, say
+from crosscheck.cli.console import fit, out, say
+from crosscheck.cli.folders import OUT_RULE, chosen
 
 if TYPE_CHECKING:
     from crosscheck.studies.bench import Comparison, Figure
@@ -28,7 +29,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     figures = measure(args.quick, progress=say)
     out.print(_table(figures, args.quick))
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    path = write(figures, args.out or ROOT / "reports" / f"bench-{stamp}", args.quick)
+    path = write(figures, chosen(args.out) or ROOT / "reports" / f"bench-{stamp}", args.quick)
     say(f"wrote {path}")
     if previous is not None:
         _print_comparison(compare(json.loads(path.read_text()), previous), args.compare)
@@ -42,7 +43,7 @@ def _table(figures: list[Figure], quick: bool) -> Table:
     for f in figures:
         value = f"{f.value:.3g} {f.unit}" if math.isfinite(f.value) else "-"
         table.add_row(f.name, value, f.target, "yes" if f.ok else "NO", f.note)
-    return table
+    return fit(table)
 
 
 def _print_comparison(result: Comparison, old: Path) -> None:
@@ -59,13 +60,14 @@ def _print_comparison(result: Comparison, old: Path) -> None:
         table.add_row(r.name, shown(r.old), shown(r.new),
                       f"{r.ratio:.2f}" if math.isfinite(r.ratio) else "-",
                       met[r.ok_old], met[r.ok_new])
-    out.print(table)
+    out.print(fit(table))
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``bench``."""
     p = sub.add_parser("bench", help="measure the harness's own performance against targets")
-    p.add_argument("--out", type=Path, help="output folder (default: reports/bench-<time>/)")
+    p.add_argument("--out", metavar="DIR",
+                   help=f"output folder (default: reports/bench-<time>/; {OUT_RULE})")
     p.add_argument("--quick", action="store_true", help="smaller sizes, no full-suite run")
     p.add_argument("--compare", type=Path, metavar="BENCH_JSON",
                    help="a previous bench.json: print each figure beside it, machines first")

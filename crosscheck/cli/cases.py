@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from crosscheck.cli.console import err, fail, out, report_case_errors, say
+from crosscheck.cli.console import err, fail, report_case_errors, say
 from crosscheck.core.model import PAIR_KINDS
 
 
@@ -17,10 +17,9 @@ def cmd_validate(args: argparse.Namespace) -> int:
     if not loaded.files:
         err.print("[red]invalid:[/red] no case files found")
         return 1
-    status = "[red]FAILED[/red]" if loaded.errors else "[green]ok[/green]"
-    out.print(f"{status}: {loaded.blocks} curated cases in {len(loaded.files)} files, "
-              f"{len(loaded.cases)} after sweep expansion and A/B swaps, "
-              f"{len(loaded.errors)} errors")
+    say(f"{'FAILED' if loaded.errors else 'ok'}: {len(loaded.errors)} errors; "
+        f"{loaded.blocks} curated cases in {len(loaded.files)} files, {len(loaded.cases)} "
+        "after sweep expansion and A/B swaps", style="red" if loaded.errors else "green")
     return 1 if loaded.errors else 0
 
 
@@ -77,7 +76,7 @@ def cmd_schema(args: argparse.Namespace) -> int:
             return 1
         return 0
     args.output.write_text(text)
-    out.print(f"wrote {args.output}")
+    say(f"wrote {args.output}")
     return 0
 
 

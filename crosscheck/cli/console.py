@@ -1,9 +1,16 @@
-"""The terminal face shared by every command: consoles, error lines, progress, the summary."""
+"""The terminal face shared by every command: consoles, error lines, progress, the summary.
+
+What goes to stdout reads whole at the width (the terminal's, else ``COLUMNS``, else 80 in a
+file or a pipe): :func:`say` wraps lines at spaces and never splits a word (a path stays
+whole), and :func:`fit` makes a table wrap or fold its cells instead of cutting them with
+an ellipsis.  Errors, notes and progress go to stderr as whole lines.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import math
+import textwrap
 import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -21,6 +28,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 from rich.table import Table
+from rich.text import Text
 
 from crosscheck.core.model import Status
 
@@ -29,7 +37,7 @@ if TYPE_CHECKING:
 
     from crosscheck.cases.load import LoadResult
 
-out = Console(soft_wrap=True)
+out = Console()
 err = Console(stderr=True, soft_wrap=True)
 
 
@@ -38,9 +46,32 @@ def fail(message: str) -> None:
     err.print(f"[red]error:[/red] {escape(message)}", highlight=False)
 
 
-def say(message: str) -> None:
-    """Print a line literally (no rich markup)."""
-    out.print(escape(message), highlight=False)
+def wrapped(message: str, width: int) -> list[str]:
+    """The lines of ``message`` wrapped at spaces to ``width``; a word wider than that (a
+    long path) is never split but stands alone; a continuation keeps its line's indent.
+
+    >>> wrapped("  one two three", 9)
+    ['  one two', '  three']
+    >>> wrapped("see /a/long/path now", 8)
+    ['see', '/a/long/path', 'now']
+    """
+    lines: list[str] = []
+    for line in message.splitlines() or [""]:
+        indent = line[:len(line) - len(line.lstrip())]
+        lines += textwrap.wrap(line, width, subsequent_indent=indent, break_long_words=False,
+                               break_on_hyphens=False) or [""]
+    return lines
+
+
+def say(message: str, console: Console | None = None, style: str = "") -> None:
+    """Print a message literally (no rich markup) on stdout (or ``console``), wrapped at
+    spaces to the width; ``style`` colours the first word (a label such as ``ok:``)."""
+    console = console or out
+    for n, line in enumerate(wrapped(message, console.width)):
+        text = Text(line)
+        if style and n == 0:
+            text.stylize(style, 0, len(line.split(" ", 1)[0]))
+        console.print(text, soft_wrap=True)
 
 
 def report_case_errors(loaded: LoadResult) -> None:
@@ -49,39 +80,47 @@ def report_case_errors(loaded: LoadResult) -> None:
         err.print(f"[red]invalid:[/red] {escape(problem.message)}", highlight=False)
 
 
+def fit(table: Table) -> Table:
+    """``table`` with every header and cell wrapped at spaces, and a word folded only when
+    it is wider than its column: it reads whole at any width, never cut with an ellipsis."""
+    for column in table.columns:
+        column.overflow, column.no_wrap = "fold", False
+    return table
+
+
 @contextlib.contextmanager
 def progress_bar(total: int, label: str = "case x engine") -> Iterator[Callable[[int], None]]:
-    """A transient progress bar on stderr; yields the function that advances it by n."""
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-               TimeElapsedColumn(), TimeRemainingColumn())
-    with Progress(*columns, console=err, transient=True) as bar:
-        task = bar.add_task(label, total=total)
-        yield lambda n: bar.update(task, advance=n)
+    """Progress of one pass on stderr: a transient bar on a terminal, plain lines every
+    tenth of the way in a log or a pipe; yields the function that advances it by n."""
+    with phase_bars() as start:
+        yield start(label, total)
 
 
 PHASES = {"verdicts": "case x engine", "timing": "timing (one at a time)"}
 
 
 class PlainProgress:
-    """Progress as plain lines, for a log or a pipe: one at the start, then every tenth."""
+    """Progress as plain lines on stderr, for a log or a pipe: one at the start, then one
+    each tenth of the way."""
 
     def __init__(self, label: str, total: int, clock: Callable[[], float] = time.monotonic):
         self.label, self.total, self.done, self.clock = label, total, 0, clock
         self.started, self.next = clock(), 0.1
-        say(f"{label}: {total} to go")
+        say(f"{label}: {total} to go", err)
 
     def __call__(self, n: int) -> None:
         self.done += n
         if self.total and self.done / self.total >= self.next:
             self.next = math.floor(10 * self.done / self.total) / 10 + 0.1
             say(f"{self.label}: {self.done}/{self.total} "
-                f"({100 * self.done / self.total:.0f}%, {self.clock() - self.started:.0f} s)")
+                f"({100 * self.done / self.total:.0f}%, {self.clock() - self.started:.0f} s)",
+                err)
 
 
 @contextlib.contextmanager
 def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
-    """Progress per phase of a run (verdicts, timing): transient bars on a terminal, plain
-    lines every tenth of the way when stderr is a log or a pipe."""
+    """Progress per phase of a run (verdicts, timing) on stderr: transient bars on a
+    terminal, plain lines every tenth of the way when stderr is a log or a pipe."""
     if not err.is_terminal:
         yield lambda name, total: PlainProgress(PHASES.get(name, name), total)
         return

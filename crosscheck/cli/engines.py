@@ -19,7 +19,7 @@ from rich.table import Table
 from rich.text import Text
 
 import adapters
-from crosscheck.cli.console import err, out
+from crosscheck.cli.console import err, fit, out
 
 if TYPE_CHECKING:
     from crosscheck.core.contract import Adapter
@@ -123,7 +123,7 @@ def cmd_engines(args: argparse.Namespace) -> int:
             lines.append(Text(entry.describe()))
         if problem is None:
             settings.append((row[0].plain, row[-1].plain))
-    out.print(table)
+    out.print(fit(table))
     if args.settings:  # a list, not a column: settings are sentences, too long for a cell
         out.print(Text("settings of each variant:", style="bold"))
         for name, text in settings:

@@ -14,10 +14,12 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from rich import box
 from rich.table import Table
 
 from crosscheck.cli import engines as engine_choice
-from crosscheck.cli.console import fail, out, progress_bar, say
+from crosscheck.cli.console import fail, fit, out, progress_bar, say
+from crosscheck.cli.folders import OUT_RULE, chosen, out_folder
 from crosscheck.core.model import PAIR_KINDS, Kind
 from crosscheck.core.options import RunOptions
 
@@ -38,7 +40,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
                    help=f"engine to run (repeatable; default: every available one): "
                         f"{', '.join(engine_choice.names())}")
-    p.add_argument("--out", type=Path, help="output folder (default: reports/fuzz-K-sS-nN/)")
+    p.add_argument("--out", metavar="DIR",
+                   help=f"output folder (default: reports/fuzz-K-sS-nN/; {OUT_RULE})")
     p.add_argument("--per-group", type=int, help="cases written per group (5)")
     p.add_argument("--jobs", type=int, help="chunks run at once (default: cores)")
     p.add_argument("--timeout", type=float, help="seconds per case x engine (5)")
@@ -88,14 +91,16 @@ def _resume(args: argparse.Namespace) -> list[Group]:
 def _directory(args: argparse.Namespace) -> Path:
     """The campaign's folder: --resume's, --out, or reports/fuzz-K-sS-nN/."""
     stem = f"fuzz-{str(args.kind).replace('_', '-')}-s{args.seed}-n{args.n}"
-    return Path(args.resume or args.out or Path("reports") / stem)
+    if args.resume is not None:
+        return Path(args.resume)
+    return out_folder(args.out) if args.out else Path("reports") / stem
 
 
 def _start(args: argparse.Namespace) -> tuple[list[Group], Path]:
     from crosscheck.studies.fuzz import fuzz
 
     engines = engine_choice.select(args.engine)
-    directory = _directory(args)
+    directory = chosen(args.out) or _directory(args)
     options = RunOptions(quick=True, jobs=args.jobs or os.cpu_count() or 1,
                          timeout_s=5.0 if args.timeout is None else args.timeout,
                          scheduler=args.scheduler)
@@ -129,29 +134,42 @@ def cmd_fuzz(args: argparse.Namespace) -> int:
     return 0
 
 
+GROUP_COLUMNS = ("engine", "quantity", "status", "category", "family", "findings")
+"""The columns of the groups table: about 70 characters with the longest names, so it reads
+whole at 80 columns.  A family's driver (relative gap for near-touching, ...) is in
+findings.csv; the cases each group wrote are listed below the table."""
+
+
+def groups_table(ranked: Sequence[Group], limit: int = 30) -> Table:
+    """The first ``limit`` groups in the order given, one row each, without borders."""
+    table = Table(title=f"{sum(g.count for g in ranked)} findings in {len(ranked)} groups",
+                  box=box.SIMPLE_HEAD, title_justify="left", show_edge=False, pad_edge=False,
+                  collapse_padding=True)
+    for column in GROUP_COLUMNS:
+        table.add_column(column, justify="right" if column == "findings" else "left")
+    for g in ranked[:limit]:
+        table.add_row(g.engine, g.quantity, g.status, g.category, g.family, str(g.count))
+    if len(ranked) > limit:
+        table.caption = f"... and {len(ranked) - limit} more groups: see findings.csv"
+        table.caption_justify = "left"
+    return fit(table)
+
+
 def print_groups(groups: Sequence[Group], limit: int = 30, directory: Path | None = None
                  ) -> None:
     """The groups, worst first (:func:`~crosscheck.studies.fuzz.by_severity`), as a table
     (``limit`` rows), then the case files written, by name."""
     from crosscheck.studies.fuzz import by_severity
 
-    title = f"{sum(g.count for g in groups)} findings in {len(groups)} groups"
-    table = Table(title=title)
-    for column in ("engine", "quantity", "status", "category", "family", "driver",
-                   "findings", "written"):
-        table.add_column(column, justify="right" if column in ("findings", "written")
-                         else "left", no_wrap=column == "engine")
     ranked = by_severity(groups)
-    for g in ranked[:limit]:
-        table.add_row(g.engine, g.quantity, g.status, g.category, g.family, g.driver,
-                      str(g.count), str(len(g.chosen)))
-    if len(ranked) > limit:
-        table.caption = f"... and {len(ranked) - limit} more groups: see findings.csv"
-    out.print(table)
+    out.print(groups_table(ranked, limit))
     written = [g for g in ranked if g.chosen]
+    where = f" in {directory}" if directory is not None else ""
     if written:
-        where = f" in {directory}" if directory is not None else ""
         say(f"{len(written)} case files written{where}, worst first:")
-        for g in written:
-            out.print(f"  {g.slug}.toml  ({len(g.chosen)} cases; {g.status}"
-                      f"{' / ' + g.category if g.category else ''})", soft_wrap=True)
+    elif ranked:
+        say("no case file written: every group lies within its engine's declared tolerance "
+            "(listed in findings.csv)")
+    for g in written:
+        say(f"  {g.slug}.toml  ({len(g.chosen)} cases; {g.status}"
+            f"{' / ' + g.category if g.category else ''})")

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from crosscheck.cli.console import err, fail, say
+from crosscheck.cli.folders import OUT_RULE, chosen
 
 
 def cmd_report(args: argparse.Namespace) -> int:
@@ -28,14 +29,14 @@ def cmd_compare(args: argparse.Namespace) -> int:
     from crosscheck.report.compare_timing import ALPHA, MIN_EFFECT
     from crosscheck.results.store import StoreError
 
-    target = args.out or Path("reports") / f"compare-{args.a.name}-vs-{args.b.name}"
+    target = chosen(args.out) or Path("reports") / f"compare-{args.a.name}-vs-{args.b.name}"
     try:
         result = compare(args.a, args.b, target)
     except (OSError, StoreError) as exc:
         fail(f"cannot compare: {exc}")
         return 2
     for difference in result.differences:
-        err.print(f"warning: {difference}", markup=False, highlight=False)
+        say(f"warning: {difference}", err)
     counts = result.timing_counts
     yardstick = "after the yardstick" if result.normalised else "not normalised"
     say(f"{result.verdict_changes} verdict changes among the {result.shared_rows} shared rows "
@@ -55,5 +56,6 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("compare", help="verdict and timing changes between two stored runs")
     p.add_argument("a", type=Path, help="the earlier run directory")
     p.add_argument("b", type=Path, help="the later run directory")
-    p.add_argument("--out", type=Path, help="output folder (default: reports/compare-A-vs-B/)")
+    p.add_argument("--out", metavar="DIR",
+                   help=f"output folder (default: reports/compare-A-vs-B/; {OUT_RULE})")
     p.set_defaults(func=cmd_compare)

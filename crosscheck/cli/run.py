@@ -17,12 +17,12 @@ from crosscheck.cli import engines as engine_choice
 from crosscheck.cli.console import (
     err,
     fail,
-    out,
     phase_bars,
     print_summary,
     report_case_errors,
     say,
 )
+from crosscheck.cli.folders import OUT_RULE, chosen
 from crosscheck.core.options import RunOptions
 
 if TYPE_CHECKING:  # the library loads per command, not for --help (tests/cli/test_startup)
@@ -82,7 +82,7 @@ def _render(directory: Path) -> bool:
         fail(f"the results are complete in {directory}, but its report failed to render "
              f"({type(exc).__name__}: {exc}); retry with: crosscheck report {directory}")
         return False
-    out.print(f"report: {paths['report']}", markup=False, highlight=False)
+    say(f"report: {paths['report']}")
     return True
 
 
@@ -129,7 +129,7 @@ def start(args: argparse.Namespace) -> int:
     except engine_choice.UnknownEngine as exc:
         fail(str(exc))
         return 2
-    directory = args.out or run_dir(Path("reports"))
+    directory = chosen(args.out) or run_dir(Path("reports"))
     options = _options(args)
     info = new_info(directory, shlex.join(["crosscheck", *sys.argv[1:]]), options, engines,
                     loaded.cases, loaded.files, [e.message for e in loaded.errors])
@@ -181,8 +181,7 @@ def resume(directory: Path) -> int:
     except (OSError, StoreError, engine_choice.UnknownEngine) as exc:
         fail(f"cannot resume {directory}: {exc}")
         return 2
-    out.print(f"resuming {directory}: {len(store.done)} case x engine pairs already done",
-              markup=False, highlight=False)
+    say(f"resuming {directory}: {len(store.done)} case x engine pairs already done")
     return finish(store, list(stored.cases.values()), engines, stored.info.options,
                   stored.info.resume())
 
@@ -225,7 +224,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
                    help=f"engine to run (repeatable; default: every available one): "
                         f"{', '.join(engine_choice.names())}")
-    p.add_argument("--out", type=Path, help="output folder (default: reports/<run-id>/)")
+    p.add_argument("--out", metavar="DIR",
+                   help=f"output folder (default: reports/<run-id>/; {OUT_RULE})")
     p.add_argument("--quick", action="store_true",
                    help="no timing phase; scenes over 1,000 steps skipped")
     p.add_argument("--timing-cases", type=_number(int, 0, True), metavar="N",

@@ -16,7 +16,8 @@ from rich.markup import escape
 from rich.table import Table
 
 from crosscheck.cli import engines as engine_choice
-from crosscheck.cli.console import fail, out, report_case_errors, say
+from crosscheck.cli.console import fail, fit, out, report_case_errors, say
+from crosscheck.cli.folders import OUT_RULE, chosen
 from crosscheck.cli.run import finish, run_dir
 from crosscheck.core.options import RunOptions
 
@@ -31,8 +32,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("stability", help="where each engine starts to disagree along the sweeps")
     p.add_argument("directory", nargs="?", type=Path, metavar="DIR",
                    help="a run to analyse (default: run cases/sweeps.toml first)")
-    p.add_argument("--out", type=Path, help="without DIR: the run folder (default: "
-                   "reports/stability-<timestamp>/); with DIR: where the CSVs go (default: DIR)")
+    p.add_argument("--out", metavar="OUT",
+                   help="without DIR: the run folder (default: reports/stability-<timestamp>/); "
+                        f"with DIR: where the CSVs go (default: DIR); {OUT_RULE}")
     p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
                    help=f"engine to run (repeatable; default: every available one): "
                         f"{', '.join(engine_choice.names())}")
@@ -79,15 +81,15 @@ def print_table(table: pd.DataFrame) -> None:
             walk_name = f"{str(r.sweep).removeprefix('sweep-')} ({r.direction})"
             rich.add_row("" if i else escape(str(engine)), escape(walk_name),
                          f"[{style[str(r.state)]}]{escape(str(r.verdict))}[/]")
-    out.print(rich)
+    out.print(fit(rich))
 
 
 def cmd_stability(args: argparse.Namespace) -> int:
     from crosscheck.report.stability import analyse, save
 
-    directory = args.directory
+    directory, out_dir = args.directory, chosen(args.out)
     if directory is None:
-        directory = args.out or run_dir(Path("reports"), "stability-")
+        directory = out_dir or run_dir(Path("reports"), "stability-")
         code = run_sweeps(directory, args.engine)
         if code:
             return code
@@ -99,6 +101,6 @@ def cmd_stability(args: argparse.Namespace) -> int:
         say(f"no sweep cases in {directory}: nothing to analyse")
     else:
         print_table(table)
-    paths = save(points, table, args.out if args.directory and args.out else directory)
+    paths = save(points, table, out_dir if args.directory and out_dir else directory)
     say(f"thresholds: {paths['stability']}, points: {paths['stability_points']}")
     return 0

@@ -16,6 +16,7 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.cli.console import summary_table
+from crosscheck.core.schema import ResponseCase
 from crosscheck.results.runinfo import FORMAT_VERSION
 from tests.cases.test_load import sphere_text
 from tests.conftest import ROOT, embedded
@@ -161,6 +162,7 @@ def test_new_case_with_geometry_writes_the_finished_case(tmp_path: Path) -> None
                  "--a-velocity", "0.1,0.3", "--b-center", "0.6,0.8", "--b-mass", "1e6",
                  "--restitution", "0.5"]) == 0
     (case,) = [c for c in load_paths([target]).cases if c.id == "hit-heavy"]
+    assert isinstance(case, ResponseCase)
     assert case.a.velocity == (0.1, 0.3) and case.b.center == (0.6, 0.8)
     assert case.a.mass == 1e-6 and case.restitution == 0.5 and case.tags == ("mass-ratio",)
     assert main(["new-case", "--kind", "aabb", "--dim", "3", "--id", "bad-box",
@@ -173,10 +175,12 @@ def test_a_run_says_what_it_runs_progresses_in_plain_lines_and_says_when_it_is_d
     out = tmp_path / "out"
     assert main(["run", str(small_suite), "--engine", "reference", "--out", str(out),
                  "--timing-cases", "2", "--samples", "3", "--min-sample", "0.0005"]) == 0
-    printed = capsys.readouterr().out.replace("\n", " ")
-    assert f"x 1 engines (reference) -> {out}" in printed
-    assert "case x engine: " in printed and "(100%," in printed  # not a terminal: plain lines
-    assert "timing (one at a time): " in printed and "finished in " in printed
+    captured = capsys.readouterr()
+    printed = captured.out.replace("\n", " ")
+    assert f"x 1 engines (reference) -> {out}" in printed and "finished in " in printed
+    progress = captured.err  # not a terminal: plain lines, on stderr
+    assert "case x engine: " in progress and "(100%," in progress
+    assert "timing (one at a time): " in progress and "case x engine" not in printed
 
 
 def test_version(capsys: pytest.CaptureFixture[str]) -> None:

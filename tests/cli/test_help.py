@@ -59,6 +59,7 @@ def test_engines_settings_read_at_80_columns_in_a_file(tmp_path: Path) -> None:
     printed = subprocess.run([sys.executable, "-m", "crosscheck.cli", "engines", "--settings"],
                              env=env, capture_output=True, text=True, check=True).stdout
     assert [line for line in printed.splitlines() if len(line) > 80] == []
+    assert "\u2026" not in printed  # no cell cut with an ellipsis
     flat = " ".join(printed.split())
     for entry in adapters.entries():
         if entry.problem() is None:

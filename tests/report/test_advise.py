@@ -242,6 +242,12 @@ def test_impossible_envelopes_name_the_option(stored: StoredRun) -> None:
         advise(stored, Envelope(rtol=-1.0))
 
 
+def _row_and_worst(lines: list[str], engine: str) -> tuple[str, str]:
+    """An engine's line of the printed ranking and the line below it (its worst answer)."""
+    at = next(n for n, line in enumerate(lines) if f" {engine} " in line)
+    return lines[at], lines[at + 1]
+
+
 def test_cli_prints_one_line_per_engine_at_80_columns(
         run_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["advise", str(run_dir), "--tolerance", "1e-9"]) == 0
@@ -250,15 +256,15 @@ def test_cli_prints_one_line_per_engine_at_80_columns(
     assert max(len(line) for line in lines) <= 80
     for engine in ENGINES:
         assert sum(f" {engine.name} " in line and "%" in line for line in lines) == 1
-    near = next(line for line in lines if " fake-near " in line)
-    assert "fail" in near and "hit 1e-06>1e-09" in near
-    touch = next(line for line in lines if " fake-touch " in line)
-    assert "part" in touch and "skips sphere_respon" in touch  # cut to fit 80 columns
+    near, worst = _row_and_worst(lines, "fake-near")
+    assert "fail" in near and "worst: hit 1e-06>1e-09" in worst
+    touch, worst = _row_and_worst(lines, "fake-touch")
+    assert "part" in touch and "worst: skips sphere_response 3-D 1/1" in worst  # whole
     assert worst_text(grade(advise(read_run(run_dir), Envelope()), "fake-touch")) == (
         "skips sphere_response 3-D 1/1")
     assert main(["advise", str(run_dir), "--kind", "sphere"]) == 0
-    touch = next(line for line in capsys.readouterr().out.splitlines() if " fake-touch " in line)
-    assert "pass" in touch and "conv hit n=1 ≤0" in touch  # its touching rule, at gap 0
+    touch, worst = _row_and_worst(capsys.readouterr().out.splitlines(), "fake-touch")
+    assert "pass" in touch and "worst: conv hit n=1 ≤0" in worst  # its touching rule, at gap 0
     assert "7 cases" in text and "passing: fake-right" in text
     assert "bad input, judged apart (1 cases): no crash or timeout" in text
 
