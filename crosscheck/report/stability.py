@@ -8,29 +8,18 @@ the answer breaks: status ``disagree``, ``error``, ``crash`` or ``timeout``.
 ``skip`` and ``undefined`` neither break nor agree: they are stepped over.
 The scale sweep is walked twice from 1, towards tiny and towards huge bodies.
 
-The matrix shows one cell per engine x sweep column (``headline``).  A 3-D sweep
-and its 2-D twin (``twin_2d`` in the case file: the same sweep in a plane) share
-a column, its ``family``: a 2-D engine's cell is its 2-D walk, and an engine with
-both walks shows the one that breaks sooner, its verdict naming both.  The cell is
-the kind's headline quantity (the distance; ``v2`` for responses); an engine that
-reports no distance along a detection walk (pymunk gives none for separated
-bodies) is shown by its ``hit`` walk, and the verdict says so.
-
-Charts plot a relative error against the difficulty: the distance error over
-the case's length scale, a velocity error over its velocity scale, the normal
-error in radians (see :func:`relative_error`).  Lower is better; x is the
-difficulty, harder to the right (each axis title says so).  Exact answers sit on
-a labelled floor, failures and infinite errors on a labelled ceiling, and engines
-with the same answer at a point are drawn side by side (:mod:`crosscheck.report.axes`).
-
-Over 400 lines because the study's three stages (points, thresholds and the matrix
-cells, charts) read one set of tables (``AXES``, ``DIRECTIONS``, ``HEADLINE``,
-the labels); the charts (from ``# --- charts``) are the part to move out first.
+The matrix (:func:`matrix`) has a cell per engine x ``column``, one walk of one sweep
+(``headline`` marks the row it shows).  A 3-D sweep's 2-D twin (``twin_2d`` in the case
+file: the same sweep in a plane) has columns of its own beside its 3-D sweep's (its
+``family``), so a 3-D column only holds 3-D rows.  The cell is the kind's headline quantity
+(the distance; ``v2`` for responses); an engine that reports no distance along a detection
+walk (pymunk gives none for separated bodies) is shown by its ``hit`` walk, and the cell
+says so.  An engine with no verdict in a column (skip or undefined everywhere, or no rows)
+has a grey "no verdict" cell.  The charts are :mod:`crosscheck.report.stability_charts`.
 """
 
 from __future__ import annotations
 
-import html
 import json
 import math
 import re
@@ -40,12 +29,9 @@ from pathlib import Path
 from typing import Any
 
 import pandas as pd
-from markupsafe import Markup
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
-from crosscheck.report import axes
-from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 from crosscheck.results.store import read_run
 from crosscheck.truth.categories import length_scale, velocity_scale
 
@@ -58,9 +44,6 @@ HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2"}
 """The quantity the threshold table shows for each kind."""
 FALLBACK = {"aabb": "hit", "sphere": "hit"}
 """What the table shows for an engine whose headline quantity has no verdict on a walk."""
-CHARTED = {"aabb": ("distance", "normal"), "sphere": ("distance", "normal"),
-           "sphere_response": ("v2",)}
-DASHES = ("solid", "dot", "dash", "longdash", "dashdot")
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,11 +61,6 @@ _UP, _DOWN = Direction("larger", True), Direction("smaller", False)
 DIRECTIONS: dict[str, tuple[Direction, ...]] = {
     "offset": (_UP,), "gap": (_DOWN,), "overlap": (_DOWN,), "mass_ratio": (_UP,), "speed": (_DOWN,),
     "scale": (Direction("tiny", False, high=1.0), Direction("huge", True, low=1.0))}
-X_LABEL = {"offset": "offset added to every coordinate", "scale": "factor on every length",
-           "gap": "gap / touching distance", "overlap": "overlap / touching distance",
-           "mass_ratio": "mass ratio m_B / m_A", "speed": "factor on both velocities"}
-Y_LABEL = {"distance": "|distance error| / length scale", "normal": "normal error (radians)",
-           "v1": "|v1 error| / velocity scale", "v2": "|v2 error| / velocity scale"}
 POINT_COLUMNS = ["sweep", "family", "axis", "param", "value", "direction", "kind", "dim", "engine",
                  "quantity", "status", "category", "error", "rel_error", "rel_tolerance",
                  "case_id"]
@@ -178,7 +156,7 @@ def _direction(param: str, name: str) -> Direction:
     return next(d for d in DIRECTIONS[param] if d.name == name)
 
 
-def _with_category(status: str, category: str) -> str:
+def with_category(status: str, category: str) -> str:
     return f"{status}, {category}" if category else status
 
 
@@ -194,7 +172,7 @@ def _holds(checked: float, judged: bool) -> dict[str, Any]:
 def _breaks(at: float, status: str, category: str, first: bool,
             again: float | None) -> dict[str, Any]:
     """The verdict of a walk that breaks at ``at`` (``first``: at its easiest value)."""
-    what = _with_category(status, category)
+    what = with_category(status, category)
     verdict = (f"already at the easiest value {at:.3g} ({what})" if first
                else f"breaks at {at:.3g} ({what})")
     return {"threshold": at, "status": status, "category": category,
@@ -240,7 +218,8 @@ def _walk(points: list[dict[Hashable, Any]]) -> dict[str, Any]:
 def thresholds(points: pd.DataFrame) -> pd.DataFrame:
     """One row per sweep walk x engine x quantity: the threshold, its verdict text, recovery.
 
-    ``headline`` marks the one row per engine x ``column`` the matrix shows
+    ``column`` is the walk's sweep and direction: a 2-D twin's walks are columns of their
+    own.  ``headline`` marks the one row per engine x ``column`` the matrix shows
     (:func:`_shown`); a 2-D twin's rows come after its 3-D sweep's.
     """
     rows = []
@@ -252,23 +231,22 @@ def thresholds(points: pd.DataFrame) -> pd.DataFrame:
     for (sweep, direction, engine, quantity), group in walks.items():
         first = group[0]
         way = _direction(str(first["param"]), str(direction))
-        family = str(first.get("family", sweep))
         rows.append({
-            "sweep": sweep, "family": family, "axis": first["axis"], "param": first["param"],
-            "direction": direction,
+            "sweep": sweep, "family": str(first.get("family", sweep)), "axis": first["axis"],
+            "param": first["param"], "direction": direction,
             "harder": f"{'larger' if way.harder_up else 'smaller'} is harder",
             "kind": str(first["kind"]), "dim": first["dim"], "engine": engine,
             "quantity": quantity, "headline": False,
-            "column": f"{family} ({direction})", **_walk(group)})
+            "column": f"{sweep} ({direction})", **_walk(group)})
     table = pd.DataFrame(rows, columns=TABLE_COLUMNS)
     table = table.iloc[(table["sweep"] != table["family"]).argsort(kind="stable")]
     return _shown(table.reset_index(drop=True))
 
 
 def _shown(table: pd.DataFrame) -> pd.DataFrame:
-    """Mark (``headline``) the row the matrix shows for each engine x column; name its dimension
-    and the quantity in its verdict when the column holds more than one walk or falls back.
-    """
+    """Mark (``headline``) the row the matrix shows for each engine x column: its headline
+    quantity's walk, or the fallback quantity's when only that one has a verdict (its
+    verdict then says so)."""
     records: list[dict[Hashable, Any]] = table.to_dict("records")
     cells: dict[tuple[Any, Any], list[int]] = {}  # groupby's, in plain Python
     for i, record in enumerate(records):
@@ -279,199 +257,123 @@ def _shown(table: pd.DataFrame) -> pd.DataFrame:
         kind = str(walks[0]["kind"])
         chosen = _choice(walks, kind)
         headline[rows[chosen]] = True
-        verdicts[rows[chosen]] = _cell_verdict(walks[chosen], walks, kind)
+        verdicts[rows[chosen]] = cell_verdict(walks[chosen])
     return table.assign(headline=headline, verdict=verdicts)
 
 
 def _choice(walks: list[dict[Hashable, Any]], kind: str) -> int:
-    """The position of the walk shown: the headline quantity's that breaks soonest (the
-    fallback quantity's if the headline one has no verdict in any dimension)."""
-    def judged(quantity: str | None) -> list[int]:
-        return [i for i, w in enumerate(walks)
-                if w["quantity"] == quantity and w["state"] != "unjudged"]
-    candidates = (judged(HEADLINE.get(kind)) or judged(FALLBACK.get(kind))
-                  or [i for i, w in enumerate(walks) if w["quantity"] == HEADLINE.get(kind)]
-                  or [0])
-    reached = [float(walks[i]["reached"]) for i in candidates]
-    return candidates[min(range(len(candidates)),
-                          key=lambda j: math.inf if math.isnan(reached[j]) else reached[j])]
+    """The position of the walk shown: the headline quantity's, unless it has no verdict and
+    the fallback quantity's has one."""
+    def find(quantity: str | None, judged: bool) -> list[int]:
+        return [i for i, w in enumerate(walks) if w["quantity"] == quantity
+                and (w["state"] != "unjudged" or not judged)]
+    headline, fallback = HEADLINE.get(kind), FALLBACK.get(kind)
+    return (find(headline, True) or find(fallback, True) or find(headline, False) or [0])[0]
 
 
-def _cell_verdict(shown: dict[Hashable, Any], walks: list[dict[Hashable, Any]], kind: str) -> str:
-    """The shown walk's verdict, with its quantity if it is not the headline one, and its
-    dimension if its column has walks in both (then also the other's verdict, if it has one).
+def cell_verdict(shown: dict[Hashable, Any]) -> str:
+    """The walk's verdict, naming its quantity when it is not the kind's headline one.
 
-    >>> walk = {"quantity": "hit", "dim": 2, "verdict": "none in range", "state": "none"}
-    >>> _cell_verdict(walk, [walk, walk | {"dim": 3, "verdict": "breaks at 1"}], "sphere")
-    'in 2-D: hit: none in range (distance: no verdict); in 3-D: breaks at 1'
+    >>> walk = {"kind": "sphere", "quantity": "hit", "verdict": "none in range"}
+    >>> cell_verdict(walk), cell_verdict(walk | {"quantity": "distance"})
+    ('hit: none in range (distance: no verdict)', 'none in range')
     """
-    verdict = str(shown["verdict"])
-    headline = HEADLINE.get(kind)
-    if shown["quantity"] != headline:
-        verdict = f"{shown['quantity']}: {verdict} ({headline}: no verdict)"
-    if len({w["dim"] for w in walks}) < 2:
-        return verdict
-    others = [w for w in walks if w["quantity"] == shown["quantity"]
-              and w["dim"] != shown["dim"] and w["state"] != "unjudged"]
-    return "; ".join([f"in {shown['dim']}-D: {verdict}",
-                      *(f"in {w['dim']}-D: {w['verdict']}" for w in others)])
+    headline = HEADLINE.get(str(shown["kind"]))
+    if shown["quantity"] == headline:
+        return str(shown["verdict"])
+    return f"{shown['quantity']}: {shown['verdict']} ({headline}: no verdict)"
 
 
-# --- charts ---------------------------------------------------------------------------------
-# Figures are plain dicts rendered without validation: go.Figure takes ~0.5 s per chart.
+# --- the matrix -------------------------------------------------------------------------------
 
 
-def _limits(rows: pd.DataFrame) -> tuple[float, float | None, float | None]:
-    """Where 0 is drawn, whether it shows (None: no exact answer drawn), and where failures
-    and inf are drawn (None: there are none)."""
-    drawn = rows[~rows["status"].isin(Status.members("neutral"))]
-    values = drawn["rel_error"].to_numpy(dtype=float)
-    failed = bool(drawn["status"].isin(Status.members("failed")).any()
-                  or (values == math.inf).any())
-    floor, ceiling = axes.limits(values[values < math.inf], failed)
-    return floor, axes.shown_floor(values, floor), ceiling
+def short_name(sweep: str) -> str:
+    """A sweep's name in a header: without ``sweep-``, its dimension and dashes.
 
-
-def _y(row: dict[Hashable, Any], floor: float, ceiling: float | None) -> float:
-    if row["status"] in Status.members("failed") or row["rel_error"] == math.inf:
-        return ceiling or math.nan
-    return floor if row["rel_error"] == 0 else float(row["rel_error"])
-
-
-def _hover(row: dict[Hashable, Any]) -> str:
-    lines = [f"{row['engine']}: {_with_category(row['status'], row['category'])}",
-             row["case_id"], f"{row['param']} = {row['value']:.6g}", f"error {row['error']:.3g}",
-             f"relative error {row['rel_error']:.3g}"]
-    if row.get("apart"):
-        lines.append(f"drawn beside {row['apart']} (same place)")
-    return "<br>".join(html.escape(line) for line in lines)
-
-
-def _trace(rows: list[dict[Hashable, Any]], index: int, panel: int,
-           first: bool) -> dict[str, Any]:
-    """One engine's line on the sweep panel ``panel`` (1, 2, ...), at the drawn ``x``, ``y``
-    (``rows``: its points as records; values are unique per line, so the order is pandas')."""
-    engine = html.escape(str(rows[0]["engine"]))
-    shown = sorted(rows, key=lambda r: (math.isnan(r["value"]), r["value"]))
-    colour = COLOURS[index % len(COLOURS)]
-    return {
-        "type": "scatter", "xaxis": f"x{panel}", "yaxis": f"y{panel}", "name": engine,
-        "x": [r["x"] for r in shown], "y": [r["y"] for r in shown],
-        "mode": "lines+markers", "legendgroup": engine, "showlegend": first,
-        "hoverinfo": "text", "hovertext": [_hover(r) for r in shown],
-        "line": {"color": colour, "width": 1.5, "dash": DASHES[index % len(DASHES)]},
-        "marker": {"color": colour, "size": 8, "symbol": [
-            "x" if r["status"] in Status.members("breaking") else SYMBOLS[index % len(SYMBOLS)]
-            for r in shown]}}
-
-
-def _y_axis(quantity: str, values: list[float], floor: float | None,
-            ceiling: float | None) -> dict[str, Any]:
-    low, high = axes.error_range(values, floor, ceiling)
-    notes = ([f"0 drawn at {floor:.0e}"] if floor else []) + (
-        [f"failures at {ceiling:.0e}"] if ceiling else [])
-    title = f"{Y_LABEL[quantity]}, lower is better" + (f"<br>({', '.join(notes)})" if notes
-                                                        else "")
-    return axes.log_axis(title, low, high, floor, ceiling)
-
-
-def _drawn(on: pd.DataFrame, limits: tuple[float, float | None], spans: tuple[float, float]
-           ) -> pd.DataFrame:
-    """The points of one panel with where they are drawn: ``y`` at the floor or the ceiling
-    when need be, ``x`` pulled apart where engines coincide (``apart`` names the others)."""
-    rows = on.reset_index(drop=True)
-    ys = [_y(r, *limits) for r in rows.to_dict("records")]
-    groups = axes.coincident(list(zip(rows["value"], ys, strict=True)), spans)
-    return rows.assign(x=axes.spread(rows["value"].tolist(), groups, spans[0]), y=ys,
-                       apart=axes.beside(groups, rows["engine"].astype(str).tolist()))
-
-
-def _panel(n: int, count: int, param: str, sweep: str,
-           span: tuple[float, float]) -> dict[str, Any]:
-    """Axes (in a grid of at most 3 columns), title, tolerance line and label of panel ``n``;
-    ``span``: log10 of the ends of its x axis."""
-    cols = min(3, count)
-    rows = math.ceil(count / cols)
-    width, height = (1 - 0.05 * (cols - 1)) / cols, (1 - 0.15 * (rows - 1)) / rows
-    row, col = divmod(n - 1, cols)
-    x0, y1 = col * (width + 0.05), 1 - row * (height + 0.15)
-    harder = "away from 1" if param == "scale" else "to the right"
-    x_axis = axes.log_axis(f"{X_LABEL[param]} (harder {harder})", *span)
-    if not any(d.harder_up for d in DIRECTIONS[param]):
-        x_axis["range"] = x_axis["range"][::-1]
-    return {
-        "x": x_axis | {"domain": [x0, x0 + width], "anchor": f"y{n}"},
-        "y": {"domain": [y1 - height, y1], "anchor": f"x{n}", "showticklabels": col == 0},
-        "title": {"text": html.escape(sweep), "x": x0 + width / 2, "y": y1, "xref": "paper",
-                  "yref": "paper", "xanchor": "center", "yanchor": "bottom", "showarrow": False},
-        "line": {"type": "line", "xref": f"x{n} domain", "x0": 0, "x1": 1, "yref": f"y{n}",
-                 "line": {"dash": "dot", "color": "#888"}},
-        "label": {"text": "tolerance", "xref": f"x{n} domain", "x": 0, "yref": f"y{n}",
-                  "xanchor": "left", "yanchor": "bottom", "showarrow": False,
-                  "font": axes.LABEL_FONT}}
-
-
-def figure(rows: pd.DataFrame, quantity: str, order: list[str]) -> dict[str, Any]:
-    """Error against difficulty for one axis x kind: a panel per sweep, a line per engine."""
-    rows = rows[rows["quantity"] == quantity].drop_duplicates(["sweep", "engine", "value"])
-    sweeps = list(dict.fromkeys(rows["sweep"]))
-    floor, zero_at, ceiling = _limits(rows)
-    tolerance = float(rows["rel_tolerance"].replace(0.0, math.nan).median())
-    y_axis = _y_axis(quantity, [*rows["rel_error"], tolerance], zero_at, ceiling)
-    layout: dict[str, Any] = {
-        "template": plotly_template(), "height": 260 + 200 * math.ceil(len(sweeps) / 3),
-        "hoverlabel": {"align": "left"}, "margin": {"t": 50, "b": 40, "l": 40, "r": 20},
-        "legend": {"title": {"text": "engine (x: breaks)"}}, "annotations": [], "shapes": []}
-    data: list[dict[str, Any]] = []
-    for n, sweep in enumerate(sweeps, start=1):
-        on = rows[rows["sweep"] == sweep]
-        span = axes.data_range(on["value"], pad=0.1)
-        panel = _panel(n, len(sweeps), str(on["param"].iloc[0]), str(sweep), span)
-        shared = {"matches": "y", "title": {"text": ""}} if n > 1 else {}
-        layout |= {f"xaxis{n}": panel["x"], f"yaxis{n}": panel["y"] | y_axis | shared}
-        _marks(layout, panel, n, tolerance, (zero_at, ceiling))
-        drawn = _drawn(on[~on["status"].isin(Status.members("neutral"))], (floor, ceiling),
-                       (span[1] - span[0], y_axis["range"][1] - y_axis["range"][0]))
-        shown = {trace["name"] for trace in data}
-        lines: dict[str, list[dict[Hashable, Any]]] = {}
-        for point in drawn.to_dict("records"):
-            lines.setdefault(str(point["engine"]), []).append(point)
-        data += [_trace(line, order.index(engine), n, html.escape(engine) not in shown)
-                 for engine, line in lines.items()]
-    return {"data": data, "layout": layout}
-
-
-def _marks(layout: dict[str, Any], panel: dict[str, Any], n: int, tolerance: float,
-           limits: tuple[float | None, float | None]) -> None:
-    """Panel ``n``'s title, its tolerance line and its floor and ceiling lines, labelled."""
-    layout["annotations"].append(panel["title"])
-    if tolerance > 0:  # a shape takes the value on a log axis, an annotation its log10
-        layout["shapes"].append(panel["line"] | {"y0": tolerance, "y1": tolerance})
-        layout["annotations"].append(panel["label"] | {"y": math.log10(tolerance)})
-    shapes, notes = axes.limit_marks(*limits, "failed or infinite error", f"x{n}", f"y{n}")
-    layout["shapes"] += shapes
-    layout["annotations"] += notes
-
-
-def _chart(rows: pd.DataFrame, axis: str, kind: str, quantity: str,
-           order: list[str]) -> dict[str, Any]:
-    slug = re.sub(r"[^a-z0-9]+", "-", f"{axis}-{kind}-{quantity}")
-    text = plot_div(figure(rows, quantity, order), f"stability-{slug}")
-    extra = "" if quantity == HEADLINE[kind] else f" ({quantity})"
-    return {"title": f"{axis} \u2014 {kind}{extra}", "quantity": quantity, "html": Markup(text)}
-
-
-def charts(points: pd.DataFrame) -> list[dict[str, Any]]:
-    """One chart per axis x kind (plus the normal for detection kinds): title and HTML.
-
-    The HTML is a plotly <div> and script without plotly.js (the page inlines it once,
-    see :func:`crosscheck.report.style.plotly_js`), marked safe for Jinja's autoescaping.
+    >>> short_name("sweep-sphere-3d-gap"), short_name("sweep-resp-2d-oblique-mass-ratio")
+    ('sphere gap', 'resp oblique mass ratio')
     """
-    order = [str(e) for e in dict.fromkeys(points["engine"])]
-    return [_chart(rows, str(axis), str(kind), quantity, order)
-            for (axis, kind), on in points.groupby(["axis", "kind"], sort=False)
-            for quantity in CHARTED[str(kind)]
-            if not (rows := on[on["quantity"] == quantity]).empty]
+    words = sweep.removeprefix("sweep-").split("-")
+    return " ".join(w for w in words if not re.fullmatch(r"[23]d", w)) or sweep
+
+
+def quantity_label(row: Mapping[Hashable, Any]) -> str:
+    """The line of a cell naming the quantity it summarises.
+
+    >>> quantity_label({"kind": "sphere", "quantity": "hit"})
+    'hit (no distance)'
+    """
+    headline = HEADLINE.get(str(row["kind"]))
+    quantity = str(row["quantity"])
+    return quantity if quantity == headline else f"{quantity} (no {headline})"
+
+
+def _cell(row: Mapping[Hashable, Any] | None, engine: str, where: str) -> dict[str, Any]:
+    """One matrix cell: its big text, its note beside it, its lines, its colour (None:
+    grey, no verdict) and its hover text."""
+    if row is None or row["state"] == "unjudged":
+        why = "no rows (not run)" if row is None else str(row["verdict"])
+        return {"main": "\u2013", "note": "", "lines": ["no verdict"], "colour": None,
+                "title": f"{engine} on {where}: {why}"}
+    lines = ([f"to {row['checked']:.3g}"] if row["state"] == "none"
+             else [with_category(str(row["status"]), str(row["category"]))])
+    if row["recovers"]:
+        lines.append(f"agrees again at {row['recovered_at']:.3g}")
+    return {"main": row["cell"], "note": "(easiest)" if row["state"] == "already" else "",
+            "lines": [*lines, quantity_label(row)],
+            "colour": f"hsl({round(120 * row['reached'])}, 65%, 78%)",
+            "title": f"{engine} on {where}: {row['verdict']}"}
+
+
+def _columns(shown: pd.DataFrame) -> list[dict[str, Any]]:
+    """The matrix's columns: by axis, then sweep family (3-D first), then walk."""
+    firsts = shown.drop_duplicates("column")
+    rank = {name: {v: i for i, v in enumerate(dict.fromkeys(firsts[name]))}
+            for name in ("axis", "family")}
+    columns = []
+    for row in firsts.to_dict("records"):
+        param, dim = str(row["param"]), int(row["dim"])
+        walks = [d.name for d in DIRECTIONS[param]]
+        twin = f", the 2-D twin of {row['family']}" if row["sweep"] != row["family"] else ""
+        walk = str(row["direction"]) if len(walks) > 1 else ""  # named when there are two
+        columns.append({
+            "key": row["column"], "axis": row["axis"], "family": row["family"],
+            "label": f"{dim}-D", "walk": walk,
+            "where": f"{row['sweep']} ({dim}-D{twin}; {walk + ': ' if walk else ''}"
+                     f"{row['harder']})",
+            "order": (rank["axis"][row["axis"]], rank["family"][row["family"]], -dim,
+                      walks.index(str(row["direction"])))})
+    return sorted(columns, key=lambda c: c["order"])
+
+
+def _spans(columns: list[dict[str, Any]], key: str) -> list[dict[str, Any]]:
+    """Runs of neighbouring columns with the same ``key``: its value and how many."""
+    spans: list[dict[str, Any]] = []
+    for column in columns:
+        if spans and spans[-1]["name"] == column[key]:
+            spans[-1]["span"] += 1
+        else:
+            spans.append({"name": column[key], "span": 1})
+    return spans
+
+
+def matrix(table: pd.DataFrame) -> dict[str, Any]:
+    """The threshold matrix as the page draws it: header rows (the axes with which way is
+    harder, the sweep families, then each column's dimension and walk) and a row of cells per
+    engine, one per column (``rows`` is empty without thresholds)."""
+    shown = table[table["headline"].astype(bool)]
+    columns = _columns(shown)
+    axes = _spans(columns, "axis")
+    for span in axes:  # one way is harder, or (the scale) both ways from 1
+        harder = set(shown.loc[shown["axis"] == span["name"], "harder"])
+        span["note"] = str(harder.pop()) if len(harder) == 1 else "harder away from 1"
+    families = [span | {"label": short_name(str(span["name"]))}
+                for span in _spans(columns, "family")]
+    cells = {(r["engine"], r["column"]): r for r in shown.to_dict("records")}
+    rows = [{"engine": engine, "cells": [_cell(cells.get((engine, c["key"])), engine, c["where"])
+                                         for c in columns]}
+            for engine in dict.fromkeys(str(e) for e in table["engine"])]
+    return {"axes": axes, "families": families, "columns": columns, "rows": rows}
 
 
 # --- files ------------------------------------------------------------------------------------

@@ -200,9 +200,10 @@ def sweep_rows(case: AnyCase, engine: str, status: Any) -> list[dict[str, Any]]:
             for q in quantities_of(case.kind_enum)]
 
 
-def test_a_2d_engine_has_a_verdict_in_every_stability_column(suite: list[AnyCase]) -> None:
+def test_a_2d_engine_has_a_verdict_on_every_stability_sweep(suite: list[AnyCase]) -> None:
     """A pymunk-like engine: 3-D skipped, no distance or normal for bodies that do not
-    collide, every other answer right; beside it one that is right everywhere."""
+    collide, every other answer right; beside it one that is right everywhere.  Every sweep
+    family has a 2-D column, where the 2-D engine holds; its 3-D columns have no verdict."""
     def flat(quantity: str, truth: Any) -> str:
         missing = quantity in ("distance", "normal") and truth.hit is False
         return "skip" if missing else "agree"
@@ -214,8 +215,13 @@ def test_a_2d_engine_has_a_verdict_in_every_stability_column(suite: list[AnyCase
                                                         {c.id: c for c in suite}))
     shown = table[table["headline"]]
     columns = set(shown["column"])
-    assert not [c for c in columns if f"{TWIN_SUFFIX} (" in c]  # a twin shares its 3-D column
+    assert {f"{family}{TWIN_SUFFIX}" for family in shown.loc[shown["dim"] == 3, "family"]} <= set(
+        shown["sweep"])  # every 3-D sweep has its 2-D twin's columns beside it
     for engine in ("flat", "solid"):
         cells = shown[shown["engine"] == engine]
         assert sorted(cells["column"]) == sorted(columns)  # one cell per column
-        assert set(cells["state"]) == {"none"}, cells[cells["state"] != "none"]
+    flat_2d = shown[(shown["engine"] == "flat") & (shown["dim"] == 2)]
+    assert set(flat_2d["state"]) == {"none"}, flat_2d[flat_2d["state"] != "none"]
+    assert set(shown.loc[(shown["engine"] == "flat") & (shown["dim"] == 3), "state"]) == {
+        "unjudged"}
+    assert set(shown.loc[shown["engine"] == "solid", "state"]) == {"none"}

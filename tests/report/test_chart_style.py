@@ -14,7 +14,7 @@ import pytest
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
-from crosscheck.report import axes, charts, dynamics, stability, style
+from crosscheck.report import axes, charts, dynamics, stability, stability_charts, style
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.truth import scenes
 
@@ -309,7 +309,7 @@ def sweep_figure() -> dict[str, Any]:
     rows = (sweep_rows("a", same, statuses) + sweep_rows("a-default", same, statuses)
             + sweep_rows("b", [1e-15, 1e-14, math.nan, math.inf],
                          ["agree", "agree", "crash", "disagree"]))
-    return stability.figure(pd.DataFrame(rows), "distance", ["a", "a-default", "b"])
+    return stability_charts.figure(pd.DataFrame(rows), "distance", ["a", "a-default", "b"])
 
 
 def test_stability_log_axes_share_the_style(sweep_figure: dict[str, Any]) -> None:

@@ -1,4 +1,5 @@
-"""The stability study: thresholds along sweeps, relative errors, charts, template and command."""
+"""The stability study: thresholds along sweeps, relative errors, charts, template and command
+(the matrix cells and the folded charts as the page shows them: test_stability_page.py)."""
 
 from __future__ import annotations
 
@@ -17,7 +18,7 @@ from crosscheck.cases.load import load_paths
 from crosscheck.cli import stability as stability_command
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER
-from crosscheck.report import stability
+from crosscheck.report import stability, stability_charts
 from crosscheck.report.style import templates
 from crosscheck.results.store import ResultsStore, read_cases, read_results
 from crosscheck.run.launch import launch, new_info
@@ -150,30 +151,6 @@ def dim_rows(cases: dict[str, Any], dim: int, engine: str, statuses: list[str],
             for c, status in zip(points, statuses, strict=True)]
 
 
-def test_a_3d_sweep_and_its_2d_twin_share_one_column() -> None:
-    cases = twin_sweep()
-    agree, late = ["agree"] * 4, ["agree", "agree", "disagree", "disagree"]
-    frame = pd.DataFrame(dim_rows(cases, 3, "both", agree) + dim_rows(cases, 2, "both", late)
-                         + dim_rows(cases, 3, "flat", ["skip"] * 4)
-                         + dim_rows(cases, 2, "flat", agree))
-    table = stability.thresholds(stability.sweep_points(frame, cases))
-    assert set(table["sweep"]) == {"g", "g.2d"} and set(table["family"]) == {"g"}
-    shown = table[table["headline"]]
-    assert shown["column"].tolist() == ["g (smaller)", "g (smaller)"]
-    both, flat = only(shown, engine="both"), only(shown, engine="flat")
-    assert both["dim"] == 2 and both["threshold"] == 1e-5  # the walk that breaks sooner
-    assert both["verdict"] == ("in 2-D: breaks at 1e-05 (disagree, tolerance); "
-                               "in 3-D: none in range (checked to 1e-07)")
-    assert flat["dim"] == 2 and flat["verdict"] == "in 2-D: none in range (checked to 1e-07)"
-    html = render({"table": table.to_dict("records"), "charts": []})
-    assert "<small>no verdict</small>" not in html and ">g.2d<br>" in html  # all cells 2-D
-    solid = frame[frame["engine"] == "both"].assign(engine="solid", status="agree")
-    table = stability.thresholds(stability.sweep_points(pd.concat([frame, solid]), cases))
-    assert only(table, engine="solid", headline=True)["dim"] == 3  # a tie shows the 3-D walk
-    html = render({"table": table.to_dict("records"), "charts": []})
-    assert ">g<br>" in html and html.count("<tr><td>") == 3  # its 3-D sweep names the column
-
-
 def test_an_engine_without_distances_is_shown_by_its_hit_walk() -> None:
     table = table_of(rows("g", "gap", [(g, "skip") for g in GAPS]),
                      rows("g", "gap", [(0.1, "agree"), (1e-7, "disagree")], quantity="hit"))
@@ -237,7 +214,7 @@ def test_points_cover_every_sweep_with_finite_relative_errors(points: pd.DataFra
 
 
 def test_charts_are_plotly_divs_without_the_library(points: pd.DataFrame) -> None:
-    charts = stability.charts(points)
+    charts = stability_charts.charts(points)
     titles = [c["title"] for c in charts]
     assert "distance from origin \u2014 sphere" in titles
     assert "mass ratio \u2014 sphere_response" in titles
@@ -248,11 +225,17 @@ def test_charts_are_plotly_divs_without_the_library(points: pd.DataFrame) -> Non
 
 def test_chart_text_is_escaped() -> None:
     frame = pd.DataFrame(rows("g", "gap", [(0.1, "agree"), (1e-3, "disagree")], engine=EVIL))
-    (chart, *_) = stability.charts(stability.sweep_points(frame, {}))
+    (chart, *_) = stability_charts.charts(stability.sweep_points(frame, {}))
     assert EVIL not in chart["html"]
 
 
 # --- template and command line -----------------------------------------------------------------
+
+
+def section(points: pd.DataFrame) -> dict[str, Any]:
+    """The stability section's context, as the report builds it."""
+    table = stability.thresholds(points)
+    return {"matrix": stability.matrix(table), "folds": stability_charts.folds(points, table)}
 
 
 def render(stability_data: dict[str, Any] | None) -> str:
@@ -262,25 +245,26 @@ def render(stability_data: dict[str, Any] | None) -> str:
 
 
 def test_template_renders_the_matrix_and_the_charts(points: pd.DataFrame) -> None:
-    table = stability.thresholds(points)
-    html = render({"table": table.to_dict("records"), "charts": stability.charts(points)})
+    html = render(section(points))
     assert 'id="stability-matrix"' in html and html.count('class="chart"') >= 8
     for header in ("engine", "distance from origin", "body scale", "mass ratio",
-                   "approach speed", "gap or overlap relative to size", "sphere-3d-offset",
+                   "approach speed", "gap or overlap relative to size", "sphere offset",
+                   "sweep-sphere-3d-offset (3-D; larger is harder)", ">2-D<",
                    "huge: larger is harder", "tiny: smaller is harder"):
         assert f"{header}" in html, header
-    assert "<td>reference-f32</td>" in html and "none</b>" in html
+    assert ">reference-f32</td>" in html and "none</b>" in html
     assert "Plotly.newPlot" in html  # the chart markup is not escaped
 
 
 def test_template_renders_nothing_without_sweep_rows() -> None:
-    assert render({"table": [], "charts": []}) == "<main></main>"
+    empty = stability.thresholds(pd.DataFrame(columns=stability.POINT_COLUMNS))
+    assert render({"matrix": stability.matrix(empty), "folds": []}) == "<main></main>"
     assert render(None) == "<main></main>"
 
 
 def test_template_escapes_text() -> None:
-    table = table_of(rows("g", "gap", [(0.1, "agree"), (1e-3, "disagree")], engine=EVIL))
-    html = render({"table": table.to_dict("records"), "charts": []})
+    frame = pd.DataFrame(rows("g", "gap", [(0.1, "agree"), (1e-3, "disagree")], engine=EVIL))
+    html = render(section(stability.sweep_points(frame, {})))
     assert EVIL not in html and "&lt;script&gt;" in html
 
 
