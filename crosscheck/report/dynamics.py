@@ -10,10 +10,13 @@ swept) through its time steps, each point labelled with its ``dt``.  A point
 whose exact run has an impact exactly on a step boundary is flagged (marker,
 hover and caption; :func:`crosscheck.truth.scenes.aligned`): an engine that
 resolves contacts a step late meets such an impact on time, so its error there
-is an artefact of the alignment, not accuracy.  The table gives each scene x
-engine at the time step nearest to 1/240 s: position error (mean radii), signed
-kinetic energy change (fraction of the initial energy: negative is lost) and
-the real-time factor.
+is an artefact of the alignment, not accuracy.
+
+The section is folded per scene: in view, a table of each scene x engine's most
+accurate run (its position error in mean radii, time step and real-time factor;
+:func:`headline`); folded under each scene's summary line, the table of every
+run (position and velocity error, signed kinetic energy change as a fraction of
+the initial energy: negative is lost, real-time factor, status) and its chart.
 """
 
 from __future__ import annotations
@@ -27,13 +30,12 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
-from crosscheck.core.schema import AnyCase, SceneCase
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.report import axes
 from crosscheck.report.speed import seconds
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 from crosscheck.truth import scenes
 
-HEADLINE_DT = 1.0 / 240.0
 ALIGNED_SYMBOL = "circle-x"
 """The marker of a point whose exact run has an impact on a step boundary."""
 ALIGNED_NOTE = ("circled x: an impact of the exact run falls on a step boundary (k dt); a "
@@ -56,7 +58,7 @@ def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
 
 def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> dict[str, Any]:
     pos, energy = by_q["positions"], by_q.get("energy")
-    dt = float(case.dt or HEADLINE_DT)
+    dt = float(case.dt or DEFAULT_DT)
     steps = max(1, round(float(case.duration) / dt))
     wall = float(pos.query_s)
     iterations = case.iterations
@@ -79,13 +81,13 @@ def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> 
 def _rtf_spread(simulated: float, wall: float, iqr: float) -> str:
     """The real-time factor over the wall time's interquartile range ('' for one run).
 
-    >>> _rtf_spread(1.0, 0.01, 0.002)
-    '90.9-111'
+    >>> _rtf_spread(1.0, 0.01, 0.002), _rtf_spread(1.0, 0.0005, 0.0002)
+    ('90.9-111', '1,667-2,500')
     """
     if not (iqr > 0 and wall > iqr / 2):
         return ""
     low, high = simulated / (wall + iqr / 2), simulated / (wall - iqr / 2)
-    return f"{low:.3g}-{high:.3g}"
+    return f"{factor(low)}-{factor(high)}"
 
 
 def _error(row: Any) -> float:
@@ -104,31 +106,110 @@ def _energy_change(row: Any, case: SceneCase) -> float:
     return (value - truth) / e0 if e0 > 0 else math.nan
 
 
-def headline(points: pd.DataFrame) -> list[dict[str, Any]]:
-    """Per scene x variant, the run at the time step nearest 1/240 s."""
-    if points.empty:
-        return []
-    rows = []
-    for (scene, variant), group in points.groupby(["scene", "variant"], sort=False):
-        best = group.iloc[(group["dt"] - HEADLINE_DT).abs().argsort().iloc[0]]
-        rows.append({"scene": scene, "variant": variant, "dt": best["dt"],
-                     "position_error": best["position_error"],
-                     "energy_change": best["energy_change"], "rtf": best["rtf"],
-                     "status": best["status"]})
-    return rows
+def _most_accurate(group: pd.DataFrame) -> pd.Series:
+    """The run of ``group`` with the smallest finite position error (ties: the fastest);
+    the first run when none has one."""
+    error = group["position_error"].astype(float)
+    finite = group[error.map(math.isfinite)]
+    if finite.empty:
+        return group.iloc[0]
+    return finite.sort_values(["position_error", "rtf"], ascending=[True, False],
+                              kind="stable").iloc[0]
 
 
-def dt_label(dt: float) -> str:
-    """A time step as its chart label: with an SI prefix, or ``1/n s`` for a step of a whole
-    rate that three digits would round.
+def _run(row: pd.Series) -> dict[str, Any]:
+    """One run as the template shows it (``step`` and ``factor``: its time step and real-time
+    factor as text)."""
+    keys = ("case_id", "engine", "variant", "dt", "steps", "position_error",
+            "velocity_error", "energy_change", "rtf", "rtf_spread", "status")
+    iterations = row["iterations"]
+    return {key: row[key] for key in keys} | {
+        "iterations": int(iterations) if pd.notna(iterations) else None,
+        "step": step(float(row["dt"])), "factor": factor(float(row["rtf"])),
+        "aligned": bool(row["aligned"])}
 
-    >>> dt_label(1 / 240), dt_label(1e-3), dt_label(0.05), dt_label(1e-5)
-    ('dt 1/240 s', 'dt 1 ms', 'dt 50 ms', 'dt 10 µs')
+
+def headline(group: pd.DataFrame) -> dict[str, Any]:
+    """One scene's runs: per engine its most accurate run (``best``, in run order), with
+    ``top`` set on the engines whose error is the scene's smallest as the page shows it (three
+    digits: an exact tie is common, and a speed difference among tied runs is mostly noise);
+    ``tied`` (those engines), ``top`` (the fastest of them) and every run (``runs``, by
+    engine, solver iterations and time step)."""
+    best = {str(engine): _run(_most_accurate(runs))
+            for engine, runs in group.groupby("engine", sort=False)}
+    errors = [r["position_error"] for r in best.values() if math.isfinite(r["position_error"])]
+    smallest = f"{min(errors):.3g}" if errors else None
+    for run in best.values():
+        run["top"] = f"{run['position_error']:.3g}" == smallest
+    tied = [engine for engine, run in best.items() if run["top"]]
+    fastest = sorted(tied, key=lambda e: -best[e]["rtf"] if math.isfinite(best[e]["rtf"])
+                     else math.inf)
+    ordered = pd.concat([runs.sort_values(["iterations", "dt"], kind="stable")
+                         for _, runs in group.groupby("engine", sort=False)])
+    return {"best": best, "tied": tied, "top": best[fastest[0]] if fastest else None,
+            "runs": [_run(r) for _, r in ordered.iterrows()],
+            "aligned": int(group["aligned"].map(bool).sum())}
+
+
+def factor(rtf: float) -> str:
+    """A real-time factor as the page writes it: three digits, whole numbers from 100 up.
+
+    >>> factor(0.01234), factor(12.345), factor(123456.7), factor(math.nan)
+    ('0.0123', '12.3', '123,457', 'n/a')
+    """
+    if not math.isfinite(rtf):
+        return "n/a"
+    return f"{rtf:,.0f}" if rtf >= 100 else f"{rtf:.3g}"
+
+
+def summary_line(scene: dict[str, Any]) -> str:
+    """A scene's headline in words, for its folded block (``scene``: a :func:`headline`).
+
+    >>> top = {"variant": "e", "dt": 0.01, "position_error": 0.0042, "rtf": 1234.5}
+    >>> summary_line({"runs": [top], "best": {"e": top}, "tied": ["e"], "top": top,
+    ...               "aligned": 0})
+    'most accurate: e at dt 10 ms, error 0.0042 mean radii, real-time factor 1,234 (1 run)'
+    >>> summary_line({"runs": [top, top], "best": {"e": top, "f": top}, "tied": ["e", "f"],
+    ...               "top": top, "aligned": 1})[:69]
+    'as accurate: e and f, error 0.0042 mean radii; the fastest of them, e'
+    """
+    top, tied, runs = scene["top"], scene["tied"], len(scene["runs"])
+    if top is None:
+        words = "no run has a finite position error"
+    else:
+        run = (f"{top['variant']} at dt {step(float(top['dt']))}", f"error "
+               f"{top['position_error']:.3g} mean radii", f"real-time factor "
+               f"{factor(float(top['rtf']))}")
+        words = (f"most accurate: {run[0]}, {run[1]}, {run[2]}" if len(tied) == 1 else
+                 f"as accurate: {', '.join(tied[:-1])} and {tied[-1]}, {run[1]}; the fastest "
+                 f"of them, {run[0]}, {run[2]}")
+    engines = len(scene["best"])
+    words += f" ({runs} run{'s' * (runs != 1)}" + (f" of {engines} engines" if engines > 1 else "")
+    if scene["aligned"]:
+        words += f"; {scene['aligned']} with an impact on a step boundary"
+    return words + ")"
+
+
+def step(dt: float) -> str:
+    """A time step as the page writes it: with an SI prefix, or ``1/n s`` for a step of a
+    whole rate that three digits would round.
+
+    >>> step(1 / 240), step(1e-3), step(0.05), step(1e-5)
+    ('1/240 s', '1 ms', '50 ms', '10 µs')
     """
     rate = round(1.0 / dt)
     if float(f"{dt:.3g}") != dt and abs(rate * dt - 1.0) < 1e-9:
-        return f"dt 1/{rate} s"
-    return f"dt {seconds(dt)}"
+        return f"1/{rate} s"
+    return seconds(dt)
+
+
+def dt_label(dt: float) -> str:
+    """A time step as its chart label.
+
+    >>> dt_label(1 / 240), dt_label(1e-3)
+    ('dt 1/240 s', 'dt 1 ms')
+    """
+    return f"dt {step(dt)}"
 
 
 def charts(points: pd.DataFrame, order: list[str]) -> list[dict[str, Any]]:
@@ -252,7 +333,18 @@ def _hover(r: Any) -> str:
 
 def section(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             order: list[str]) -> dict[str, Any]:
-    """What the report template needs: the headline table and the charts."""
+    """What the report template needs: per scene its :func:`headline`, its summary line and
+    its chart; the engines (in run order) and the number of runs."""
     points = scene_points(frame, cases)
-    return {"table": headline(points), "charts": charts(points, order),
+    if points.empty:
+        return {"scenes": [], "engines": [], "charts": [], "runs": 0}
+    drawn_charts = charts(points, order)
+    scenes_out = []
+    for (scene, group), chart in zip(points.groupby("scene", sort=False), drawn_charts,
+                                     strict=True):
+        built = headline(group) | {"scene": str(scene), "chart": chart["html"]}
+        scenes_out.append(built | {"summary": summary_line(built)})
+    engines = [e for e in dict.fromkeys([*order, *points["engine"]])
+               if e in set(points["engine"])]
+    return {"scenes": scenes_out, "engines": engines, "charts": drawn_charts,
             "runs": len(points)}

@@ -27,9 +27,11 @@ from crosscheck.report import (
     advise_page,
     charts,
     dynamics,
+    mirror,
     profiles,
     speed,
     stability,
+    stability_charts,
     table,
     verdict,
 )
@@ -154,20 +156,25 @@ def _timing(view: RunView) -> Context:
 
 
 def _dynamics(view: RunView) -> Context | None:
+    """Each scene x engine's most accurate run in view; every run and the chart folded per
+    scene (None without scene runs)."""
     built = dynamics.section(view.frame, view.cases, view.order)
     if not built["runs"]:
         return None
-    built["charts"] = [{**c, "html": Markup(c["html"])} for c in built["charts"]]
+    built["scenes"] = [{**s, "chart": Markup(s["chart"])} for s in built["scenes"]]
     return {"dynamics": built}
 
 
 def _stability(view: RunView) -> Context | None:
+    """The threshold matrix and the charts folded per family (``None`` without sweeps);
+    ``charts`` lists them all (the page inlines plotly.js when a section has charts)."""
     points = stability.sweep_points(view.frame, view.cases)
     if points.empty:
         return None
-    return {"stability": {
-        "table": stability.thresholds(points).to_dict("records"),
-        "charts": [{**c, "html": Markup(c["html"])} for c in stability.charts(points)]}}
+    table = stability.thresholds(points)
+    folds = stability_charts.folds(points, table)
+    return {"stability": {"matrix": stability.matrix(table), "folds": folds,
+                          "charts": [chart for fold in folds for chart in fold["charts"]]}}
 
 
 def _disagreements(view: RunView) -> Context:
@@ -188,7 +195,9 @@ def _advise(view: RunView) -> Context:
 
 
 def _symmetry(view: RunView) -> Context:
-    return {"asymmetries": view.asymmetries.to_dict("records")}
+    """The A/B symmetry counts per engine x quantity and each engine's asymmetric answers
+    (``asymmetries.csv`` is written from ``view.asymmetries``, every row kept)."""
+    return mirror.section(view.frame, view.order)
 
 
 def _info(view: RunView) -> Context:
