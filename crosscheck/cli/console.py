@@ -134,11 +134,38 @@ def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
 
 
 def print_summary(directory: Path) -> None:
-    """Print the engine x kind counts from the run's summary.csv (written by the report)."""
+    """Print the engine x kind counts from the run's summary.csv (written by the report), then
+    the query times, when the run timed any case."""
     import pandas as pd
 
-    table = pd.read_csv(directory / "summary.csv", keep_default_na=False)
+    table = pd.read_csv(directory / "summary.csv")
     out.print(summary_table(table, f"summary of {directory}"))
+    if table["median_query_s"].notna().any():
+        say(TIMES_TITLE)
+        out.print(times_table(table))
+
+
+TIMES_TITLE = "query time: median ± IQR over the timed cases (scenes: per run)"
+
+
+def times_table(table: pd.DataFrame) -> Table:
+    """Per engine x kind, the median query time ± its IQR over the timed cases: the figure and
+    the format of the report page's engine x kind table (``-``: not timed)."""
+    from crosscheck.report.speed import median_iqr
+
+    kinds = [str(k) for k in dict.fromkeys(table["kind"])]
+    times = {(str(engine), str(kind)): median_iqr(float(median), float(iqr))
+             for engine, kind, median, iqr in zip(table["engine"], table["kind"],
+                                                 table["median_query_s"], table["iqr_query_s"],
+                                                 strict=True) if not math.isnan(float(median))}
+    rich_table = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False,
+                       collapse_padding=True)
+    rich_table.add_column("engine", no_wrap=True)
+    for kind in kinds:
+        rich_table.add_column(kind, justify="right")
+    for engine in dict.fromkeys(table["engine"]):
+        rich_table.add_row(str(engine), *(times.get((str(engine), k), "-") for k in kinds))
+    return fit(rich_table)
 
 
 def summary_table(table: pd.DataFrame, title: str) -> Table:
@@ -155,5 +182,5 @@ def summary_table(table: pd.DataFrame, title: str) -> Table:
             rich_table.add_section()
         rich_table.add_row(f"[bold]{escape(str(engine))}[/]", *([""] * len(statuses)))
         for row in rows.itertuples(index=False):
-            rich_table.add_row(str(row.kind), *(str(getattr(row, s)) for s in statuses))
+            rich_table.add_row(str(row.kind), *(str(int(getattr(row, s))) for s in statuses))
     return rich_table

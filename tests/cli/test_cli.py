@@ -15,7 +15,7 @@ from rich.console import Console
 import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
-from crosscheck.cli.console import summary_table
+from crosscheck.cli.console import TIMES_TITLE, summary_table
 from crosscheck.core.schema import ResponseCase
 from crosscheck.results.runinfo import FORMAT_VERSION
 from tests.cases.test_load import sphere_text
@@ -224,3 +224,36 @@ def test_resume_from_the_cli_reports_progress(tmp_path: Path,
     assert main(["run", str(case_file), "--quick", "--engine", "reference", "--out", str(out)]) == 0
     assert main(["run", "--resume", str(out)]) == 0
     assert "already done" in capsys.readouterr().out
+
+
+@pytest.mark.engine
+def test_the_run_prints_each_engine_and_kind_time_as_the_page_does(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The run's closing times table and the report's engine x kind table show the same
+    figure in the same format (median ± IQR over the timed cases) for every engine x kind."""
+    out = tmp_path / "run"
+    cases = [str(ROOT / "cases" / name) for name in ("sphere.toml", "response.toml")]
+    assert main(["run", *cases, "--engine", "reference", "--engine", "pymunk", "--samples", "3",
+                 "--min-sample", "0.0005", "--timing-cases", "3", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out.split(TIMES_TITLE + "\n")[1].split("\nfinished")[0]
+    header, *rows = [line.split() for line in printed.splitlines()
+                     if line.strip() and not line.startswith("─")]
+    in_terminal = {(row[0], kind): " ".join(cell) for row in rows
+                   for kind, cell in zip(header[1:], _cells(row[1:]), strict=True)}
+    page = (out / "report.html").read_text()
+    row = r"<tr><td>([^<]+)</td><td>([^<]+)</td>(?:(?!</tr>).)*?<td class=\"num time\">([^<]+)<"
+    on_page = {(engine, kind): time for engine, kind, time in re.findall(row, page, re.S)}
+    assert on_page and set(on_page) <= set(in_terminal)
+    for key, time in on_page.items():
+        assert in_terminal[key] == time, key
+    assert all(in_terminal[key] == "-" for key in set(in_terminal) - set(on_page))
+
+
+def _cells(words: list[str]) -> list[list[str]]:
+    """A times row's words grouped into cells: '12.8 ± 1.2 µs' is four words, '-' one."""
+    cells, at = [], 0
+    while at < len(words):
+        width = 1 if words[at] == "-" else (4 if words[at + 1] == "±" else 2)
+        cells.append(words[at:at + width])
+        at += width
+    return cells

@@ -101,3 +101,18 @@ def test_the_full_report_opens_at_most_16000_px_tall(suite_run: Path) -> None:
         folds = page.locator("details").count()
     assert height <= PAGE_HEIGHT, f"the page is {height} px tall at 1,400 px"
     assert folds > 10  # the height is bought by folding, and the folds are there
+
+
+@pytest.mark.suite
+@pytest.mark.engine
+def test_the_results_table_of_scene_rows_scrolls_with_a_cue_at_1024_px(suite_run: Path) -> None:
+    """Scene rows bring their own columns into the results table (DataTables): wider than its
+    box at 1,024 px, it scrolls there with the same cue as every other table."""
+    with opened(suite_run / "report.html", width=1024) as page:
+        page.wait_for_selector("#results-table[data-ready]")
+        page.locator("#results-breaking").uncheck()
+        page.locator("#results-table thead input").nth(2).fill("sphere_scene")  # kind
+        page.wait_for_timeout(500)
+        bad, cut = clipped_without_cue(page)
+    assert bad == []
+    assert "results-table" in [name.split()[0] for name, _ in cut]

@@ -435,11 +435,11 @@ def test_caption_says_times_are_per_call_through_python_bindings_with_overhead(
     points = by_engine(timed_chart())
     assert points["fast"].binding_share == pytest.approx(1e-7 / 3e-6)
     hover = charts.hover(points["fast"], timed_chart().measure)
-    assert "binding call (cheapest call into it): 100 ns (IQR 2 ns), 3% of the median" in hover
+    assert "binding call (cheapest call into it): 100 ± 2 ns, 3% of the median" in hover
     assert "binding call: none: no cheap call" in charts.hover(points["untimed"],
                                                                timed_chart().measure)
     table = part(timed_html, 'id="speed-sphere-times"', "</table>")
-    assert "<td>fast</td>" in table and "100 ns (IQR 2 ns)" in table and "3 µs" in table
+    assert "<td>fast</td>" in table and "100 ± 2 ns" in table and "3 ± 2 µs" in table
 
 
 def test_timing_section_method_sample_yardstick_drift_and_warning(timed_html: str) -> None:
@@ -451,9 +451,9 @@ def test_timing_section_method_sample_yardstick_drift_and_warning(timed_html: st
     assert "Warning: the machine's speed\nchanged during timing (python drifted +25%)" in section
     yardstick = part(section, 'id="yardstick"', "</table>")
     assert "1.020" in yardstick and "1.250" in yardstick  # numpy and python, end / start
-    assert "1 ms (IQR 20 µs)" in yardstick and "1.25 ms (IQR 25 µs)" in yardstick
+    assert "1 ± 0.02 ms" in yardstick and "1.25 ± 0.025 ms" in yardstick
     binding = part(section, 'id="binding"', "</table>")
-    assert "<td>fast</td><td class=\"num\">100 ns (IQR 2 ns)</td>" in binding
+    assert "<td>fast</td><td class=\"num\">100 ± 2 ns</td>" in binding
     assert f"{100 * 1e-7 / 3e-6:.1f}%" in binding and "none: no cheap call" in binding
     calm = speed.timing_context(info_of(timing=timing_info(python_end=1.05e-3)), TIMED,
                                 ["sphere"], pd.DataFrame(columns=["unstable"]))
@@ -477,7 +477,9 @@ def test_summary_shows_the_iqr_over_cases_beside_the_median(timed_html: str) -> 
     assert table.loc[("fast", "sphere"), "iqr_query_s"] == pytest.approx(q3 - q1)
     assert table.loc[("noisy", "sphere"), ["timed", "unstable"]].tolist() == [5, 3]
     summary_html = part(timed_html, 'id="summary"', "</table>")
-    assert "IQR over cases (s)" in summary_html and f"{q3 - q1:.2g}" in summary_html
+    median = table.loc[("fast", "sphere"), "median_query_s"]
+    assert "median query &plusmn; IQR over cases" in summary_html
+    assert f'<td class="num time">{speed.median_iqr(median, q3 - q1)}</td>' in summary_html
 
 
 def test_results_table_has_one_row_per_case_and_engine_with_its_quantities(rendered: str) -> None:
