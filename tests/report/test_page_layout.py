@@ -116,3 +116,28 @@ def test_the_results_table_of_scene_rows_scrolls_with_a_cue_at_1024_px(suite_run
         bad, cut = clipped_without_cue(page)
     assert bad == []
     assert "results-table" in [name.split()[0] for name, _ in cut]
+
+
+NO_COLOUR = "rgb(228, 228, 228)"
+"""The grey of a stability cell without a verdict (the legend's swatch)."""
+
+
+@pytest.mark.suite
+@pytest.mark.engine
+def test_no_stability_cell_of_the_full_report_is_coloured_without_a_verdict(
+        suite_run: Path) -> None:
+    with opened(suite_run / "report.html") as page:
+        page.wait_for_load_state("load")
+        cells = page.evaluate("""[...document.querySelectorAll('#stability-matrix td.cell')]
+            .map(c => [c.innerText, getComputedStyle(c).backgroundColor, c.title])""")
+    grey = [(colour, title) for text, colour, title in cells if "no verdict" in text]
+    coloured = [(text, colour, title) for text, colour, title in cells
+                if "no verdict" not in text]
+    assert grey and coloured  # the full run has both kinds of cell
+    assert {colour for colour, _ in grey} == {NO_COLOUR}
+    for text, colour, title in coloured:
+        verdict = title.split("): ", 1)[1]  # "<engine> on <sweep> (<dim>; <way>): <verdict>"
+        assert colour != NO_COLOUR and not verdict.startswith("no verdict"), title
+        if "(distance: no verdict)" in title:  # a verdict of hit alone says so in the cell
+            assert text.endswith("hit (no distance)"), (text, title)
+    assert not [t for _, _, t in coloured if "pymunk on sweep-sphere-3d-offset " in t]  # 3-D
