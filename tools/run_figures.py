@@ -281,7 +281,7 @@ def headline(run: StoredRun) -> str:
         "profile beside the score and its median query time with the IQR over its timed "
         f"cases; the top {HEADLINE_TOP} ranked engines and the float64 textbook baseline:", "",
         table(["profile (common ground)", "rank", "engine", "score", "coverage",
-               "median query (IQR)"], rows)])
+               "median query ± IQR"], rows)])
 
 
 # --- conventions and the report --------------------------------------------------------------
@@ -354,7 +354,7 @@ def advice(run: StoredRun) -> str:
         rows += [["baseline", *_grade_cells(e, worst_text(e))] for e in answer.baselines]
         parts += [f"{answer.cases:,} cases inside the envelope "
                   f"({', '.join(answer.kinds)}; {', '.join(f'{d}-D' for d in answer.dims)}).",
-                  "", table(["#", "engine", "tier", "coverage", "within", "median µs (IQR)",
+                  "", table(["#", "engine", "tier", "coverage", "within", "median ± IQR",
                              "worst answer"], rows)]
         if answer.unsupported:
             parts += [f"Answer no case (not ranked): "
@@ -368,7 +368,7 @@ def advice(run: StoredRun) -> str:
 
 def _grade_cells(engine: Any, worst: str) -> list[str]:
     cost = ("-" if engine.median_query_s is None else
-            f"{engine.median_query_s * 1e6:.3g} ({(engine.query_iqr_s or 0.0) * 1e6:.2g})")
+            speed.median_iqr(engine.median_query_s, engine.query_iqr_s))
     share = "-" if engine.share_within is None else f"{engine.share_within:.0%}"
     return [engine.engine, engine.tier, f"{engine.coverage:.0%}", share, cost, worst]
 
