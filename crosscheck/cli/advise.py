@@ -233,6 +233,22 @@ def ranking_lines(rows: Sequence[tuple[str, EngineAdvice]], width: int) -> list[
     return lines
 
 
+def repeat_line(advice: Advice) -> str:
+    """What the repeat check found in the envelope, per engine: the cases that answered
+    differently when asked again (of those asked), or that none did, or that it did not run."""
+    if not advice.repeat_checked:
+        return "repeat check: not run (crosscheck run --repeat-check)"
+    engines = advice.ranking + advice.unsupported + advice.excluded + advice.baselines
+    changed = [f"{e.engine} {e.nondeterministic} of {e.repeated}" for e in engines
+               if e.nondeterministic]
+    if not changed:
+        asked = sum(e.repeated for e in engines)
+        return (f"repeat check: every case asked again answered the same "
+                f"({asked} case x engine pairs)")
+    return (f"answered differently when asked again (cases): {', '.join(changed)}; "
+            "every other engine answered the same")
+
+
 def print_advice(advice: Advice) -> None:
     """A line per engine, ranked, its worst answer below; the baselines apart; whole at 80
     columns (details: --json)."""
@@ -252,6 +268,7 @@ def print_advice(advice: Advice) -> None:
             say(f"{label}: {', '.join(e.engine for e in engines)}")
     broken = [f"{e.engine} {status} {n}" for e in advice.ranking + advice.baselines
               for status, n in e.robustness.items() if status in ("crash", "timeout")]
+    say(repeat_line(advice))
     if advice.bad_input_cases:
         say(f"bad input, judged apart ({advice.bad_input_cases} cases): "
             + (", ".join(broken) if broken else "no crash or timeout"))

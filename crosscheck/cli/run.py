@@ -55,7 +55,8 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     hint = f"crosscheck run --resume {store.directory}"
     try:
         with phase_bars() as phases:
-            launch(store, cases, engines, options, info, phases=phases)
+            info = launch(store, cases, engines, options, info, phases=phases)
+        _say_repeat_check(info)
         write_run_scripts(store.directory)  # repro/<case>_<engine>.py, linked from the report
         rendered = _render(store.directory)
     except KeyboardInterrupt:  # in the run, or after its last row (a resume then renders)
@@ -70,6 +71,14 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     print_summary(store.directory)
     say(f"finished in {time.monotonic() - started:.0f} s")
     return 0
+
+
+def _say_repeat_check(info: RunInfo) -> None:
+    """One line on the repeat check, when the run made it."""
+    check = info.repeat_check
+    if check is not None:
+        say(f"repeat check: {check['pairs']} pairs asked again in {check['seconds']:.0f} s; "
+            f"{check['nondeterministic']} answered differently (nondeterministic)")
 
 
 def _render(directory: Path) -> bool:
@@ -88,7 +97,7 @@ def _render(directory: Path) -> bool:
 
 CHANGES_THE_RUN = ("paths", "engine", "out", "quick", "timing_cases", "timing_seed", "samples",
                    "min_sample", "scene_repeats", "no_pin", "timeout", "jobs", "no_isolation",
-                   "scheduler", "worker_memory")
+                   "scheduler", "worker_memory", "repeat_check")
 """The options of ``run`` that ``--resume`` refuses: a resumed run keeps those it started with."""
 
 _PARSER_DEFAULTS: dict[str, object] = {}
@@ -163,7 +172,7 @@ def _options(args: argparse.Namespace) -> RunOptions:
                       timing_seed=args.timing_seed, scene_repeats=args.scene_repeats,
                       pin=not args.no_pin, isolate=not args.no_isolation,
                       jobs=args.jobs or os.cpu_count() or 1, scheduler=args.scheduler,
-                      worker_memory_mb=args.worker_memory)
+                      worker_memory_mb=args.worker_memory, repeat_check=args.repeat_check)
 
 
 def resume(directory: Path) -> int:
@@ -256,6 +265,11 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="resident memory an engine's worker may reach: past it between cases "
                         "the worker is recycled, during a case that case is a crash "
                         f"(\"memory limit\"; default {defaults.worker_memory_mb:g})")
+    p.add_argument("--repeat-check", action="store_true",
+                   help="after the verdicts, ask every pair with a disagree, error or crash row "
+                        "once more, each in a worker process started for it alone, and flag "
+                        "the pairs whose answer changes as nondeterministic (off by default: "
+                        "it costs a worker start and a query per such pair; on in make run)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run cases on this Dask scheduler (e.g. tcp://host:8786)")
     p.set_defaults(func=cmd_run)

@@ -35,6 +35,10 @@ class RunOptions:
     ``worker_memory_mb`` is the resident memory an engine's worker may reach: past it
     between cases the worker is recycled, past it during a case the worker is killed
     and the case is ``crash`` ("memory limit"); see ``crosscheck.run.worker``.
+
+    ``repeat_check``: after the verdict pass, every pair with a ``disagree``, ``error`` or
+    ``crash`` row (and no ``timeout``) is asked once more in a fresh worker process; a pair
+    whose answer changes is flagged ``nondeterministic`` (see ``crosscheck.run.repeat``).
     """
 
     quick: bool = False
@@ -49,6 +53,7 @@ class RunOptions:
     pin: bool = True
     scheduler: str | None = None
     worker_memory_mb: float = 2048.0
+    repeat_check: bool = False
 
     def to_json(self) -> dict[str, Any]:
         """The options as plain JSON values."""

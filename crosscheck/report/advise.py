@@ -75,6 +75,9 @@ class Advice:
     """When nothing passes: the best ranked engine."""
     deciding: tuple[str, ...] = ()
     """When nothing passes: the cases that keep ``closest`` from passing."""
+    repeat_checked: bool = False
+    """Whether the run made the repeat check (each engine's ``repeated`` and
+    ``nondeterministic`` say what it found in the envelope)."""
 
     @property
     def ranking(self) -> list[EngineAdvice]:
@@ -151,7 +154,8 @@ def advise(run: StoredRun, envelope: Envelope) -> Advice:
                   and g.float32 and not envelope.float32],
         baselines=[g for g in grades if g.baseline],
         closest=None if closest is None else closest.engine,
-        deciding=() if closest is None else _deciding(closest))
+        deciding=() if closest is None else _deciding(closest),
+        repeat_checked=run.info.repeat_check is not None)
 
 
 def _deciding(engine: EngineAdvice) -> tuple[str, ...]:

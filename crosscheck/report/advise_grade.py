@@ -4,8 +4,10 @@ An engine's grade: how much of the envelope it answers (coverage), the share of
 its answers within the needed accuracy, its worst error with the case and the
 repro script, its failure modes and declared conventions with their numbers,
 its cost (median time per query over cases, with the interquartile range), its
-coverage per kind and dimension (the part of the envelope it answers), and its
-robustness on the bad-input cases of the same kinds (judged apart).
+coverage per kind and dimension (the part of the envelope it answers), its
+robustness on the bad-input cases of the same kinds (judged apart), and how many of the
+envelope's cases the repeat check asked again and how many of those answered differently
+(``nondeterministic``).
 
 A case is *within* when the engine answers it (some row not ``skip``) and no row
 of it is ``wrong`` or ``failed`` (:mod:`crosscheck.report.advise_judge`).
@@ -99,6 +101,10 @@ class EngineAdvice:
     """Answered cases not within, the worst first (all of them)."""
     robustness: dict[str, int]
     """Bad-input cases of the requested kinds and dimensions, by the worst status of each."""
+    repeated: int = 0
+    """Cases of the envelope the repeat check asked again (0: none, or no repeat check)."""
+    nondeterministic: int = 0
+    """Of those, the cases whose answer changed."""
 
     @property
     def passes(self) -> bool:
@@ -129,7 +135,19 @@ def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
         worst=_worst(run, engine, failing), failure_modes=_modes(failing),
         conventions=_modes(_worst_first(answered_rows[answered_rows["judgment"] == CONVENTION])),
         parts=parts, unsupported=unsupported,
-        failing_cases=tuple(dict.fromkeys(failing["case_id"])), robustness=worst_statuses(bad))
+        failing_cases=tuple(dict.fromkeys(failing["case_id"])), robustness=worst_statuses(bad),
+        **_repeats(rows))
+
+
+def _repeats(rows: pd.DataFrame) -> dict[str, int]:
+    """The cases of ``rows`` the repeat check asked again, and those that answered
+    differently."""
+    if "repeat_status" not in rows.columns:
+        return {"repeated": 0, "nondeterministic": 0}
+    asked = rows[rows["repeat_status"].astype(str) != ""]
+    changed = asked[asked["nondeterministic"].astype(bool)]
+    return {"repeated": int(asked["case_id"].nunique()),
+            "nondeterministic": int(changed["case_id"].nunique())}
 
 
 def _tier(answered: int, within: int, cases: int) -> str:

@@ -127,7 +127,8 @@ def _verdict(view: RunView) -> Context | None:
     if view.frame.empty:
         return None
     repros = view.stored.repros
-    return verdict.verdict(view.frame, repros) | profiles.context(view.frame, repros)
+    return verdict.verdict(view.frame, repros, view.info.repeat_check) \
+        | profiles.context(view.frame, repros)
 
 
 def _errors(view: RunView) -> Context | None:

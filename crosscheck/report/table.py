@@ -2,9 +2,12 @@
 
 One row per case x engine, with its quantities as columns (status, category, error and
 value of each), plus the case's inputs for the details the page builds on demand when a
-case link (``#case-<id>``) is followed.  A swapped twin (``twin_of``) whose statuses and
-categories equal its original's, quantity by quantity, is folded under the original (still
-in the data, for its details; not a row of its own); one that differs keeps its own row.
+case link (``#case-<id>``) is followed.  A pair the repeat check found nondeterministic
+(:mod:`crosscheck.run.repeat`) carries its second answer (``again``: per quantity
+``[status, value]``), for the badge in its status cell.  A swapped twin (``twin_of``) whose
+statuses and categories equal its original's, quantity by quantity (and that is
+nondeterministic only if its original is), is folded under the original (still in the data,
+for its details; not a row of its own); one that differs keeps its own row.
 
 The JSON is packed (gzip + base64, :func:`crosscheck.report.style.packed`): the page unpacks
 it with the browser's ``DecompressionStream`` and shows it with DataTables (from ``itables``).
@@ -62,8 +65,9 @@ def _case(case_id: str, case: AnyCase | None, first: Mapping[str, Any]) -> dict[
 def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
                  repros: Collection[str]) -> dict[str, Any]:
     """The table's data: ``quantities`` (in run order), ``cases`` (inputs, by index) and
-    ``rows`` (one per case x engine: worst status, largest error, repro link, query time and
-    per quantity ``[status, category, error, value, truth, tolerance, reason]``)."""
+    ``rows`` (one per case x engine: worst status, largest error, repro link, query time,
+    per quantity ``[status, category, error, value, truth, tolerance, reason]``, and for a
+    nondeterministic pair its second answer, ``again``)."""
     columns = [str(c) for c in frame.columns]
     quantities = [str(q) for q in dict.fromkeys(frame["quantity"])] if len(frame) else []
     index: dict[str, int] = {}
@@ -88,6 +92,9 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             str(record["status"]), str(record["category"] or ""), _number(record["error"]),
             str(record["value"]), str(record["truth"]),
             _number(record.get("tolerance", math.nan)), str(record["reason"] or "")]
+        if record.get("nondeterministic") is True:
+            row.setdefault("again", {})[str(record["quantity"])] = [
+                str(record["repeat_status"]), str(record["repeat_value"])]
     for row in rows.values():
         statuses = [q[0] for q in row["q"].values()]
         errors = [q[2] for q in row["q"].values()
@@ -102,8 +109,8 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
     return {"quantities": quantities, "cases": case_list, "rows": list(rows.values())}
 
 
-def _verdicts(row: Mapping[str, Any]) -> dict[str, tuple[str, str]]:
-    return {q: (v[0], v[1]) for q, v in row["q"].items()}
+def _verdicts(row: Mapping[str, Any]) -> tuple[dict[str, tuple[str, str]], bool]:
+    return {q: (v[0], v[1]) for q, v in row["q"].items()}, "again" in row
 
 
 def results_table(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
@@ -118,4 +125,5 @@ def results_table(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             "rows": shown, "pairs": len(data["rows"]),
             "breaking": sum(row["status"] in Status.members("breaking") and not row["folded"]
                             for row in data["rows"]),
+            "nondeterministic": sum("again" in row and not row["folded"] for row in data["rows"]),
             "quantities": data["quantities"], "cases": len(data["cases"])}

@@ -9,6 +9,9 @@ differ only in their numbers are one mode.
 The share of an engine on a kind is agree / (agree + breaking rows): skip rows
 (the engine cannot do it) and undefined rows (no defined value, whatever the
 engine did) count neither way, as in the engines x case groups matrix.
+
+The block also says what the repeat check found (:func:`repeat_counts`): how many pairs it
+asked again and, per engine, how many answered differently (``nondeterministic``).
 """
 
 from __future__ import annotations
@@ -115,6 +118,8 @@ class EngineVerdict:
     cells: list[Cell]
     overall: Cell
     modes: list[Mode] = field(default_factory=list)
+    nondeterministic: int = 0
+    """Its case x engine pairs that answered differently when the repeat check asked again."""
 
     @property
     def top(self) -> list[Mode]:
@@ -192,21 +197,45 @@ def cells(frame: pd.DataFrame) -> dict[tuple[str, str], Cell]:
     return out
 
 
+def repeat_counts(frame: pd.DataFrame) -> tuple[int, dict[str, int]]:
+    """The pairs the repeat check asked again, and per engine those that answered differently
+    (every engine of the run, 0 when none did; a frame without the repeat columns: none).
+
+    >>> rows = pd.DataFrame({"case_id": ["a", "a", "b"], "engine": ["e", "e", "f"],
+    ...     "repeat_status": ["disagree", "agree", ""], "nondeterministic": [True, True, False]})
+    >>> repeat_counts(rows)
+    (1, {'e': 1, 'f': 0})
+    """
+    counts = dict.fromkeys((str(e) for e in dict.fromkeys(frame["engine"])), 0)
+    if "repeat_status" not in frame.columns:
+        return 0, counts
+    asked = frame[frame["repeat_status"].astype(str) != ""].drop_duplicates(["case_id", "engine"])
+    for engine, changed in zip(asked["engine"], asked["nondeterministic"], strict=True):
+        counts[str(engine)] += bool(changed)
+    return len(asked), counts
+
+
 def verdicts(frame: pd.DataFrame, written: Collection[str] = ()) -> list[EngineVerdict]:
     """One verdict per engine, best overall agreeing share first (nothing judged: last)."""
     made, modes = cells(frame), failure_modes(frame, written)
+    _, changed = repeat_counts(frame)
     rows = []
     for engine in (str(e) for e in dict.fromkeys(frame["engine"])):
         row = [made.get((engine, kind), Cell(0, 0)) for kind in kinds_of(frame)]
         overall = Cell(sum(c.agree for c in row), sum(c.judged for c in row))
         rows.append(EngineVerdict(engine, row, overall,
-                                  [m for m in modes if m.engine == engine]))
+                                  [m for m in modes if m.engine == engine], changed[engine]))
     return sorted(rows, key=lambda v: 1.0 if v.overall.share is None else -v.overall.share)
 
 
-def verdict(frame: pd.DataFrame, repros: Collection[str] = ()) -> dict[str, Any]:
+def verdict(frame: pd.DataFrame, repros: Collection[str] = (),
+            repeat_check: dict[str, Any] | None = None) -> dict[str, Any]:
     """The verdict section's context: ``repros`` are the file names of the run's repro
-    scripts (:attr:`crosscheck.results.store.StoredRun.repros`)."""
+    scripts (:attr:`crosscheck.results.store.StoredRun.repros`), ``repeat_check`` the run's
+    summary of its repeat check (None: not run)."""
     rows = verdicts(frame, repros)
+    asked, changed = repeat_counts(frame)
     return {"kinds": kinds_of(frame), "rows": rows, "shown": SHOWN,
-            "modes": [m for row in rows for m in row.modes]}
+            "modes": [m for row in rows for m in row.modes],
+            "repeat": None if repeat_check is None else {
+                "asked": asked, "changed": {e: n for e, n in changed.items() if n}}}

@@ -24,10 +24,16 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   string ``"NaN"``, ``"Infinity"`` or ``"-Infinity"`` (formats 1-3: the bare
   tokens, which strict JSON rejects).  ``read_results`` upgrades older rows
   as it reads them; run.json itself is unchanged.
+- **5**: the repeat check (``crosscheck run --repeat-check``): ``repeats.jsonl`` holds the
+  second answer of every re-asked pair (:mod:`crosscheck.results.repeats`), the results
+  gain the columns ``nondeterministic``, ``repeat_value`` and ``repeat_status`` (on a run of
+  an earlier format: False, None and ``""``, "not asked again"), the options gain
+  ``repeat_check`` (False), and ``repeat_check`` here sums the check up (None: not run).
 
 A run.json of a later format (a newer crosscheck wrote it) is refused by
-:func:`migrate` with its version and how to upgrade; ``tests/data/format3-run``
-is a stored run of format 3 that ``report`` and ``compare`` must keep reading.
+:func:`migrate` with its version and how to upgrade; ``tests/data/format3-run`` and
+``tests/data/format4-run`` are stored runs of formats 3 and 4 that ``report``, ``compare``
+and ``advise`` must keep reading.
 
 >>> info = RunInfo(run_id="r", command="crosscheck run", options=RunOptions(quick=True),
 ...                machine={}, engines=(), started="2026-01-01T00:00:00+00:00")
@@ -48,7 +54,7 @@ from typing import Any
 
 from crosscheck.core.options import RunOptions
 
-FORMAT_VERSION = 4
+FORMAT_VERSION = 5
 """The version of run.json (and of the files beside it) that this harness writes."""
 
 
@@ -84,6 +90,9 @@ class RunInfo:
     (pairs timed), ``pinned``, ``yardstick`` (``start`` and ``end``: per workload, the
     median, quartiles and samples), ``binding`` (per engine: the cheapest call into its
     binding, or why there is none)."""
+    repeat_check: dict[str, Any] | None = None
+    """The repeat check (format 5; None: not run): ``pairs`` asked again, ``nondeterministic``
+    (those whose answer changed), ``seconds`` it took (summed over a resumed run's parts)."""
 
     @property
     def engine_names(self) -> list[str]:
@@ -105,7 +114,8 @@ class RunInfo:
                 "resumed": list(self.resumed), "options": self.options.to_json(),
                 "machine": self.machine, "engines": list(self.engines),
                 "case_files": list(self.case_files), "cases_run": self.cases_run,
-                "case_errors": list(self.case_errors), "timing": self.timing}
+                "case_errors": list(self.case_errors), "timing": self.timing,
+                "repeat_check": self.repeat_check}
 
     @classmethod
     def from_json(cls, data: dict[str, Any]) -> RunInfo:
@@ -116,7 +126,8 @@ class RunInfo:
                    engines=tuple(data["engines"]), started=data["started"],
                    finished=data["finished"], case_files=tuple(data["case_files"]),
                    cases_run=int(data["cases_run"]), case_errors=tuple(data["case_errors"]),
-                   resumed=tuple(data["resumed"]), timing=data.get("timing"))
+                   resumed=tuple(data["resumed"]), timing=data.get("timing"),
+                   repeat_check=data.get("repeat_check"))
 
 
 def _update_to_2(data: dict[str, Any]) -> dict[str, Any]:
@@ -133,8 +144,12 @@ def _update_to_4(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "format_version": 4}  # the results rows are upgraded as they are read
 
 
+def _update_to_5(data: dict[str, Any]) -> dict[str, Any]:
+    return {**data, "repeat_check": None, "format_version": 5}  # no repeats.jsonl: not asked
+
+
 _UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
-    1: _update_to_2, 2: _update_to_3, 3: _update_to_4}
+    1: _update_to_2, 2: _update_to_3, 3: _update_to_4, 4: _update_to_5}
 """Version N -> a function that turns a version-N run.json into version N + 1."""
 
 

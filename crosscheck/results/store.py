@@ -9,7 +9,8 @@
 - ``run.json``: a :class:`~crosscheck.results.runinfo.RunInfo` (format
   version, machine, versions, engines and their conventions, options, start
   and end times);
-- ``results.csv``: the tidy table, written from ``results.jsonl``;
+- ``results.csv``: the tidy table, written from ``results.jsonl`` (with the timing
+  phase's medians and the repeat check's second answers, :mod:`crosscheck.results.repeats`);
 - ``repro/``: a standalone script per breaking case x engine (:func:`repro_name`, written by
   :mod:`crosscheck.studies.repro`; :func:`written_repros` says which are there).
 
@@ -40,7 +41,7 @@ import pandas as pd
 from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.core.values import upgrade
-from crosscheck.results import legacy
+from crosscheck.results import legacy, repeats
 from crosscheck.results.rows import line
 from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
@@ -66,7 +67,8 @@ class ResultsStore:
     A new run refuses a directory that already holds results; ``resume=True``
     keeps the rows of every finished case x engine (all its quantities
     present), drops the rest (a half-written line, a pair cut short) and
-    appends after them.  ``done`` is the set of finished (case id, engine).
+    appends after them.  ``done`` is the set of finished (case id, engine); ``repeated``
+    those the repeat check has asked again.
     """
 
     def __init__(self, directory: Path, *, resume: bool = False) -> None:
@@ -82,6 +84,8 @@ class ResultsStore:
         self._results: IO[str] = open_append(results)
         if resume:  # drop a half-written last line, so that appends start on a line of their own
             _replace_if_exists(directory / TIMINGS)
+            _replace_if_exists(directory / repeats.FILE)
+        self.repeated: set[tuple[str, str]] = set(repeats.read_repeats(directory) if resume else ())
         timings = read_timings(directory) if resume else None
         self.timed: set[tuple[str, str]] = (
             set(zip(timings["case_id"], timings["engine"], strict=True))
@@ -118,6 +122,12 @@ class ResultsStore:
         with (self.directory / TIMINGS).open("a", encoding="utf-8") as handle:
             handle.write(record.to_json() + "\n")
         self.timed.add((record.case_id, record.engine))
+
+    def append_repeat(self, record: repeats.RepeatRecord) -> None:
+        """Append one pair's second answer to ``repeats.jsonl`` and flush."""
+        with (self.directory / repeats.FILE).open("a", encoding="utf-8") as handle:
+            handle.write(record.to_json() + "\n")
+        self.repeated.add((record.case_id, record.engine))
 
     def write_run_info(self, info: RunInfo) -> None:
         """Write ``run.json`` (replacing any previous one)."""
@@ -230,7 +240,8 @@ def _keep_finished(path: Path) -> set[tuple[str, str]]:
 
 
 def read_results(directory: Path) -> pd.DataFrame:
-    """The results of a run as a DataFrame in COLUMNS order, sorted by case, engine, quantity.
+    """The results of a run as a DataFrame in COLUMNS order, then the repeat columns
+    (:func:`~crosscheck.results.repeats.with_repeats`), sorted by case, engine, quantity.
 
     The order is the suite's (``cases.jsonl``) and the run's engine list
     (``run.json``), so it does not depend on ``--jobs`` or on resuming.
@@ -238,7 +249,7 @@ def read_results(directory: Path) -> pd.DataFrame:
     rows = [legacy.record_fields(row) for row in _parsed_lines(directory / "results.jsonl")]
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
     if not rows:
-        return frame
+        return repeats.with_repeats(frame, directory)
     frame = frame.astype({"dim": "int64", "loops": "int64"})
     for column in ("value", "truth"):  # formats 1-3 wrote "", undefined and bare NaN
         frame[column] = frame[column].map(upgrade)
@@ -251,7 +262,8 @@ def read_results(directory: Path) -> pd.DataFrame:
                      for k, q in zip(frame["kind"], frame["quantity"], strict=True)],
     })
     order = keys.sort_values(["case", "engine", "quantity"], kind="stable").index
-    return _with_timings(frame.loc[order].reset_index(drop=True), read_timings(directory))
+    frame = _with_timings(frame.loc[order].reset_index(drop=True), read_timings(directory))
+    return repeats.with_repeats(frame, directory)
 
 
 def _with_timings(frame: pd.DataFrame, timings: pd.DataFrame) -> pd.DataFrame:

@@ -4,8 +4,10 @@ Every command that runs cases (``run``, ``run --resume``, ``stability``,
 ``fuzz``, ``bench``'s scale-out figure) goes through :func:`launch`: write
 ``cases.jsonl`` then ``run.json`` (so a folder with a run.json can always be
 resumed), run every case x engine pair not yet done into the results
-store, mark the run finished, close the store.  Rendering a report is a
-separate step (``crosscheck.report``), in the manner of asv's run and publish.
+store, ask the disagreeing pairs again with ``repeat_check``
+(:mod:`crosscheck.run.repeat`), time a sample, mark the run finished, close the store.
+Rendering a report is a separate step (``crosscheck.report``), in the manner of asv's run
+and publish.
 
 >>> import tempfile
 >>> from pathlib import Path
@@ -34,6 +36,7 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.results.runinfo import RunInfo, now
 from crosscheck.results.store import ResultsStore
 from crosscheck.run import environment
+from crosscheck.run.repeat import repeat_check
 from crosscheck.run.runner import Progress, run_pending
 from crosscheck.run.timing_phase import time_phase
 
@@ -55,7 +58,8 @@ def pending(cases: Sequence[AnyCase], engines: Sequence[Adapter], store: Results
 
 
 Phases = Callable[[str, int], Callable[[int], None]]
-"""``phases(name, total)`` is called as a phase starts ("verdicts", "timing") and returns
+"""``phases(name, total)`` is called as a phase starts ("verdicts", "repeat check", "timing")
+and returns
 the function to call with the number of items each time some finish (a progress bar)."""
 
 
@@ -65,8 +69,10 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     """Write ``info`` as run.json, run what is left, time the sample, then mark it finished.
 
     The verdict pass runs every case x engine pair not yet done (``progress``, or
-    the ``"verdicts"`` phase, counts them); unless the run is ``quick`` or its
-    ``timing_cases`` is 0, the timing phase then measures a sample in quiet
+    the ``"verdicts"`` phase, counts them); with ``options.repeat_check``, the repeat check
+    then asks every disagreeing pair not yet asked again (the ``"repeat check"`` phase) and
+    records its summary in run.json; unless the run is ``quick`` or its ``timing_cases``
+    is 0, the timing phase then measures a sample in quiet
     (:mod:`crosscheck.run.timing_phase`).  The store is closed in every case.  An
     interruption (Ctrl-C) propagates after the store is closed: every finished
     row and sample is on disk, run.json says the run did not finish, and
@@ -78,6 +84,11 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
         if progress is None and phases is not None:
             progress = phases("verdicts", pending(cases, engines, store))
         run_pending(cases, engines, store, options, progress)
+        if options.repeat_check:
+            again = (lambda total: phases("repeat check", total)) if phases else None
+            info = replace(info, repeat_check=repeat_check(store, cases, engines, options,
+                                                           again, info.repeat_check))
+            store.write_run_info(info)  # kept if the timing phase is interrupted
         if not options.quick and options.timing_cases > 0:
             start = (lambda total: phases("timing", total)) if phases else None
             info = replace(info, timing=time_phase(store, cases, engines, options, start))

@@ -52,7 +52,8 @@ from crosscheck.run.execute import Executor, Outcome, execute, probe_binding, st
 from crosscheck.run.processes import CONTEXT, Resident, death, quiet_child, start
 from crosscheck.run.timing import Timing
 
-CONTEXT.set_forkserver_preload(["crosscheck.run.execute"])
+# every worker imports these: imported once in the forkserver, no worker start pays for them
+CONTEXT.set_forkserver_preload(["crosscheck.run.execute", "crosscheck.run.worker"])
 
 BINDING = "binding"
 Task = tuple[type[Adapter], AnyCase | str | None, RunOptions, bool, frozenset[str]]
@@ -257,11 +258,26 @@ class WorkerPool:
             self.recycled += 1
         return outcome
 
-    def close(self) -> None:
-        """Stop every worker."""
+    def close(self, at_once: bool = False) -> None:
+        """Stop every worker (``at_once``: kill it, without letting it tidy up)."""
         for worker in self._workers.values():
-            worker.close()
+            if at_once:
+                worker.kill()
+            else:
+                worker.close()
         self._workers.clear()
+
+
+def fresh_worker(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = False,
+                 skip: frozenset[str] = frozenset()) -> Outcome:
+    """An :class:`~crosscheck.run.execute.Executor` that runs every call in a worker process
+    started for it alone (its engine loaded and warmed up, nothing else asked there), then
+    stopped: the repeat check's second asking (:mod:`crosscheck.run.repeat`)."""
+    pool = WorkerPool(options)
+    try:
+        return pool.execute(adapter, case, options, timed, skip)
+    finally:
+        pool.close(at_once=True)  # it will answer nothing else: its exit would only cost time
 
 
 T = TypeVar("T")

@@ -3,8 +3,9 @@
 Shipped with the conformance kit so that an engine's own tests can drive the runner with
 them too.  :class:`Conforming` passes :func:`crosscheck.testing.check_adapter` (its sources
 are the harness's own oracle, so ``public_sources=False``); the others break one promise
-each on purpose: wrong answers, exceptions, hangs, aborts, segfaults, missing quantities,
-slowness that ignores Ctrl-C, memory leaks and runaway allocations.
+each on purpose: wrong answers, answers that change from process to process, exceptions,
+hangs, aborts, segfaults, missing quantities, slowness that ignores Ctrl-C, memory leaks and
+runaway allocations.
 """
 
 from __future__ import annotations
@@ -52,6 +53,23 @@ class OffByOne(_Fake):
         truth = oracle.truth(prepared)
         assert isinstance(truth.distance, float)
         return Observation(hit=truth.hit, distance=truth.distance + 1.0, normal=truth.normal)
+
+
+class DriftsWithEachQuery(_Fake):
+    """Distance off by ``STEP`` times the number of queries its process has answered (a
+    process-wide count), as an engine whose answer depends on its history: the same case
+    answers differently in a fresh process.  Everything else right."""
+
+    name: ClassVar[str] = "fake-drifts"
+    STEP: ClassVar[float] = 1e-3
+    asked: ClassVar[int] = 0
+
+    def query(self, prepared: Any) -> Observation:
+        DriftsWithEachQuery.asked += 1
+        truth = oracle.truth(prepared)
+        if not isinstance(truth.distance, float):
+            return truth
+        return replace(truth, distance=truth.distance + self.STEP * self.asked)
 
 
 class Raises(_Fake):

@@ -29,7 +29,9 @@ Nothing computed is lost:
 - Ctrl-C of an isolated run: ``test_ctrl_c.py``;
 - a report that fails to render: ``test_report_failure.py``;
 - a second run into a folder in use is refused (a lock): ``test_one_run_per_folder.py``;
-- 100,000 cases in flat resident memory: ``test_flat_memory.py``.
+- 100,000 cases in flat resident memory: ``test_flat_memory.py``;
+- the repeat check interrupted and resumed, each pair asked again once:
+  ``test_repeat_check_resume.py`` (what it flags: ``tests/run/test_repeat_check.py``).
 
 (A fuzz campaign killed and resumed: ``tests/studies/test_fuzz_campaign.py``.)
 """

@@ -11,6 +11,14 @@ a run of a later one with its version and how to upgrade.
 
 Its ``value`` and ``truth`` columns hold every token of formats 1 to 3 that strict JSON
 rejects or reads differently: ``""``, ``undefined``, and bare ``NaN`` and ``Infinity``.
+
+``tests/data/format4-run`` was written by the harness of the commit before format 5 (the
+repeat check; ``git archive`` of that commit, whose ``FORMAT_VERSION`` is 4), with
+disagreeing rows, which a format-5 run with ``--repeat-check`` would have asked again:
+
+    PYTHONPATH=. python -m crosscheck.cli run cases/sphere.toml --engine reference \
+        --engine reference-f32 --quick --out out/format4-run
+    cp out/format4-run/{run.json,cases.jsonl,results.jsonl} tests/data/format4-run/
 """
 
 from __future__ import annotations
@@ -29,6 +37,7 @@ from crosscheck.results.store import read_results, read_run_info
 from tests.conftest import ROOT
 
 FORMAT3 = Path(__file__).resolve().parent.parent / "data" / "format3-run"
+FORMAT4 = Path(__file__).resolve().parent.parent / "data" / "format4-run"
 
 
 def copy_of(source: Path, target: Path) -> Path:
@@ -106,4 +115,32 @@ def test_a_run_of_a_later_format_is_refused_naming_its_version(
     assert main(argv) == 2
     message = " ".join(capsys.readouterr().err.split())
     assert "format 99" in message and "newer crosscheck" in message and "upgrade" in message
-    assert "reads formats 1, 2, 3, 4" in message and "Traceback" not in message
+    assert "reads formats 1, 2, 3, 4, 5" in message and "Traceback" not in message
+
+
+@pytest.mark.parametrize("fixture", [FORMAT3, FORMAT4], ids=["format3", "format4"])
+def test_a_run_before_the_repeat_check_reads_as_not_asked_again(fixture: Path) -> None:
+    assert json.loads((fixture / "run.json").read_text())["format_version"] < 5
+    frame = read_results(fixture)
+    assert len(frame) == len((fixture / "results.jsonl").read_text().splitlines())
+    assert (frame["status"] == "disagree").any()  # rows a repeat check would have asked again
+    assert not frame["nondeterministic"].any() and frame["nondeterministic"].dtype == bool
+    assert (frame["repeat_status"] == "").all() and frame["repeat_value"].isna().all()
+    info = read_run_info(fixture)
+    assert info.repeat_check is None and info.options.repeat_check is False
+
+
+def test_report_and_advise_read_a_format_4_run(tmp_path: Path,
+                                               capsys: pytest.CaptureFixture[str]) -> None:
+    run = copy_of(FORMAT4, tmp_path / "run")
+    assert main(["report", str(run)]) == 0
+    page = (run / "report.html").read_text()
+    assert "Repeat check</b>: not run" in page
+    assert "nondeterministic" in (run / "results.csv").read_text().splitlines()[0]
+    capsys.readouterr()
+    assert main(["advise", str(run), "--json"]) == 0
+    advice = json.loads(capsys.readouterr().out)
+    assert advice["repeat_checked"] is False
+    assert all(e["repeated"] == 0 == e["nondeterministic"]
+               for e in advice["baselines"] + advice["passing"] + advice["partial"]
+               + advice["failing"])
