@@ -70,13 +70,16 @@ Conventions (each from Box2D's source as pybox2d 2.3.10 bundles it, ``SOURCES``)
   corner-touching boxes of radius 0 do NOT (the incident edge clips to no point at the
   reference face's side planes: measured); with the default skins they do (within 0.02).
   Declared per variant: tuned sphere/face contact, corner apart; default all contact.
-- margins: ``b2_epsilon`` (FLT_EPSILON, 1.19e-7) everywhere: Box2D uses it as an absolute
-  length tolerance (b2Distance.cpp: GJK stops as "overlapped" below it, and with radii a
-  distance not above it reads 0; b2Collision.cpp: circle centres closer than it get the
-  normal (1, 0)); measured: spheres of radius 1e-9 a gap of 1e-12 apart read 0, boxes of
-  half-width 1e-9 a gap of 2e-9 apart read 4e-9.  Default: plus 0.02 at faces and corners
-  (two ``b2_polygonRadius`` = 2 x 2 ``b2_linearSlop``, b2Settings.h): the verdict counts
-  gaps up to it as contact and the distance is the gap less it.
+- margins (distance and normal): ``b2_epsilon`` (FLT_EPSILON, 1.19e-7) everywhere: Box2D
+  uses it as an absolute length tolerance (b2Distance.cpp: GJK stops as "overlapped" below
+  it, and with radii a distance not above it reads 0; b2Collision.cpp: circle centres
+  closer than it get the normal (1, 0)); measured: spheres of radius 1e-9 a gap of 1e-12
+  apart read 0, boxes of half-width 1e-9 a gap of 2e-9 apart read 4e-9.  Default: plus
+  0.02 at faces and corners (two ``b2_polygonRadius`` = 2 x 2 ``b2_linearSlop``,
+  b2Settings.h): the distance is the gap less it.  The verdict does not use
+  ``b2_epsilon`` (``distSqr > radius * radius`` and ``separation > totalRadius`` reject,
+  b2CollideCircle.cpp, b2CollidePolygon.cpp): its margins (``verdict_margins``) are none in
+  the tuned variant and the two skins, 0.02 at faces and corners, in the default one.
 - rtol ``RTOL`` = 2^-21 (8 float32 units of 2^-24), of the case's size: every input is
   rounded to float32 and every operation is float32.  Measured on 2,000 random unit box
   pairs at a 1e6 offset, gaps 0.05 to 1: distance off by a median 0.018, worst 0.060 (the
@@ -88,9 +91,12 @@ Conventions (each from Box2D's source as pybox2d 2.3.10 bundles it, ``SOURCES``)
 - separating contacts: the accumulated normal impulse is clamped at 0, so bodies already
   moving apart are left alone (``resolves_separating`` False).
 - time step: each variant's dt (1e-3, 1/60), fixed; damping 0 (``linearDamping`` default 0).
-  ``b2_maxTranslation`` = 2 m per step (b2Island.cpp): a faster body has its velocity
-  scaled down, so speeds above 2000 m/s (tuned) or 120 m/s (default) are clipped; the
-  suite's fastest body moves at 5 m/s, and no case is clipped.
+  ``b2_maxTranslation`` = 2 m per step (b2Island.cpp: after the velocity constraints are
+  solved, a body whose step ``h v`` is longer has ``v`` scaled down to it, and keeps the
+  scaled velocity): declared ``max_speed`` 2 / dt, 2000 m/s (tuned) or 120 m/s (default),
+  acting at the end of every step (``max_speed_at`` "step").  The ``speed-cap`` cases of
+  cases/response.toml exercise it (touching pairs at 200 to 3000 m/s: the contact is
+  solved in the first step with the case's speeds, then the result is clipped).
 - zero mass: refused (``zero_mass`` ""): ``SetMassData`` silently reads a mass <= 0 as 1
   (b2Body.cpp), so the adapter raises ``ValueError`` instead (recorded as ``error``).
 - negative sizes: refused (``negative_extents`` ""): ``SetAsBox`` with a negative half-width
@@ -114,9 +120,10 @@ shorter than ``b2_epsilon`` gives a manifold normal that is not a unit vector (i
 the edge's, 0 for a zero-size box: ``b2Vec2::Normalize`` leaves a vector shorter than
 ``b2_epsilon`` as it is, b2Math.h; reported as the engine gives it); a response at a 1e8
 offset rounds 3-4-5 neighbours onto one float32 point, so the bodies collide along (1, 0);
-the default variant's friction (0.2) changes every oblique response (no convention covers
-friction).  Coincident circles get normal (1, 0) (centres within ``b2_epsilon``); coincident
-boxes the first face of least overlap, (0, -1).
+the default variant's friction (0.2) changes every oblique response (declared:
+``friction`` 0.2, judged by :mod:`crosscheck.truth.contact_model`).  Coincident circles
+get normal (1, 0) (centres within ``b2_epsilon``); coincident boxes the first face of least
+overlap, (0, -1).
 
 (Longer than 400 lines: about 160 of them are this docstring, the conventions as measured with
 their sources; the code is two short paths, detection and stepped response, and one guard.)
@@ -159,6 +166,8 @@ RTOL = 2.0**-21
 """8 float32 units (2^-24) of the case's size."""
 THRESHOLD = 1.0 + 2.0**-23
 """b2_velocityThreshold (1 m/s), bounced only strictly above, compared in float32."""
+MAX_TRANSLATION = 2.0
+"""b2_maxTranslation: the longest step a body may take (m); faster velocities are scaled."""
 B2_EPSILON = 2.0**-23
 """b2_epsilon (FLT_EPSILON): the absolute length below which Box2D's geometry gives up."""
 SKIN = 0.02
@@ -339,11 +348,13 @@ DEFAULT_FRICTION = 0.2
 def _conventions(variant: Variant, settings: str) -> Conventions:
     skin = variant.polygon_radius is None
     box_margin = B2_EPSILON + (SKIN if skin else 0.0)
+    verdict = {"face": SKIN, "corner": SKIN} if skin else {}
     return Conventions(
         box_extents="half (box=(hx, hy) calls b2PolygonShape::SetAsBox(hx, hy))",
         normal="A to B (b2WorldManifold.normal; apart: b2Distance pointA -> pointB); as is",
         touching={"sphere": True, "face": True, "corner": skin},
         margins={"sphere": B2_EPSILON, "face": box_margin, "corner": box_margin},
+        verdict_margins=verdict,
         rtol=RTOL,
         restitution="max of the fixtures' restitutions (b2MixRestitution); A = e, B = 0",
         restitution_threshold=THRESHOLD,
@@ -351,6 +362,8 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
         time_step=variant.dt,
         damping=0.0,
         friction=DEFAULT_FRICTION if variant.friction is None else variant.friction,
+        max_speed=MAX_TRANSLATION / variant.dt,
+        max_speed_at="step",
         zero_mass="",
         negative_extents="",
         notes=_NOTES + settings,
@@ -363,7 +376,9 @@ _NOTES = ("float32 engine (inputs rounded to float32). Detection: b2CollidePolyg
           "No penetration depth: the distance of a colliding pair is not reported (skip). "
           "Touching circles and face-touching boxes collide. Restitution threshold 1 m/s "
           "(b2_velocityThreshold, compiled in; bounce only when vRel < -1 in float32). "
-          "Velocities above 2 m per step are clipped (b2_maxTranslation); no suite case is. "
+          "Velocities above 2 m per step are clipped at the end of each step "
+          "(b2_maxTranslation: declared max_speed 2 / dt). The verdict has no b2_epsilon: "
+          "only the polygon skins (default) act on it. "
           "Refused (ValueError): negative sizes, mass <= 0 (Box2D reads it as 1), negative "
           "restitution, non-finite detection inputs and radii. ")
 

@@ -62,11 +62,16 @@ keeps; every fact below was measured here on 3.0.3):
 - the box support function also picks the centre on any axis whose direction component is
   within 1e-12 (absolute) of 0, and GJK starts from the unit ray (1, 0, 0): below a size of
   about 1e-7 boxes fail (EPA returns -DBL_MAX with a NaN normal, GJK gives positive
-  distances for overlapping boxes), whatever the tolerance, an inaccuracy left as ``error``.
-- margins per feature: sphere 1e-12 (the verdict threshold); face, edge, corner: the GJK/EPA
-  tolerance's absolute part plus the threshold (``coal-default`` 1e-6 + 1e-12, ``coal``
-  1e-12 + 1e-12).  rtol 2e-10 (the box inflation; the tuned tolerance's relative part,
-  1e-12 x M <= 4e-12 x the case's largest number, and float64 rounding fit in it).
+  distances for overlapping boxes), whatever the tolerance.  coal documents no such rule,
+  so none is declared (``no_value`` ()): the failed query is an ``error``, its distance
+  (-1.8e308) and its normal (NaN, reported Undefined) alike, with one reason.
+- margins per feature and quantity: the verdict threshold 1e-12 acts on the verdict alone
+  (``verdict_margins``: sphere 1e-12; face, edge, corner the GJK/EPA tolerance's absolute
+  part plus it, ``coal-default`` 1e-6 + 1e-12, ``coal`` 1e-12 + 1e-12); the GJK/EPA
+  tolerance also acts on box distances and normals (``margins``: face, edge, corner 1e-6
+  or 1e-12; none at spheres, whose distance is analytic).  rtol 2e-10 (the box inflation;
+  the tuned tolerance's relative part, 1e-12 x M <= 4e-12 x the case's largest number, and
+  float64 rounding fit in it).
 - no dynamics: no time step (None), no damping, no masses (``zero_mass`` "").
 - negative sizes are read literally (``negative_extents`` ""): ``halfSide`` keeps its sign
   and a sphere's distance is ``|d| - ra - rb`` as given (measured: the textbook's literal
@@ -239,8 +244,9 @@ def _conventions(box_margin: float, tolerance: str) -> Conventions:
                     "half-widths)",
         normal="o1 to o2 (DistanceResult.normal), i.e. A to B; no flip",
         touching=dict.fromkeys(FEATURES, True),
-        margins={"sphere": COLLISION_THRESHOLD,
-                 **dict.fromkeys(("face", "edge", "corner"), box_margin + COLLISION_THRESHOLD)},
+        margins=dict.fromkeys(("face", "edge", "corner"), box_margin),
+        verdict_margins={"sphere": COLLISION_THRESHOLD, **dict.fromkeys(
+            ("face", "edge", "corner"), box_margin + COLLISION_THRESHOLD)},
         rtol=BOX_RTOL,
         restitution="not applicable: coal has no dynamics",
         time_step=None,

@@ -34,13 +34,12 @@ first step whose solver pushed A and B apart; ``resolved_at`` is the centres at 
 Variants (the sources are in ``SOURCES``; Rapier files at tag v0.35.2, the nearest tag to
 0.36.1 we can read, parry files at v0.25.3; every fact below was re-measured with 0.36.1):
 
-- ``rapier``: detection at prediction distance 0 (the textbook rule for spheres:
-  ``dist < 0``).  Responses: ``normalized_prediction_distance`` 0,
-  ``normalized_max_linear_velocity`` f32::MAX (the default 400 m/s caps the speed after each
-  substep: 1000 m/s read 399.998, measured), dt 1/60 set explicitly, bodies
-  ``soft_ccd_prediction`` 1e30 (predictive contacts whatever the step's travel), rotations
-  locked, no sleeping, damping 0, friction 0, restitution rule Multiply with A = e and
-  B = 1 (e exactly); why not a smaller dt: see :mod:`adapters.rapier_response`.
+- ``rapier``: detection at prediction distance 0 (``dist < 0``).  Responses:
+  ``normalized_prediction_distance`` 0, ``normalized_max_linear_velocity`` f32::MAX (no
+  speed cap), dt 1/60 set explicitly, bodies ``soft_ccd_prediction`` 1e30 (predictive
+  contacts whatever the step's travel), rotations locked, no sleeping, damping 0, friction
+  0, restitution rule Multiply with A = e and B = 1 (e exactly); why not a smaller dt: see
+  :mod:`adapters.rapier_response`.
 - ``rapier-default``: only geometry, masses, velocities and restitution (both colliders e,
   averaged by the default rule: e exactly), plus ``ActiveCollisionTypes.all()`` for
   detection; prediction distance 0.02 (``IntegrationParameters().prediction_distance()``),
@@ -52,9 +51,9 @@ Conventions (declared in ``TUNED`` and ``DEFAULT``):
   (``ContactManifoldData.normal`` = collider1's rotation x ``local_n1``) [pair_update.rs].
 - touching: a contact needs ``dist < prediction`` [contact_manifolds_ball_ball.rs,
   pair_update.rs].  ``rapier``: touching is apart at every feature (textbook for spheres,
-  not for boxes).  ``rapier-default``: touching and any gap below 0.02 is contact: touching
-  True at every feature and margin 0.02 (0.019999999552965164) at every feature
-  [integration_parameters.rs].
+  not for boxes).  ``rapier-default``: touching and gaps below 0.02 are contact (touching
+  True, ``verdict_margins`` 0.019999999552965164 at every feature, integration_parameters.rs):
+  the verdict only; distance and normal come from the wide pass (``margins`` {}).
 - precision: f32 throughout, rtol 2^-21 (4 float32 ulps of the case's size; measured on
   2,000 random sphere and 2,000 box pairs at scales 1e-3 to 1e3: distances within 2.1e-7 x
   size; responses within 2^-21 x the speed but for the f32-gap effect above).
@@ -65,15 +64,20 @@ Conventions (declared in ``TUNED`` and ``DEFAULT``):
   normal impulse, which is clamped at >= 0 [contact_constraint_element.rs]: bodies already
   separating are left alone (``resolves_separating`` False).
 - time step: 1/60 s in both; damping 0 (rapier's default linear damping is 0).
+- speed cap: "Maximum linear velocity a body may have after each solver substep" (400 m/s)
+  [integration_parameters.rs], before the bounce [contact_constraint_element.rs]: declared
+  "before restitution" in ``rapier-default`` (measured, ``speed-cap`` cases of
+  cases/response.toml: A at 1000 m/s onto B, e = 1: plastic 500 each, capped to 400, then
+  bounce -+500: -100 and 900); ``rapier`` none.
 - mass 0 is immovable: parry's ``MassProperties`` stores ``inv(m)``, 0 for m = 0 exactly
   ("zero = infinite mass") [mass_properties.rs, utils/inv.rs]; ``zero_mass`` "static"
   (measured: a body of mass 0 at -1 sends the other back at -3 and keeps its velocity; a
   mass of 1e-21 is still a light body).  An infinite mass is immovable too.
-- negative sizes read literally (``negative_extents`` ""): a ball of radius -0.5 at 0.75
-  from a unit ball reads 0.25 apart (0.75 - 1 + 0.5), a cuboid with half-width -1 on x
-  answers as the literal per-axis formula (measured).
+- negative sizes read literally (``negative_extents`` ""; measured: a ball of radius -0.5 at
+  0.75 from a unit ball reads 0.25 apart, a cuboid of half-width -1 the per-axis formula).
 
-Faults measured here (and pinned in tests/adapters/test_rapier.py):
+Faults measured here (pinned in tests/adapters/test_rapier.py; none is a documented rule, so
+no ``no_value`` is declared and a missing value is ``error``):
 
 - NaN anywhere, or an infinite centre or size, is ignored without a word (no contact pair,
   hit False; a NaN mass: no contact; a NaN restitution: no bounce).  ``check_inputs`` raises
@@ -88,8 +92,8 @@ Faults measured here (and pinned in tests/adapters/test_rapier.py):
   the spacing is 8: a 3-4-5 pair there reads coincident).
 - separated boxes get a point in the wide pass only where the support faces overlap in
   projection (face, some edge and corner gaps); otherwise the distance is Undefined.
-- a negative mass: when 1/ma + 1/mb < 0 the clamped impulse is 0 and the bodies pass
-  through each other; a negative restitution is read as 0 (no bounce).
+- a negative mass (1/ma + 1/mb < 0): no impulse, the bodies pass through each other; a
+  negative restitution is read as 0.
 """
 
 from __future__ import annotations
@@ -129,10 +133,10 @@ SOURCES = (
     PARRY + "mass_properties/mass_properties.rs",
     PARRY + "utils/inv.rs",
 )
-F32_MAX = 3.4028234663852886e38
-"""The largest finite float32: rapier's ``Real``."""
+F32_MAX = 3.4028234663852886e38  # the largest finite float32: rapier's Real
 DEFAULT_PREDICTION = 0.019999999552965164
 """``IntegrationParameters().prediction_distance()``: 0.02 (as float32) x length_unit 1."""
+DEFAULT_MAX_SPEED = 400.0  # normalized_max_linear_velocity x length_unit 1 (m/s)
 DEFAULT_DT = 0.01666666753590107
 """``IntegrationParameters().dt``: 1/60 as float32."""
 TUNED_DT = 1.0 / 60.0
@@ -257,9 +261,9 @@ _NOTES = ("Detection: narrow phase of two standalone colliders (ActiveCollisionT
           "reaches past any gap (Undefined when rapier gives none: zero-size boxes, boxes of "
           "half-width <= 1.7e-4, some edge or corner gaps).  Responses: first step whose "
           "solver put an impulse on the pair; resolved_at = centres at its start.  f32: "
-          "centres far from the origin lose small gaps.  Mass 0 is immovable (inverse "
-          "mass 0); with 1/ma + 1/mb < 0 no impulse; negative restitution reads as 0.  "
-          "NaN or infinite geometry is ignored by rapier, so the adapter raises.  ")
+          "centres far from the origin lose small gaps.  Mass 0 is immovable; with 1/ma + "
+          "1/mb < 0 no impulse; negative restitution reads as 0; NaN or infinite geometry: "
+          "the adapter raises (rapier ignores it).  ")
 TUNED = Conventions(
     box_extents="half (SharedShape.cuboid takes half-extents)",
     normal="ContactManifoldData.normal points from collider1 to collider2: A to B (negated if "
@@ -280,14 +284,15 @@ TUNED = Conventions(
 DEFAULT = replace(
     TUNED,
     touching=dict.fromkeys(FEATURES, True),
-    margins=dict.fromkeys(FEATURES, DEFAULT_PREDICTION),
+    verdict_margins=dict.fromkeys(FEATURES, DEFAULT_PREDICTION),
+    max_speed=DEFAULT_MAX_SPEED, max_speed_at="before restitution",
     restitution="rapier's default rule Average, both colliders e: (e + e) / 2 = e exactly",
     time_step=DEFAULT_DT,
     friction=0.5,
     notes=_NOTES + ("Defaults: prediction 0.02 (touching and gaps below it are contact), "
                     "friction 0.5 (ColliderBuilder default, combined by Average) and free "
                     "rotation: oblique responses lose tangential speed to friction (declared), "
-                    "speeds capped at 400."),
+                    "speed cap 400 before the bounce (declared max_speed)."),
 )
 
 

@@ -12,7 +12,11 @@ tolerance is the rounding of a handful of operations in the declared precision.
 The formula has no time step or damping (``time_step`` None, ``damping`` 0), takes a
 zero mass as the number 0 (``zero_mass`` "") and a negative radius or half-width as the
 number it is (``negative_extents`` "": the textbook's literal reading, which is the
-oracle's).
+oracle's).  The textbook defines no normal for coincident centres or a tie of box axes
+(and no response for coincident centres) [reference_impl.formulas]; each variant declares
+that rule on its own float numbers (``no_value`` "float64-textbook" or
+"float32-textbook"): where rounding makes centres coincide or axes tie that the exact case
+keeps apart, the engine gives no value by its rule, a ``convention``.
 """
 
 from __future__ import annotations
@@ -50,7 +54,9 @@ class ReferenceF64(Adapter):
         damping=0.0,
         zero_mass="",
         negative_extents="",
-        notes="Faithful textbook code; float64 throughout.",
+        no_value=("float64-textbook",),
+        notes="Faithful textbook code; float64 throughout; no normal (nor response) where the "
+              "computed centres coincide or the box axes tie.",
         sources=TEXTBOOK,
     )
 
@@ -77,6 +83,8 @@ class ReferenceF32(ReferenceF64):
         damping=0.0,
         zero_mass="",
         negative_extents="",
-        notes="Inputs rounded to float32, every operation in float32.",
+        no_value=("float32-textbook",),
+        notes="Inputs rounded to float32, every operation in float32; no normal (nor "
+              "response) where the rounded centres coincide or the box axes tie.",
         sources=TEXTBOOK,
     )

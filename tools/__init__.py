@@ -9,7 +9,11 @@
 - :mod:`tools.measure_report`: a report page's load figures in headless Chromium
   (``python -m tools.measure_report RUN_DIR``);
 - :mod:`tools.measure_setup`: the set-up time of ``make venv`` and ``make test`` in a fresh
-  clone (``python -m tools.measure_setup``).
+  clone (``python -m tools.measure_setup``);
+- :mod:`tools.stiff_precision`: the precision of the stiff MuJoCo contact, measured on random
+  cases outside the suite (the source of that variant's ``response_rtol``);
+- :mod:`tools.label_changes`: the label changes between two runs, per engine variant, in
+  Markdown (``python -m tools.label_changes OLD_RUN NEW_RUN``).
 
 Nothing in the harness imports this package: it is not installed with it.
 """

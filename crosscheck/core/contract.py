@@ -27,9 +27,11 @@ Capability = tuple[Kind, int]
 
 TEXTBOOK_TOUCHING: dict[str, bool] = {"sphere": False, "face": True, "edge": True,
                                       "corner": True}
+"""The textbook's rule: touching boxes overlap (any feature); touching spheres do not collide."""
 FEATURES = tuple(TEXTBOOK_TOUCHING)
 """Where two bodies meet: a sphere, or a box's face, edge or corner."""
-"""The textbook's rule: touching boxes overlap (any feature); touching spheres do not collide."""
+SPEED_CAP_STAGES = ("", "step", "before restitution")
+"""Where a declared speed cap acts (see :class:`Conventions`; '': no cap)."""
 
 
 def all_capabilities(*kinds: Kind, dims: tuple[int, ...] = (2, 3)) -> frozenset[Capability]:
@@ -64,6 +66,23 @@ class Conventions:
     ``restitution``); ``friction`` the Coulomb coefficient that acts between
     the bodies in responses (0: frictionless, as the textbook).  Both are read
     by :mod:`crosscheck.truth.contact_model`.
+
+    What acts on which quantity (:mod:`crosscheck.truth.allowance`):
+    ``verdict_margins`` maps a feature to a threshold that acts on the verdict
+    alone (a prediction distance, a collision threshold, a polygon skin); None
+    when the verdict has the same margins as lengths.  ``response_rtol`` is the
+    precision of a response's velocities relative to the case's largest speed,
+    where it is not the arithmetic ``rtol`` (a contact model solved to a
+    measured precision; None: ``rtol``).  ``no_value`` names the declared
+    configurations in which the engine gives no value (rules of
+    :mod:`crosscheck.truth.no_value`): an answer without a value anywhere else
+    is an ``error``.  ``max_speed`` is a speed cap (m/s; None: none) and
+    ``max_speed_at`` where it acts: ``"step"`` on each body's velocity at the
+    end of every step, ``"before restitution"`` after the contact solve and
+    before the bounce is added.  ``sampled_contacts`` is True for an engine
+    that looks for contacts only at the start of each step and pushes only
+    bodies that overlap there (no continuous or predictive contact): a contact
+    shorter than a step can fall between two steps.
     """
 
     box_extents: str = "half"
@@ -80,8 +99,20 @@ class Conventions:
     negative_extents: str = ""
     restitution_model: str = ""
     friction: float = 0.0
+    verdict_margins: dict[str, float] | None = None
+    response_rtol: float | None = None
+    no_value: tuple[str, ...] = ()
+    max_speed: float | None = None
+    max_speed_at: str = ""
+    sampled_contacts: bool = False
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        if (self.max_speed is None) != (self.max_speed_at == ""):
+            raise ValueError("max_speed and max_speed_at are declared together")
+        if self.max_speed_at not in SPEED_CAP_STAGES:
+            raise ValueError(f"max_speed_at {self.max_speed_at!r} not one of {SPEED_CAP_STAGES}")
 
     def margin_for(self, feature: str) -> float:
         """The declared distance tolerance at ``feature`` (0 where none is declared).
@@ -92,6 +123,19 @@ class Conventions:
         0.0
         """
         return self.margins.get(feature, 0.0)
+
+    def verdict_margin_for(self, feature: str) -> float:
+        """The declared threshold of the verdict at ``feature``: ``verdict_margins`` where
+        declared, else the length margin.
+
+        >>> Conventions(margins={"face": 1e-7}, verdict_margins={}).verdict_margin_for("face")
+        0.0
+        >>> Conventions(margins={"face": 1e-7}).verdict_margin_for("face")
+        1e-07
+        """
+        if self.verdict_margins is None:
+            return self.margin_for(feature)
+        return self.verdict_margins.get(feature, 0.0)
 
     def touching_is_contact(self, feature: str) -> bool:
         """Whether the engine counts exact touching at ``feature`` as contact.

@@ -2,131 +2,54 @@
 
 Every disagreement gets exactly one category, tried in this order:
 
+0. an answer with no finite value (Undefined, NaN, infinite, the largest double) is an
+   ``error``, unless a declared rule says the engine gives no value for this
+   configuration (``convention``); one failed query gets one reason for all its
+   quantities (:mod:`crosscheck.truth.no_value`);
 1. ``convention``: a rule the engine documents differs from the textbook's, and
    it fires on this case: its touching rule at an exact touch, its reading of a
-   negative size or of a zero mass, leaving separating bodies alone, a
-   restitution threshold above the approach speed, or (responses) a declared
-   soft contact or friction that the engine's impulse fits
-   (:mod:`crosscheck.truth.contact_model`);
+   negative size, and for responses the rules of
+   :mod:`crosscheck.truth.response_rules` (a zero mass, separating bodies, a
+   restitution threshold, a speed cap) or a declared soft contact or friction that
+   the engine's impulse fits (:mod:`crosscheck.truth.contact_model`);
 2. ``timestep``: (responses) the engine resolved the contact after a step into
    penetration, and its answer is right for the centres where it first reported
-   the contact; the error there is recorded beside the error against the case;
-3. ``tolerance``: within the engine's declared precision (``rtol`` x the case's
-   size) plus its declared margin at the feature where the bodies meet; for a
-   verdict or a normal, when the gap itself is within that allowance; a normal
-   taken across the gap tilts by the allowance over the gap;
+   the contact (the error there is recorded beside the error against the case); or
+   the engine samples contacts at step starts and the contact fell between two;
+3. ``tolerance``: within the engine's declared allowance for the quantity
+   (:mod:`crosscheck.truth.allowance`: its precision on the case's numbers plus the
+   margin that acts on that quantity); for a verdict or a normal, when the gap itself
+   is within that allowance; a normal taken across the gap tilts by the allowance
+   over the gap;
 4. ``error``: explained by none of these.
 
-Every reason is built from the rule that fired, with its numbers, and cites a
-margin only for a feature that has one.
+Every reason is built from the rule that fired, with its numbers, and cites only the
+allowances that act on its quantity.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from fractions import Fraction
 
 from crosscheck.core.contract import TEXTBOOK_TOUCHING, Conventions
-from crosscheck.core.geometry import approach_speed as approach
 from crosscheck.core.geometry import difference, norm
 from crosscheck.core.model import Category, Observation, Undefined, Value
 from crosscheck.core.schema import AabbCase, PairCase, ResponseCase
-from crosscheck.truth import contact_model, oracle
+from crosscheck.truth import contact_model, no_value, oracle, response_rules
+from crosscheck.truth.allowance import (
+    Allowance,
+    allowance,
+    approach_speed,
+    length_scale,
+    nearest_feature,
+    touch_feature,
+    velocity_scale,
+)
 from crosscheck.truth.bounds import bound, error_of
 
-
-def _finite_abs(xs: list[float]) -> list[float]:
-    return [abs(x) for x in xs if math.isfinite(x)]
-
-
-def length_scale(case: PairCase) -> float:
-    """The size of the case's numbers: largest |coordinate|, radius or half-width."""
-    nums = [*case.a.center, *case.b.center]
-    nums += [*case.a.half, *case.b.half] if isinstance(case, AabbCase) else [
-        case.a.radius, case.b.radius]
-    return max(_finite_abs(nums), default=0.0)
-
-
-def velocity_scale(case: PairCase) -> float:
-    """Largest |velocity component| of a response case (0 for detection cases)."""
-    if not isinstance(case, ResponseCase):
-        return 0.0
-    return max(_finite_abs([*case.a.velocity, *case.b.velocity]), default=0.0)
-
-
-def approach_speed(case: ResponseCase) -> float:
-    """Speed at which A and B approach along their line of centres (negative: separating)."""
-    return approach(case.a.center, case.b.center, case.a.velocity, case.b.velocity)
-
-
-def _features_apart(case: AabbCase, exact_touch: bool) -> int:
-    def apart(ca: float, cb: float, ha: float, hb: float) -> bool:
-        d, s = abs(Fraction(cb) - Fraction(ca)), Fraction(ha) + Fraction(hb)
-        return d == s if exact_touch else d >= s
-    return sum(apart(*x) for x in zip(case.a.center, case.b.center, case.a.half, case.b.half,
-                                       strict=True))
-
-
-def _feature(case: PairCase, axes: int) -> str:
-    if not isinstance(case, AabbCase):
-        return "sphere"
-    if axes <= 1:
-        return "face"
-    return "edge" if axes == 2 and case.dim == 3 else "corner"
-
-
-def touch_feature(case: PairCase) -> str:
-    """Where two exactly touching bodies meet: ``sphere``, or a box ``face``/``edge``/``corner``.
-
-    >>> from crosscheck.testing.samples import box_pair
-    >>> touch_feature(box_pair([0.0, 0.0], [0.5, 0.5], [1.0, 1.0], [0.5, 0.5]))
-    'corner'
-    """
-    return _feature(case, _features_apart(case, True) if isinstance(case, AabbCase) else 0)
-
-
-def nearest_feature(case: PairCase) -> str:
-    """Where the bodies are nearest: ``sphere``, or the box ``face``, ``edge`` or ``corner``.
-
-    A box pair separated (or touching) along one axis meets at a face, along two
-    at an edge (a corner in 2-D), along three at a corner; overlapping boxes
-    meet across a face.
-
-    >>> from crosscheck.testing.samples import box_pair
-    >>> nearest_feature(box_pair([0.0, 0.0], [0.5, 0.5], [2.0, 3.0], [0.5, 0.5]))
-    'corner'
-    >>> nearest_feature(box_pair([0.0, 0.0], [0.5, 0.5], [0.5, 0.2], [0.5, 0.5]))
-    'face'
-    """
-    return _feature(case, _features_apart(case, False) if isinstance(case, AabbCase) else 0)
-
-
-@dataclass(frozen=True, slots=True)
-class Allowance:
-    """An engine's declared tolerance for one quantity of one case, and where it comes from."""
-
-    margin: float
-    feature: str
-    rtol: float
-    size: float
-
-    @property
-    def total(self) -> float:
-        return self.margin + self.rtol * self.size
-
-    def __str__(self) -> str:
-        margin = f"margin {self.margin:.3g} at a {self.feature} + " if self.margin else ""
-        return (f"declared tolerance {self.total:.3g} ({margin}precision "
-                f"{self.rtol:.3g} x size {self.size:.3g})")
-
-
-def allowance(case: PairCase, conv: Conventions, quantity: str) -> Allowance:
-    """The declared tolerance: margins bound lengths at their feature, never velocities."""
-    if quantity in ("v1", "v2"):
-        return Allowance(0.0, "", conv.rtol, velocity_scale(case))
-    feature = nearest_feature(case)
-    return Allowance(conv.margin_for(feature), feature, conv.rtol, length_scale(case))
+__all__ = ["Allowance", "Explained", "allowance", "approach_speed", "categorize",
+           "length_scale", "nearest_feature", "touch_feature", "velocity_scale"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -184,26 +107,14 @@ def _with_absolute_sizes(case: PairCase) -> PairCase:
                                    "b": case.b.model_copy(update={"radius": abs(case.b.radius)})})
 
 
-def _response_rule(case: ResponseCase, conv: Conventions) -> str:
-    zero = [side for side, body in (("A", case.a), ("B", case.b)) if body.mass == 0]
-    if zero and conv.zero_mass == "static":
-        return (f"body {zero[0]} has mass 0: the engine makes it static (immovable), the "
-                "textbook gives it no inertia")
-    speed = approach_speed(case)
-    if speed <= 0 and not conv.resolves_separating:
-        return (f"bodies already separating (approach speed {speed:.3g} <= 0): the engine "
-                "leaves them alone, the textbook exchanges momentum regardless")
-    if 0 < speed < conv.restitution_threshold:
-        return (f"approach speed {speed:.9g} below the engine's restitution threshold "
-                f"{conv.restitution_threshold:.9g}: the bounce is inelastic")
-    return ""
-
-
 def _convention(case: PairCase, conv: Conventions, quantity: str, value: Value,
-                truth: Observation) -> str:
-    if isinstance(case, ResponseCase):
-        return _response_rule(case, conv)
-    return _touch_rule(case, conv, quantity, truth) or _negative_rule(case, conv, quantity, value)
+                truth: Observation, observation: Observation) -> str:
+    if not isinstance(case, ResponseCase):
+        return (_touch_rule(case, conv, quantity, truth)
+                or _negative_rule(case, conv, quantity, value))
+    tolerance = allowance(case, conv, quantity).total
+    return (response_rules.convention(case, conv, quantity, value, observation, tolerance)
+            or contact_model.explain(case, conv, observation, tolerance))
 
 
 # --- 2. time step --------------------------------------------------------------------------------
@@ -249,26 +160,8 @@ def _gap(truth: Observation) -> float:
     return truth.distance if isinstance(truth.distance, float) else math.nan
 
 
-def _undefined_explained(case: PairCase, allowed: Allowance) -> str:
-    """Why an engine may rightly fail to define a value: its inputs blur within its precision."""
-    separation = norm(difference(case.a.center, case.b.center))
-    if separation < allowed.total:
-        return f"centres {separation:.3g} apart, within its {allowed}"
-    if isinstance(case, AabbCase):
-        overlaps = sorted(abs(ha + hb - abs(b - a)) for a, b, ha, hb in zip(
-            case.a.center, case.b.center, case.a.half, case.b.half, strict=True))
-        if len(overlaps) > 1 and overlaps[1] - overlaps[0] < allowed.total:
-            return (f"the two nearest axes differ by {overlaps[1] - overlaps[0]:.3g}, "
-                    f"within its {allowed}")
-    return ""
-
-
-def _tolerance(case: PairCase, conv: Conventions, quantity: str, value: Value, err: float,
-               truth: Observation, allowed: Allowance) -> str:
+def _tolerance(quantity: str, err: float, truth: Observation, allowed: Allowance) -> str:
     gap = _gap(truth)
-    if isinstance(value, Undefined):  # positions blur within the engine's length allowance
-        why = _undefined_explained(case, allowance(case, conv, "distance"))
-        return f"the engine gives no value ({value.reason}): {why}" if why else ""
     if quantity in ("hit", "normal") and abs(gap) < allowed.total:
         return f"|gap| {abs(gap):.3g} within the engine's {allowed}"
     if quantity == "normal":
@@ -285,26 +178,48 @@ def _tolerance(case: PairCase, conv: Conventions, quantity: str, value: Value, e
 # --- the category --------------------------------------------------------------------------------
 
 
+def _no_value(case: PairCase, conv: Conventions, quantity: str, failed: str) -> Explained:
+    """A failed answer: ``convention`` under a declared no-value rule, else ``error``."""
+    rule = no_value.declared(case, conv, quantity)
+    if rule:
+        return Explained(Category.CONVENTION, f"no value by a declared rule: {failed}, and "
+                         f"its rule {rule}")
+    return Explained(Category.ERROR, f"no finite answer: {failed}; no declared convention "
+                     "says the engine gives none for this case")
+
+
+def _stepped(case: ResponseCase, conv: Conventions, quantity: str, value: Value, err: float,
+             observation: Observation) -> Explained | None:
+    """The time-step rules: a contact resolved a step late, or one that fell between steps."""
+    late = _timestep(case, conv, quantity, value, err, observation)
+    if late is not None and late.category is Category.TIMESTEP:
+        return late
+    between = response_rules.missed(case, conv, quantity, value, observation,
+                                    allowance(case, conv, quantity).total, err)
+    if between:
+        return Explained(Category.TIMESTEP, between)
+    return late
+
+
 def categorize(case: PairCase, conv: Conventions, quantity: str, value: Value, err: float,
                truth: Observation, observation: Observation, agree: float) -> Explained:
     """The category and reason of a disagreement of ``value`` (error ``err``, agree bound
     ``agree``) with the truth of ``case`` as declared."""
-    rule = _convention(case, conv, quantity, value, truth)
-    if not rule and isinstance(case, ResponseCase) and quantity in ("v1", "v2"):
-        rule = contact_model.explain(case, conv, observation,
-                                     allowance(case, conv, quantity).total)
+    failed = no_value.failure(observation, quantity, value)
+    if failed:
+        return _no_value(case, conv, quantity, failed)
+    rule = _convention(case, conv, quantity, value, truth, observation)
     if rule:
         return Explained(Category.CONVENTION, rule)
     at_contact = math.nan
     if isinstance(case, ResponseCase):
-        stepped = _timestep(case, conv, quantity, value, err, observation)
+        stepped = _stepped(case, conv, quantity, value, err, observation)
         if stepped is not None and stepped.category is Category.TIMESTEP:
             return stepped
         at_contact = stepped.error_at_contact if stepped is not None else math.nan
     allowed = allowance(case, conv, quantity)
-    why = _tolerance(case, conv, quantity, value, err, truth, allowed)
+    why = _tolerance(quantity, err, truth, allowed)
     if why:
         return Explained(Category.TOLERANCE, why, at_contact)
-    shown = "undefined" if isinstance(value, Undefined) else f"error {err:.3g}"
-    return Explained(Category.ERROR, f"{shown} beyond the agree bound {agree:.3g} and the "
-                     f"engine's {allowed}; no declared convention applies", at_contact)
+    return Explained(Category.ERROR, f"error {err:.3g} beyond the agree bound {agree:.3g} and "
+                     f"the engine's {allowed}; no declared convention applies", at_contact)

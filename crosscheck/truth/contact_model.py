@@ -15,7 +15,12 @@ declare it (:class:`~crosscheck.core.contract.Conventions`):
 response: momentum kept, the impulse along the line of centres giving an e'
 that the declared model allows, and a tangential impulse that the declared
 friction allows.  It reads only the case, the conventions and the engine's
-own answer, never the truth; its reason carries the numbers.
+own answer, never the truth; its reason carries the numbers.  It judges only what the
+engine's precision can record: the impulse is read from the lighter body's velocity
+change (a heavy float32 body's change can be below its ulp: at a mass ratio of 1e10 a
+unit velocity changes by 1e-10, which float32 cannot hold), and momentum is kept when
+its drift is within the recording error of both bodies (``SLACK`` x their masses x the
+velocity allowance).
 
 >>> from crosscheck.core.contract import Conventions
 >>> from crosscheck.core.model import Observation
@@ -52,10 +57,10 @@ def explain(case: ResponseCase, conv: Conventions, observation: Observation,
     """
     if conv.restitution_model != "soft" and conv.friction <= 0:
         return ""
-    impulse = _impulse(case, observation)
-    if impulse is None:
+    moved = _impulse(case, observation)
+    if moved is None:
         return ""
-    line, moved_a, moved_b = impulse
+    line, moved_a, moved_b = moved
     ma, mb = case.a.mass, case.b.mass
     slack = SLACK * max(tolerance, 1e-12 * _speed_scale(case, observation))
     drift = norm(tuple(ma * x + mb * y for x, y in zip(moved_a, moved_b, strict=True)))
@@ -65,8 +70,12 @@ def explain(case: ResponseCase, conv: Conventions, observation: Observation,
     if not before < 0:
         return ""  # not approaching: the separating rule speaks for it
     after = dot(difference(observation.v1, observation.v2), line)  # type: ignore[arg-type]
+    # The impulse on B, read from the lighter body: its velocity changes the most, so the
+    # engine's precision records it best (a heavy float32 body's change may be below its ulp).
+    impulse: Vec = (tuple(mb * x for x in moved_b) if mb <= ma else
+                    tuple(-ma * x for x in moved_a))
     parts = [_restitution(case, conv, -after / before, slack / -before),
-             _friction(conv, moved_b, mb, line, ma * mb / (ma + mb) * slack)]
+             _friction(conv, impulse, line, min(ma, mb) * slack)]
     if any(p is None for p in parts) or not any(parts):
         return ""
     momentum = f"momentum kept to {drift:.3g}"
@@ -114,10 +123,9 @@ def _restitution(case: ResponseCase, conv: Conventions, effective: float,
     return None
 
 
-def _friction(conv: Conventions, moved_b: Vec, mb: float, line: Vec, slack: float) -> str | None:
-    """The tangential impulse on B: '' when there is none, a reason when the declared friction
-    allows it, None when it exceeds it."""
-    impulse = tuple(mb * x for x in moved_b)
+def _friction(conv: Conventions, impulse: Vec, line: Vec, slack: float) -> str | None:
+    """The tangential part of the impulse on B: '' when there is none, a reason when the
+    declared friction allows it, None when it exceeds it."""
     normal = dot(impulse, line)
     tangential = norm(tuple(j - normal * n for j, n in zip(impulse, line, strict=True)))
     if tangential <= slack:

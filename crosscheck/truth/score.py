@@ -5,7 +5,10 @@ angle in radians between the unit vectors; ``v1``/``v2`` the Euclidean norm
 of the difference (:func:`crosscheck.truth.bounds.error_of`).  A quantity
 agrees when its error is within the case's own tolerance or, by default, the
 forward-error bound of the float64 textbook computation for that case
-(:mod:`crosscheck.truth.bounds`): ``agree`` means as right as float64 allows.
+(:mod:`crosscheck.truth.bounds`): ``agree`` means as right as float64 allows.  An
+answer with no finite value (:func:`crosscheck.truth.no_value.failed`) never agrees,
+whatever the bound: a normal across a subnormal gap may point anywhere, but it must
+point.
 Every disagreement gets a category and a reason from the adapter's declared
 conventions (:mod:`crosscheck.truth.categories`).  Responses are judged
 against the case as declared; when the engine resolved the contact later, the
@@ -31,6 +34,7 @@ from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.truth import scenes
 from crosscheck.truth.bounds import bound, error_of
 from crosscheck.truth.categories import categorize
+from crosscheck.truth.no_value import failed
 
 DEFAULT_RTOL = 1e-9
 """Relative tolerance of scene quantities (dimensionless errors), unless a case sets its own."""
@@ -76,13 +80,12 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
             observation or Observation(), DEFAULT_RTOL)
         return Verdict(status, err, tol, category, reason)
     tol = bound(case, quantity, _gap(truth))
-    if quantity == "normal" and isinstance(value, tuple) and not _is_unit(vec := cast(Vec, value)):
+    if (quantity == "normal" and isinstance(value, tuple) and not failed(value)
+            and not _is_unit(vec := cast(Vec, value))):
         return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
                        f"engine normal is not a unit vector (length {norm(vec):.3g})")
-    if isinstance(value, Undefined) and quantity == "normal" and tol >= math.pi:
-        return Verdict(Status.AGREE, math.nan, tol)  # float64 cannot single out a direction
     err = math.inf if isinstance(value, Undefined) else error_of(quantity, value, want)
-    if err <= tol:
+    if err <= tol and not failed(value):  # no value is ever within a bound
         return Verdict(Status.AGREE, err, tol)
     explained = categorize(case, conventions, quantity, value, err, truth,
                            observation or Observation(), tol)

@@ -16,7 +16,7 @@ import signal
 import subprocess
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import pytest
 
@@ -26,13 +26,14 @@ import adapters  # noqa: E402
 from adapters import box2d_engine as b2e  # noqa: E402
 from adapters.box2d_engine import Box2dDefault, Box2dTuned  # noqa: E402
 from crosscheck.core.contract import Adapter  # noqa: E402
-from crosscheck.core.geometry import norm  # noqa: E402
-from crosscheck.core.model import Observation  # noqa: E402
+from crosscheck.core.geometry import Vec, norm  # noqa: E402
+from crosscheck.core.model import Category, Observation, Status  # noqa: E402
 from crosscheck.core.options import RunOptions  # noqa: E402
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase  # noqa: E402
 from crosscheck.results.store import ResultsStore, read_results  # noqa: E402
 from crosscheck.run.runner import run  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
+from crosscheck.truth.score import judge  # noqa: E402
 from tests.conftest import aabb, response, sphere  # noqa: E402
 
 pytestmark = pytest.mark.engine
@@ -195,6 +196,45 @@ def test_speeds_above_two_metres_per_step_are_clipped() -> None:
     body.CreateCircleFixture(radius=0.5, density=1.0)
     world.Step(TUNED.variant.dt, 8, 3)
     assert body.linearVelocity[0] == pytest.approx(2.0 / TUNED.variant.dt, rel=4 * F32_EPS)
+    for adapter in (TUNED, DEFAULT):  # declared: 2 m per step, at the end of every step
+        conv = adapter.conventions
+        assert conv.max_speed == Box2D.b2_maxTranslation / adapter.variant.dt
+        assert conv.max_speed_at == "step"
+
+
+@BOTH
+@pytest.mark.parametrize("speed, e, mb", [(200.0, 1.0, 1.0), (1000.0, 1.0, 1.0),
+                                          (3000.0, 1.0, 1.0), (1000.0, 0.5, 2.0)])
+def test_a_clipped_response_is_the_declared_speed_cap(adapter: Adapter, speed: float, e: float,
+                                                      mb: float) -> None:
+    # Touching at the start: the contact is solved in the first step with the case's speeds,
+    # then each velocity is clipped; under the cap the answer is the textbook's.
+    case = response([0.0, 0.0], [speed, 0.0], [1.0, 0.0], [0.0, 0.0], mb=mb, restitution=e)
+    obs, truth = adapter.observe(case), oracle.truth(case)
+    cap = adapter.conventions.max_speed
+    assert cap is not None
+    for quantity in ("v1", "v2"):
+        verdict = judge(case, adapter.conventions, quantity, obs.get(quantity), truth, obs)
+        want = truth.get(quantity)
+        assert isinstance(want, tuple)
+        if norm(cast(Vec, want)) > cap:
+            assert verdict.category == Category.CONVENTION and "speed cap" in verdict.reason
+        else:
+            assert verdict.status is Status.AGREE or verdict.category != Category.CONVENTION
+
+
+def test_the_verdict_has_no_b2_epsilon() -> None:
+    # b2CollideCircles rejects only distSqr > radius^2, b2CollidePolygons separation >
+    # totalRadius: b2_epsilon acts on distances and normals, never on the verdict.
+    for adapter in (TUNED, DEFAULT):
+        conv = adapter.conventions
+        assert conv.verdict_margin_for("sphere") == 0.0 < conv.margin_for("sphere")
+    assert TUNED.conventions.verdict_margin_for("face") == 0.0
+    assert DEFAULT.conventions.verdict_margin_for("face") == b2e.SKIN
+    case = disc([0.0, 0.0], 1e-9, [2e-9 + 5e-11, 0.0], 1e-9)  # apart by 5e-11 < b2_epsilon
+    verdict = judge(case, TUNED.conventions, "hit", True, oracle.truth(case))
+    assert verdict.category == Category.ERROR and "b2_epsilon" not in verdict.reason
+    assert "margin" not in verdict.reason
 
 
 def test_do_sleep_false_does_not_reach_box2d() -> None:

@@ -261,9 +261,11 @@ def test_a_failed_epa_gives_the_distance_as_is_and_an_undefined_normal(adapter: 
     obs = adapter.observe(case)
     assert obs.distance == -sys.float_info.max
     assert isinstance(obs.normal, Undefined) and "nan" in obs.normal.reason
-    verdict = judged(adapter, case, "distance")
-    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.ERROR)
-    assert "1.8e+308" in verdict.reason
+    # one failure, one category and one reason: the distance and the normal alike
+    for quantity in ("distance", "normal"):
+        verdict = judged(adapter, case, quantity)
+        assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.ERROR)
+        assert "1.8e+308" in verdict.reason and "no finite normal" in verdict.reason
 
 
 @BOTH
@@ -394,8 +396,11 @@ def test_registry_availability_and_declarations() -> None:
         conv = adapter.conventions
         assert conv.box_extents.startswith("full")
         assert all(conv.touching_is_contact(f) for f in ("sphere", "face", "edge", "corner"))
-        assert conv.margin_for("sphere") == COLLISION_THRESHOLD
-        assert conv.margin_for("edge") == box_margin + COLLISION_THRESHOLD
+        # the collision threshold acts on the verdict alone; the GJK/EPA tolerance on both
+        assert conv.verdict_margin_for("sphere") == COLLISION_THRESHOLD
+        assert conv.verdict_margin_for("edge") == box_margin + COLLISION_THRESHOLD
+        assert conv.margin_for("sphere") == 0.0 and conv.margin_for("edge") == box_margin
+        assert conv.no_value == ()
         assert conv.rtol >= math.sqrt(3) * 1e-10
         assert (conv.time_step, conv.damping, conv.zero_mass) == (None, 0.0, "")
         assert adapter.known_hang(sphere(0.0, 0.0)) is None

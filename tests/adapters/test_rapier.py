@@ -95,8 +95,45 @@ def test_default_prediction_distance_and_step_are_the_declared_ones() -> None:
     params = rp.IntegrationParameters()
     assert params.prediction_distance() == re_.DEFAULT_PREDICTION == DEFAULT.prediction
     assert params.dt == re_.DEFAULT_DT == DEFAULT.conventions.time_step
-    assert DEFAULT.conventions.margins == dict.fromkeys(("sphere", "face", "edge", "corner"),
-                                                        params.prediction_distance())
+    # the prediction distance is the verdict's threshold: it acts on hit alone
+    assert DEFAULT.conventions.verdict_margins == dict.fromkeys(
+        ("sphere", "face", "edge", "corner"), params.prediction_distance())
+    assert DEFAULT.conventions.margins == {}
+
+
+def test_the_prediction_distance_decides_the_verdict_only() -> None:
+    # Both variants read the distance and normal from the same wide pass: a pair 0.01 apart
+    # is contact at prediction 0.02 and apart at 0, with the same distance and normal.
+    case = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.01, 0.0, 0.0], [0.5, 0.5, 0.5])
+    tuned, default = TUNED.observe(case), DEFAULT.observe(case)
+    assert (tuned.hit, default.hit) == (False, True)
+    assert (tuned.distance, tuned.normal) == (default.distance, default.normal)
+    truth = oracle.truth(case)
+    far = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.005, 0.0, 0.0], [0.5, 0.5, 0.5])
+    verdict = judge(far, DEFAULT.conventions, "distance", 0.0, oracle.truth(far))
+    assert verdict.category == Category.ERROR and "margin" not in verdict.reason
+    hit = judge(case, DEFAULT.conventions, "hit", True, truth)
+    assert hit.category == Category.TOLERANCE and "verdict margin 0.02" in hit.reason
+
+
+def test_the_default_speed_cap_acts_before_the_bounce_as_declared() -> None:
+    # normalized_max_linear_velocity x length_unit caps a body after each solver substep;
+    # the restitution pass adds the bounce after it (contact_constraint_element.rs).
+    params = rp.IntegrationParameters()
+    cap = params.normalized_max_linear_velocity * params.length_unit
+    assert DEFAULT.conventions.max_speed == cap and TUNED.conventions.max_speed is None
+    assert DEFAULT.conventions.max_speed_at == "before restitution"
+    for speed, e, mb in ((1000.0, 1.0, 1.0), (3000.0, 1.0, 1.0), (1000.0, 0.5, 2.0)):
+        case = moving([0.0, 0.0, 0.0], [speed, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0],
+                      0.5, mb=mb).model_copy(update={"restitution": e})
+        obs, truth = DEFAULT.observe(case), oracle.truth(case)
+        for quantity in ("v1", "v2"):
+            verdict = judge(case, DEFAULT.conventions, quantity, obs.get(quantity), truth, obs)
+            assert verdict.status in (Status.AGREE, Status.DISAGREE)
+            if verdict.status is Status.DISAGREE:
+                assert verdict.category == Category.CONVENTION, verdict.reason
+                assert "speed cap 400" in verdict.reason
+        assert velocity_error(TUNED, case) <= TUNED.conventions.rtol  # no cap: the textbook
 
 
 @pytest.mark.parametrize("shape, cb", [
@@ -359,7 +396,8 @@ def test_registry_availability_and_declarations() -> None:
     tuned, default = TUNED.conventions, DEFAULT.conventions
     assert not any(tuned.touching_is_contact(f) for f in ("sphere", "face", "edge", "corner"))
     assert all(default.touching_is_contact(f) for f in ("sphere", "face", "edge", "corner"))
-    assert tuned.margins == {} and tuned.rtol == default.rtol == 2.0**-21
+    assert tuned.margins == default.margins == {} and tuned.rtol == default.rtol == 2.0**-21
+    assert tuned.no_value == default.no_value == ()  # no value is an error: no rule says so
     assert (tuned.zero_mass, tuned.negative_extents, tuned.resolves_separating) == (
         "static", "", False)
     assert tuned.restitution_threshold == 0.0 and tuned.damping == 0.0

@@ -38,3 +38,16 @@ def test_registry_lists_reference_adapters() -> None:
     assert {"reference", "reference-f32"} <= set(adapters.names())
     f32, f64 = adapters.get("reference-f32"), adapters.get("reference")
     assert f32.conventions.rtol > f64.conventions.rtol
+
+
+def test_no_normal_where_the_formula_in_its_precision_has_none_is_its_declared_rule() -> None:
+    # 1e9 and 1e9 + 1.5 are one float32 number: the float32 formula's centres coincide, and
+    # by its own rule it gives no normal; float64 keeps them apart and gives one
+    case = sphere(1e9, 1e9 + 1.5)
+    assert verdict("reference-f32", case, "normal") == (Status.DISAGREE, Category.CONVENTION)
+    assert verdict("reference", case, "normal")[0] is Status.AGREE
+    f32 = adapters.get("reference-f32")
+    obs = f32.observe(case)
+    reason = judge(case, f32.conventions, "normal", obs.normal, oracle.truth(case)).reason
+    assert "'float32-textbook'" in reason and "coincident centres" in reason
+    assert adapters.get("reference").conventions.no_value == ("float64-textbook",)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from crosscheck.core.contract import Conventions
@@ -70,3 +71,27 @@ def test_the_judge_files_a_soft_bounce_under_convention_with_its_numbers() -> No
         assert "e' = 0.14" in verdict.reason
         plain = judge(HEAD_ON, Conventions(), quantity, seen.get(quantity), truth, seen)
         assert plain.category == Category.ERROR
+
+
+def test_friction_is_judged_from_what_float32_can_record() -> None:
+    # B is 1e10 times heavier: its velocity change (1e-10) is below float32's ulp of 1, so a
+    # float32 engine reports B's velocity unchanged.  The impulse is read from A, the light
+    # body, whose change float32 records: the declared friction still explains it.
+    heavy = response([0.0, 0.0], [1.0, 0.5], [3.0, 4.0], [0.0, -1.0], ma=1.0, mb=1e10)
+    line, tangent = (0.6, 0.8), (-0.8, 0.6)
+    closing = (1.0 - 0.0) * line[0] + (0.5 + 1.0) * line[1]  # approach along the line
+    normal = 2.0 * closing  # elastic, B immovable in effect: A's change along the line
+    slip = 0.1 * normal  # within friction 0.2 x the normal impulse
+    v1 = tuple(float(np.float32(v - normal * n - slip * t))
+               for v, n, t in zip((1.0, 0.5), line, tangent, strict=True))
+    v2 = tuple(float(np.float32(v + (normal * n + slip * t) / 1e10))
+               for v, n, t in zip((0.0, -1.0), line, tangent, strict=True))
+    assert v2[1] == -1.0  # float32 cannot hold B's change along y
+    seen = Observation(v1=v1, v2=v2)
+    f32 = Conventions(friction=0.2, rtol=2.0**-21)
+    for quantity in ("v1", "v2"):
+        verdict = judge(heavy, f32, quantity, seen.get(quantity), oracle.truth(heavy), seen)
+        assert verdict.category == Category.CONVENTION, verdict.reason
+        assert "friction 0.2 (declared)" in verdict.reason
+    lossy = Observation(v1=(v1[0] + 0.5, v1[1]), v2=v2)  # momentum lost: never explained
+    assert explain(heavy, f32, lossy, 2.0**-21 * 1.0) == ""

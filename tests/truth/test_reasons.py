@@ -42,6 +42,8 @@ conventions = st.builds(
     Conventions,
     touching=st.dictionaries(st.sampled_from(FEATURES), st.booleans()),
     margins=st.dictionaries(st.sampled_from(FEATURES), st.sampled_from([1e-3, 0.05, 0.5])),
+    verdict_margins=st.none() | st.dictionaries(st.sampled_from(FEATURES),
+                                                st.sampled_from([1e-3, 0.02, 0.5])),
     rtol=st.sampled_from([0.0, 2.0**-50, 2.0**-21, 1e-3]),
     restitution_threshold=st.sampled_from([0.0, 0.2, 1.0]),
     resolves_separating=st.booleans(),
@@ -72,11 +74,14 @@ def _check(case: AnyCase, conv: Conventions, quantity: str, verdict: Verdict) ->
     assert verdict.error > verdict.tolerance or math.isnan(verdict.error)
     if "already separating" in reason:
         assert isinstance(case, ResponseCase) and approach_speed(case) <= 0
-    for amount, feature in re.findall(r"margin ([0-9.e+-]+) at a (\w+)", reason):
-        assert feature == nearest_feature(case) and conv.margin_for(feature) > 0
-        assert math.isclose(float(amount), conv.margin_for(feature), rel_tol=1e-3)
+    acting = conv.verdict_margin_for if quantity == "hit" else conv.margin_for
+    for kind, amount, feature in re.findall(r"(verdict )?margin ([0-9.e+-]+) at a (\w+)",
+                                            reason):
+        assert (kind == "verdict ") == (quantity == "hit")  # only what acts on the quantity
+        assert feature == nearest_feature(case) and acting(feature) > 0
+        assert math.isclose(float(amount), acting(feature), rel_tol=1e-3)
     if "margin" in reason:
-        assert conv.margin_for(nearest_feature(case)) > 0
+        assert acting(nearest_feature(case)) > 0 and quantity not in ("v1", "v2")
     for err, limit in re.findall(r"error ([0-9.e+-]+) within the engine's declared tolerance "
                                  r"([0-9.e+-]+)", reason):
         assert float(err) <= float(limit) * 1.001

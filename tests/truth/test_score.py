@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import math
+import sys
 
 import adapters
 from crosscheck.cases.load import load_paths
-from crosscheck.core.contract import Conventions
+from crosscheck.core.contract import FEATURES, Conventions
 from crosscheck.core.model import Category, Observation, Status, Undefined
 from crosscheck.core.values import encode
 from crosscheck.truth import oracle
@@ -137,16 +138,52 @@ def test_a_normal_across_the_gap_tilts_by_the_margin_over_the_gap() -> None:
     assert beyond.category == Category.ERROR
 
 
-def test_an_undefined_answer_within_declared_precision_is_tolerance() -> None:
+def test_an_undefined_answer_is_a_convention_only_under_a_declared_rule() -> None:
     case = sphere(1e9, 1e9 + 1.5)  # float32 cannot tell these centres apart
     truth = oracle.truth(case)
-    f32 = adapters.get("reference-f32").conventions
-    assert oracle.textbook(case, "f32").normal == Undefined("coincident centres")
-    verdict = judge(case, f32, "normal", Undefined("coincident centres"), truth)
-    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.TOLERANCE)
-    assert "centres 1.5 apart" in verdict.reason
-    far = judge(sphere(0.0, 2.0), f32, "normal", Undefined("x"), oracle.truth(sphere(0.0, 2.0)))
+    declared = Conventions(rtol=2.0**-21, no_value=("float32-textbook",))
+    verdict = judge(case, declared, "normal", Undefined("coincident centres"), truth)
+    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.CONVENTION)
+    assert "'float32-textbook'" in verdict.reason and "coincident centres" in verdict.reason
+    # the same precision without the rule: no value is an error, however wide the allowance
+    wide = Conventions(rtol=2.0**-21, margins=dict.fromkeys(FEATURES, 10.0))
+    undeclared = judge(case, wide, "normal", Undefined("coincident centres"), truth)
+    assert undeclared.category == Category.ERROR and "no declared convention" in undeclared.reason
+    near = sphere(0.0, 2.0)  # float32 tells these apart: the rule does not fire
+    far = judge(near, declared, "normal", Undefined("x"), oracle.truth(near))
     assert far.category == Category.ERROR
+
+
+def test_a_missing_value_is_never_within_a_margin() -> None:
+    # a prediction distance or any margin never explains an answer that has no value
+    boxes = aabb([0.0, 0.0, 0.0], [1e-6] * 3, [2e-6 - 2e-12, 0.0, 0.0], [1e-6] * 3)
+    margin = Conventions(margins=dict.fromkeys(FEATURES, 0.02), rtol=2.0**-21)
+    none = Undefined("no contact point")
+    for quantity in ("distance", "normal"):
+        verdict = judge(boxes, margin, quantity, none, oracle.truth(boxes))
+        assert verdict.category == Category.ERROR, quantity
+
+
+def test_an_answer_with_no_finite_value_never_agrees() -> None:
+    # a normal across a subnormal gap may point anywhere (its bound is pi), but it must point
+    case = SUITE["aabb-3d-subnormal-gap"]
+    truth = oracle.truth(case)
+    assert bound(case, "normal", truth.distance) >= math.pi  # type: ignore[arg-type]
+    for value in (Undefined("NaN normal"), (math.nan, math.nan, math.nan)):
+        verdict = judge(case, TEXTBOOK, "normal", value, truth)
+        assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.ERROR)
+    assert judge(case, TEXTBOOK, "normal", (0.0, 1.0, 0.0), truth).status is Status.AGREE
+
+
+def test_one_failed_query_gets_one_category_and_one_reason() -> None:
+    case = SUITE["aabb-3d-subnormal-gap"]
+    truth = oracle.truth(case)
+    failed = Observation(hit=True, distance=-sys.float_info.max,
+                         normal=Undefined("no finite normal (nan, nan, nan)"))
+    wide = Conventions(margins=dict.fromkeys(FEATURES, 1e-6), rtol=2e-10)
+    verdicts = [judge(case, wide, q, failed.get(q), truth, failed) for q in ("distance", "normal")]
+    assert {v.category for v in verdicts} == {Category.ERROR}
+    assert all("-1.8e+308" in v.reason and "no finite normal" in v.reason for v in verdicts)
 
 
 def test_velocity_error_is_euclidean() -> None:
