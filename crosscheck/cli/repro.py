@@ -1,8 +1,10 @@
 """``crosscheck repro``: standalone scripts that reproduce a case on an engine, bit for bit.
 
-The command of :mod:`crosscheck.studies.repro`: one script goes to stdout (or ``--out
-FILE``); several (no ``--engine``, several engines to show) go to one file each, named
-``FILE-<engine>.py`` with ``--out FILE``, else ``<repro_name>.py`` in the current folder.
+The command of :mod:`crosscheck.studies.repro`.  Everything goes to stdout unless ``--out``
+is given: one script (or, with ``--issue``, one Markdown bug report around it), or, without
+``--engine``, one per engine that disagrees on the case, printed one after another, each
+headed by a comment line naming its engine (which engines it chose is said on stderr).
+With ``--out FILE`` one goes to FILE and several to ``FILE-<engine>.py`` (``.md``) each.
 """
 
 from __future__ import annotations
@@ -13,62 +15,110 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from crosscheck.cli.console import fail, say
+from crosscheck.cli.console import err, fail, say
 
 if TYPE_CHECKING:
+    from crosscheck.results.store import StoredRun
     from crosscheck.studies.repro import Script
+
+DESCRIPTION = """\
+Print a standalone Python script that reproduces CASE_ID on an engine bit for bit, with
+the engine's own API only (no crosscheck): it prints the engine's answer as results.csv
+records it, the exact answer with each verdict against its float64 bound, and the
+conventions the verdict consulted.  Every engine variant and every kind has one, scenes
+included.  Without --engine: one script per engine that disagrees on the case (a row
+neither agree nor skip; if none does, every engine that ran it), printed one after
+another, each headed by a comment line naming its engine; save them with --out.  --issue
+prints a Markdown bug report instead: engine and version, platform, the script (and for
+MuJoCo its MJCF), expected and got, the error against the float64 bound, the verdict and
+the conventions it consulted, and the case file block."""
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``repro``."""
-    p = sub.add_parser("repro", help="a standalone script reproducing a case on an engine")
+    p = sub.add_parser("repro", help="a standalone script reproducing a case on an engine",
+                       description=DESCRIPTION)
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run folder")
     p.add_argument("case_id", metavar="CASE_ID", help="a case of that run")
-    p.add_argument("--engine", help="engine (default: every engine with a non-agree row for "
-                                    "the case, else every engine that ran it)")
+    p.add_argument("--engine", help="engine (default: every engine that disagrees on the "
+                                    "case, else every engine that ran it)")
+    p.add_argument("--issue", action="store_true",
+                   help="print a Markdown bug report around the script instead")
     p.add_argument("--out", type=Path, metavar="FILE",
-                   help="write the script here (default: stdout; FILE-<engine>.py each "
-                        "when there are several)")
+                   help="write it to FILE instead of stdout (several: FILE-<engine>.py, or "
+                        ".md with --issue, one each)")
     p.set_defaults(func=cmd_repro)
 
 
-SHADOWING = frozenset({"fcl", "pybullet", "pymunk", "numpy", "json", "math", "sys"})
+SHADOWING = frozenset({"fcl", "pybullet", "pymunk", "numpy", "json", "math", "sys", "mujoco",
+                       "coal", "Box2D", "rapier3d", "collections"})
 """File stems a script may not have: Python would import the script itself for that module."""
 
 
-def targets(made: Sequence[Script], out: Path | None) -> list[Path]:
-    """Where each of several scripts (or one with ``--out``) is written."""
-    if out is not None and len(made) == 1:
+def targets(made: Sequence[Script], out: Path, suffix: str) -> list[Path]:
+    """Where each script (or report) is written with ``--out``."""
+    if len(made) == 1:
         return [out]
-    if out is not None:
-        suffix = out.suffix or ".py"
-        return [out.with_name(f"{out.stem}-{s.engine}{suffix}") for s in made]
-    return [Path(f"{s.name}.py") for s in made]
+    return [out.with_name(f"{out.stem}-{s.engine}{out.suffix or suffix}") for s in made]
+
+
+def texts(stored: StoredRun, made: Sequence[Script], issue: bool) -> list[str]:
+    """Each script's text, or with ``issue`` its bug report."""
+    if not issue:
+        return [s.text for s in made]
+    from crosscheck.studies.repro import issue_report
+    from crosscheck.studies.repro.script import RunRows
+
+    runs = RunRows(stored)
+    info = stored.info
+    return [issue_report(s, stored.cases[s.case_id], runs.rows(s.case_id, s.engine),
+                         runs.engine_info(s.engine), info.machine, info.run_id,
+                         str(info.machine.get("git_commit", ""))) for s in made]
+
+
+def headed(made: Sequence[Script], bodies: Sequence[str], issue: bool) -> str:
+    """Several texts one after another, each headed by a comment line naming its engine."""
+    if len(made) == 1:
+        return bodies[0]
+    out = []
+    for i, (script, body) in enumerate(zip(made, bodies, strict=True), start=1):
+        title = f"repro {i} of {len(made)}: case {script.case_id} on engine {script.engine}"
+        out.append((f"<!-- {title} -->" if issue else f"# ===== {title} =====") + "\n" + body)
+    return "\n".join(out)
 
 
 def cmd_repro(args: argparse.Namespace) -> int:
     from crosscheck.results.store import StoreError, read_run
-    from crosscheck.studies.repro import ReproError, scripts
+    from crosscheck.studies.repro import ReproError, engines_for, scripts
+    from crosscheck.studies.repro.script import RunRows
 
     try:
-        made = scripts(read_run(args.run_dir), args.case_id, args.engine)
+        stored = read_run(args.run_dir)
+        made = scripts(stored, args.case_id, args.engine)
     except (StoreError, ReproError) as exc:
         fail(str(exc))
         return 2
-    if len(made) == 1 and args.out is None:
-        sys.stdout.write(made[0].text)
+    if args.engine is None:
+        _, disagree = engines_for(RunRows(stored), args.case_id)
+        why = "disagree on it" if disagree else "ran it (none disagrees)"
+        say(f"{args.case_id}: {len(made)} engine(s) {why}: "
+            f"{', '.join(s.engine for s in made)}", err)
+    bodies = texts(stored, made, args.issue)
+    if args.out is None:
+        sys.stdout.write(headed(made, bodies, args.issue))
         return 0
-    paths = targets(made, args.out)
-    shadowing = [p for p in paths if p.stem in SHADOWING]
+    paths = targets(made, args.out, ".md" if args.issue else ".py")
+    shadowing = [p for p in paths if p.stem in SHADOWING and p.suffix == ".py"]
     if shadowing:
         fail(f"{shadowing[0]}: a script named after a module it imports would import itself; "
              "choose another name")
         return 2
-    for script, path in zip(made, paths, strict=True):
+    for script, body, path in zip(made, bodies, paths, strict=True):
         try:
-            path.write_text(script.text, encoding="utf-8")
+            path.write_text(body, encoding="utf-8")
         except OSError as exc:
             fail(f"cannot write {path}: {exc}")
             return 2
-        say(f"{script.engine}: {path}  (run it: python {path})")
+        run = f"  (run it: python {path})" if path.suffix == ".py" else ""
+        say(f"{script.engine}: {path}{run}")
     return 0

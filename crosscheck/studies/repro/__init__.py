@@ -1,18 +1,28 @@
 """The repro study: one standalone Python script per case x engine, to paste into a bug report.
 
-- :mod:`~crosscheck.studies.repro.script`: a script from a stored run (inputs, printing, the
-  expected answers), and the scripts of a run's breaking pairs;
-- :mod:`~crosscheck.studies.repro.engines`: the engine part for FCL, pymunk and the textbook
-  formula;
-- :mod:`~crosscheck.studies.repro.pybullet`: the engine part for PyBullet.
+- :mod:`~crosscheck.studies.repro.script`: a script from a stored run (inputs, printing),
+  and the scripts of a run's breaking pairs;
+- :mod:`~crosscheck.studies.repro.verdicts`: what a script says beside the engine's answer
+  (the exact truth, each verdict against its float64 bound, the declared conventions);
+- :mod:`~crosscheck.studies.repro.writers`: the engine part's writer of each of the 15
+  variants; the parts are :mod:`~crosscheck.studies.repro.engines` (FCL, pymunk, the
+  textbook formula), :mod:`~crosscheck.studies.repro.pybullet`,
+  :mod:`~crosscheck.studies.repro.mujoco`, :mod:`~crosscheck.studies.repro.coal`,
+  :mod:`~crosscheck.studies.repro.box2d`, :mod:`~crosscheck.studies.repro.rapier` and
+  :mod:`~crosscheck.studies.repro.scenes` (PyBullet and pymunk scenes), on the ground of
+  :mod:`~crosscheck.studies.repro.code`;
+- :mod:`~crosscheck.studies.repro.issue`: a Markdown bug report around a script.
 """
 
+from crosscheck.studies.repro.issue import issue_report
 from crosscheck.studies.repro.script import (
     ReproError,
     Script,
     breaking_pairs,
+    engines_for,
     scripts,
     write_run_scripts,
 )
 
-__all__ = ["ReproError", "Script", "breaking_pairs", "scripts", "write_run_scripts"]
+__all__ = ["ReproError", "Script", "breaking_pairs", "engines_for", "issue_report", "scripts",
+           "write_run_scripts"]

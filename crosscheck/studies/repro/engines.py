@@ -5,8 +5,8 @@ calls the engine's adapter makes (``adapters/fcl_engine.py``, ``adapters/pymunk_
 ``adapters/reference.py`` with ``reference_impl/formulas.py``), with the adapter's own
 settings read from its class, and that leave the engine's answer in the variables named
 after the case's quantities (``hit``, ``distance``, ``normal``; ``v1``, ``v2``).  The
-script around them (inputs, printing) is :mod:`crosscheck.studies.repro.script`'s; PyBullet's
-part is :mod:`crosscheck.studies.repro.pybullet`.
+script around them (inputs, printing) is :mod:`crosscheck.studies.repro.script`'s; the other
+engines' parts have a module each (:mod:`crosscheck.studies.repro.code` lists them).
 
 The statements use the script's input constants: ``A_CENTER``, ``B_CENTER`` and ``A_HALF``,
 ``B_HALF`` (boxes) or ``A_RADIUS``, ``B_RADIUS`` (spheres), plus ``A_MASS``, ``B_MASS``,
@@ -15,28 +15,13 @@ The statements use the script's input constants: ``A_CENTER``, ``B_CENTER`` and 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from string import Template
 
 from adapters import pymunk_engine
 from adapters.pymunk_engine import PymunkTuned
 from adapters.reference import ReferenceF64
 from crosscheck.core.schema import AabbCase, PairCase, ResponseCase
-
-
-@dataclass(frozen=True)
-class EngineCode:
-    """The engine-specific part of a script: its imports and the statements of the query."""
-
-    imports: tuple[str, ...]
-    code: str
-    notes: tuple[str, ...] = ()
-    """Lines for the script's header (how to run it, what it leaves out)."""
-    tail: str = ""
-    """Statements after the answer is printed (a call the run recorded as hanging)."""
-    resolved_at: bool = False
-    """Whether the statements set ``resolved_at`` (a stepped response: where it resolved)."""
-
+from crosscheck.studies.repro.code import EngineCode
 
 FCL_BOXES_2D = """\
 # fcl.Box takes full side lengths: the adapter passes 2 x the half-widths (exact in binary).

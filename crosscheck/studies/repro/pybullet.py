@@ -18,7 +18,7 @@ from adapters import pybullet_engine
 from adapters.pybullet_engine import PyBulletTuned
 from crosscheck.core.geometry import to3
 from crosscheck.core.schema import AabbCase, PairCase, ResponseCase
-from crosscheck.studies.repro.engines import EngineCode
+from crosscheck.studies.repro.code import EngineCode
 
 CLIENT = Template("""\
 cid = pybullet.connect(pybullet.DIRECT)  # no GUI

@@ -1,0 +1,92 @@
+"""Which script writer makes the engine part of a repro script, for each adapter class.
+
+Every built-in variant has one (all 15: the textbook formula in float64 and float32, FCL,
+PyBullet, pymunk, MuJoCo, coal, Box2D and Rapier, tuned and default), for every kind it
+runs, scenes included (PyBullet and pymunk step them).  The table is keyed by the exact
+class: a subclass (a plug-in's) may make other calls, so it has no writer until it is given
+one here.  A writer takes the adapter, the case and the quantities the run recorded as a
+declared hang (FCL's signed distance), and returns an
+:class:`~crosscheck.studies.repro.code.EngineCode`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from adapters.box2d_engine import Box2dDefault, Box2dTuned
+from adapters.coal_engine import CoalDefault, CoalTuned
+from adapters.fcl_engine import Fcl
+from adapters.mujoco_engine import MujocoDefault, MujocoStiff
+from adapters.pybullet_engine import PyBulletDefault, PyBulletTuned
+from adapters.pymunk_engine import PymunkDefault, PymunkTuned
+from adapters.rapier_engine import RapierDefault, RapierTuned
+from adapters.reference import ReferenceF32, ReferenceF64
+from crosscheck.core.contract import Adapter
+from crosscheck.core.schema import AnyCase, SceneCase
+from crosscheck.studies.repro.box2d import box2d_code
+from crosscheck.studies.repro.coal import coal_code
+from crosscheck.studies.repro.code import EngineCode
+from crosscheck.studies.repro.engines import fcl_code, pymunk_code, reference_code
+from crosscheck.studies.repro.mujoco import mujoco_code
+from crosscheck.studies.repro.pybullet import pybullet_code
+from crosscheck.studies.repro.rapier import rapier_code
+from crosscheck.studies.repro.scenes import pybullet_scene_code, pymunk_scene_code
+
+Writer = Callable[[Any, AnyCase, frozenset[str]], EngineCode]
+"""A script writer: (adapter, case, quantities the run recorded as a declared hang)."""
+
+
+class NoScene(ValueError):
+    """A pair engine was handed a scene (it declares no scene capability)."""
+
+
+def _pairs_only(write: Callable[[Any, Any], EngineCode]) -> Writer:
+    def writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
+        if isinstance(case, SceneCase):
+            raise NoScene(f"{adapter.name} does not step scenes")
+        return write(adapter, case)
+    return writer
+
+
+def _fcl(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
+    if isinstance(case, SceneCase):
+        raise NoScene("fcl does not step scenes")
+    return fcl_code(case, hung)
+
+
+def _pybullet(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
+    if isinstance(case, SceneCase):
+        return pybullet_scene_code(adapter, case)
+    return pybullet_code(adapter, case)
+
+
+def _pymunk(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
+    if isinstance(case, SceneCase):
+        return pymunk_scene_code(adapter, case)
+    return pymunk_code(adapter, case)
+
+
+WRITERS: dict[type[Adapter], Writer] = {
+    ReferenceF64: _pairs_only(reference_code),
+    ReferenceF32: _pairs_only(reference_code),
+    Fcl: _fcl,
+    PyBulletTuned: _pybullet,
+    PyBulletDefault: _pybullet,
+    PymunkTuned: _pymunk,
+    PymunkDefault: _pymunk,
+    MujocoStiff: _pairs_only(mujoco_code),
+    MujocoDefault: _pairs_only(mujoco_code),
+    CoalTuned: _pairs_only(coal_code),
+    CoalDefault: _pairs_only(coal_code),
+    Box2dTuned: _pairs_only(box2d_code),
+    Box2dDefault: _pairs_only(box2d_code),
+    RapierTuned: _pairs_only(rapier_code),
+    RapierDefault: _pairs_only(rapier_code),
+}
+"""The script writer of each adapter class (exact classes: a subclass may call otherwise)."""
+
+
+def writer_for(adapter: Adapter) -> Writer | None:
+    """The script writer of ``adapter``'s exact class, or None."""
+    return WRITERS.get(type(adapter))
