@@ -45,7 +45,7 @@ Mass = tuple[float, Vec3]
 """A body's mass and diagonal inertia."""
 
 _MODULE: list[Any] = []
-_XML = """<mujoco model="crosscheck-pair">
+MJCF = """<mujoco model="crosscheck-pair">
   <option gravity="0 0 0"/>
   <worldbody>
     <body name="a"><freejoint/><inertial pos="0 0 0" mass="{ma}" diaginertia="{ia}"/>
@@ -54,7 +54,9 @@ _XML = """<mujoco model="crosscheck-pair">
       <geom name="b" type="{geom}" size="{sb}"{extra}/></body>
   </worldbody>
 </mujoco>"""
-_UNIT: dict[str, Vec3] = {"sphere": (1.0, 0.0, 0.0), "box": (1.0, 1.0, 1.0)}
+"""The two-body model of every pair (repro scripts embed it, filled by :func:`pair_mjcf`)."""
+UNIT: dict[str, Vec3] = {"sphere": (1.0, 0.0, 0.0), "box": (1.0, 1.0, 1.0)}
+"""The unit geom size of each geom type the pair is compiled with (a sphere: its radius)."""
 _ONE: Mass = (1.0, (1.0, 1.0, 1.0))
 
 
@@ -88,10 +90,11 @@ def _text(values: Sequence[float]) -> str:
     return " ".join(repr(float(x)) for x in values)
 
 
-def _xml(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass], extra: str) -> str:
+def pair_mjcf(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass], extra: str) -> str:
+    """:data:`MJCF` with these geom sizes, masses and inertias (and ``extra`` geom attributes)."""
     count = 1 if geom == "sphere" else 3
     (ma, ia), (mb, ib) = masses
-    return _XML.format(geom=geom, sa=_text(sizes[0][:count]), sb=_text(sizes[1][:count]),
+    return MJCF.format(geom=geom, sa=_text(sizes[0][:count]), sb=_text(sizes[1][:count]),
                        ma=repr(float(ma)), mb=repr(float(mb)), ia=_text(ia), ib=_text(ib),
                        extra=extra)
 
@@ -102,7 +105,7 @@ def compile_pair(geom: str, extra: str = "") -> Pair:
     ``extra``: more geom attributes, as MJCF text (e.g. ``' condim="1"'``).
     """
     mujoco = engine()
-    model = mujoco.MjModel.from_xml_string(_xml(geom, (_UNIT[geom],) * 2, (_ONE,) * 2, extra))
+    model = mujoco.MjModel.from_xml_string(pair_mjcf(geom, (UNIT[geom],) * 2, (_ONE,) * 2, extra))
     return Pair(model, mujoco.MjData(model), geom)
 
 
@@ -159,7 +162,7 @@ def refusal(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass] | None = No
     if _in_range(used, weights):
         return None
     try:
-        engine().MjModel.from_xml_string(_xml(geom, sizes, weights, ""))
+        engine().MjModel.from_xml_string(pair_mjcf(geom, sizes, weights, ""))
     except ValueError as exc:
         return str(exc).strip().splitlines()[0]
     return None

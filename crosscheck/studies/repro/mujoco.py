@@ -6,8 +6,8 @@ one geom each, gravity 0) and sets each case into the compiled model: geom sizes
 bounds the compiler derives from them, masses and inertias (then ``mj_setConst``), the
 stiff variant's contact (RK4, solver tolerance, margin and solimp once; per case the time
 step and a direct solref the adapter computes), and ``qpos``/``qvel``.  The script embeds
-that MJCF (:data:`MJCF`, the model of ``mujoco_setup.compile_pair``; the fidelity test
-checks that the two give the same answers bit for bit) and makes the same assignments and
+that MJCF (``mujoco_setup.MJCF``, filled by ``mujoco_setup.pair_mjcf``, the very text the
+adapter compiles) and makes the same assignments and
 calls: detection is ``mj_kinematics``, ``mj_collision`` and ``mj_geomDistance``; a response
 steps from ``mj_resetData`` until no contact is active and the spheres no longer approach,
 raising on a MuJoCo warning as the adapter does (the warning handler keeps MuJoCo from
@@ -21,22 +21,10 @@ from string import Template
 
 from adapters import mujoco_engine, mujoco_response, mujoco_setup
 from adapters.mujoco_engine import MujocoDefault
-from crosscheck.core.geometry import Vec3, to3
+from crosscheck.core.geometry import to3
 from crosscheck.core.model import quantities_of
 from crosscheck.core.schema import AabbCase, PairCase, ResponseCase
 from crosscheck.studies.repro.code import EngineCode, number, undefined
-
-MJCF = """<mujoco model="crosscheck-pair">
-  <option gravity="0 0 0"/>
-  <worldbody>
-    <body name="a"><freejoint/><inertial pos="0 0 0" mass="{ma}" diaginertia="{ia}"/>
-      <geom name="a" type="{geom}" size="{sa}"{extra}/></body>
-    <body name="b"><freejoint/><inertial pos="0 0 0" mass="{mb}" diaginertia="{ib}"/>
-      <geom name="b" type="{geom}" size="{sb}"{extra}/></body>
-  </worldbody>
-</mujoco>"""
-"""The model ``adapters.mujoco_setup.compile_pair`` compiles (with unit sizes and masses)."""
-UNIT: dict[str, Vec3] = {"sphere": (1.0, 0.0, 0.0), "box": (1.0, 1.0, 1.0)}
 
 SETUP = Template('''\
 WARNINGS = collections.deque(maxlen=16)  # MuJoCo's warnings, kept (not MUJOCO_LOG.TXT)
@@ -181,20 +169,6 @@ v1, v2 = va[:2], vb[:2]
 """
 
 
-def mjcf(geom: str, sizes: tuple[Vec3, Vec3], masses: tuple[mujoco_setup.Mass, ...],
-         extra: str) -> str:
-    """The adapter's MJCF with these sizes and masses (a sphere's size is its radius)."""
-    count = 1 if geom == "sphere" else 3
-
-    def text(values: tuple[float, ...]) -> str:
-        return " ".join(repr(float(x)) for x in values)
-
-    (ma, ia), (mb, ib) = masses
-    return MJCF.format(geom=geom, sa=text(sizes[0][:count]), sb=text(sizes[1][:count]),
-                       ma=repr(float(ma)), mb=repr(float(mb)), ia=text(ia), ib=text(ib),
-                       extra=extra)
-
-
 def _vector(v: tuple[float, ...]) -> str:
     return "(" + ", ".join(number(x) for x in v) + ")"
 
@@ -219,8 +193,9 @@ def mujoco_code(adapter: MujocoDefault, case: PairCase) -> EngineCode:
     refused = mujoco_setup.refusal(geom, sizes, masses)
     extra = adapter.condim if response else ""
     unit_masses: tuple[mujoco_setup.Mass, ...] = ((1.0, (1.0, 1.0, 1.0)),) * 2
-    model = (mjcf(geom, sizes, masses or unit_masses, "") if refused
-             else mjcf(geom, (UNIT[geom], UNIT[geom]), unit_masses, extra))
+    model = (mujoco_setup.pair_mjcf(geom, sizes, masses or unit_masses, "") if refused
+             else mujoco_setup.pair_mjcf(geom, (mujoco_setup.UNIT[geom],) * 2, unit_masses,
+                                         extra))
     code = SETUP.substitute(
         mjcf=model, compile=REFUSED if refused else COMPILE,
         sizes=f"({_vector(sizes[0])}, {_vector(sizes[1])})",

@@ -18,7 +18,7 @@ from adapters import pybullet_engine
 from adapters.pybullet_engine import PyBulletTuned
 from crosscheck.core.geometry import to3
 from crosscheck.core.schema import AabbCase, PairCase, ResponseCase
-from crosscheck.studies.repro.code import EngineCode
+from crosscheck.studies.repro.code import APPROACH, EngineCode
 
 CLIENT = Template("""\
 cid = pybullet.connect(pybullet.DIRECT)  # no GUI
@@ -67,15 +67,7 @@ TOL = $rtol * max((abs(x) for x in (*A_VELOCITY, *B_VELOCITY)), default=0.0)
 MOTION = ((a, CENTRE_A, $velocity_a), (b, CENTRE_B, $velocity_b))
 
 
-def approach_speed(pa, pb, va, vb):
-    # speed at which A and B approach along their line of centres (NaN if they coincide)
-    d = tuple(y - x for x, y in zip(pa, pb, strict=True))
-    length = math.sqrt(math.fsum(x * x for x in d))
-    if not length > 0:
-        return math.nan
-    dv = tuple(y - x for x, y in zip(vb, va, strict=True))
-    return math.fsum(x * y for x, y in zip(dv, d, strict=True)) / length
-
+$approach
 
 for body, p, v in MOTION:
     pybullet.resetBasePositionAndOrientation(body, p, (0.0, 0.0, 0.0, 1.0), physicsClientId=cid)
@@ -167,6 +159,7 @@ def pybullet_code(adapter: PyBulletTuned, case: PairCase) -> EngineCode:
         filter_a=filters[0] if response else FILTER_NOTE + filters[0], filter_b=filters[1])
     if isinstance(case, ResponseCase):
         code += RESPONSE.substitute(
+            approach=APPROACH,
             max_steps=repr(pybullet_engine.MAX_STEPS), rtol=repr(pybullet_engine.APPROACH_RTOL),
             dynamics=_dynamics(adapter, case),
             velocity_a="(A_VELOCITY[0], A_VELOCITY[1], 0.0)" if flat else "A_VELOCITY",
