@@ -247,6 +247,17 @@ class Adapter(ABC):
         """
         return self.query(prepared)
 
+    binding_objects: ClassVar[tuple[str, ...]] = ()
+    """The engine's shared objects, as patterns on their file names (``fnmatch``, such as
+    ``"pybullet*.so"``), for the instruction-counting timer (``--timer instructions``).
+
+    Under Valgrind's callgrind, a call from outside these objects into a function inside
+    them is an entry point into the engine's binding; the instructions counted inside such
+    calls (inclusive of what they call: the library, libc, allocations) are the engine's own
+    work, and the rest of a query's count is the harness's Python path.  Empty: the adapter
+    names no binding (pure Python), and only the whole query is counted.
+    """
+
     def binding_call(self) -> Callable[[], object] | None:
         """The cheapest call into the engine's Python binding (None: no binding, pure Python).
 

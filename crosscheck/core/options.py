@@ -39,6 +39,10 @@ class RunOptions:
     ``repeat_check``: after the verdict pass, every pair with a ``disagree``, ``error`` or
     ``crash`` row (and no ``timeout``) is asked once more in a fresh worker process; a pair
     whose answer changes is flagged ``nondeterministic`` (see ``crosscheck.run.repeat``).
+
+    ``timer``: ``"wall"`` times the sample on the wall clock only; ``"instructions"`` also
+    counts each sampled pair's instructions per query under Valgrind's callgrind, in one
+    Valgrind process per engine library (see ``crosscheck.run.cost``).
     """
 
     quick: bool = False
@@ -54,6 +58,7 @@ class RunOptions:
     scheduler: str | None = None
     worker_memory_mb: float = 2048.0
     repeat_check: bool = False
+    timer: str = "wall"
 
     def to_json(self) -> dict[str, Any]:
         """The options as plain JSON values."""
