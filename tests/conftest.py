@@ -1,4 +1,6 @@
-"""Shared fixtures: case builders and a temporary run directory."""
+"""Shared fixtures: case builders, a temporary run directory, and :func:`wait_until`, the one
+place a test reads a clock (a safety bound on waiting, never a measurement:
+tests/test_no_measured_time.py)."""
 
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ import os
 import re
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -71,11 +74,26 @@ def embedded(html: str, script_id: str) -> Any:
     return json.loads(gzip.decompress(base64.b64decode(match.group(1))).decode("utf-8"))
 
 
+def wait_until(condition: Callable[[], bool], what: str, timeout_s: float = 60.0,
+               poll_s: float = 0.05) -> None:
+    """Poll ``condition`` until it holds; after ``timeout_s`` fail saying ``what`` never came.
+
+    A safety bound, not a measurement: the limit only stops a test that would wait forever
+    (a child that never writes, say), so it is generous, and nothing asserts how long the
+    wait took.  ``condition`` may itself assert (a child that died early, say).
+    """
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        if time.monotonic() >= deadline:
+            raise AssertionError(f"{what} (gave up after {timeout_s:g} s)")
+        time.sleep(poll_s)
+
+
+def lines_in(path: Path) -> int:
+    """The number of lines in ``path`` so far (0 while it does not exist)."""
+    return path.read_text(encoding="utf-8").count("\n") if path.exists() else 0
+
+
 def wait_for_rows(path: Path, rows: int = 1) -> None:
-    """Wait up to 60 s for a running crosscheck to write ``rows`` lines to ``path``."""
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        if path.exists() and path.read_text().count("\n") >= rows:
-            return
-        time.sleep(0.05)
-    raise AssertionError(f"{path} never reached {rows} rows")
+    """Wait (up to 60 s) for a running crosscheck to write ``rows`` lines to ``path``."""
+    wait_until(lambda: lines_in(path) >= rows, f"{path} never reached {rows} rows")

@@ -10,7 +10,6 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
@@ -24,7 +23,7 @@ import dask
 from distributed import Client, LocalCluster
 
 from crosscheck.results.store import read_results
-from tests.conftest import ROOT
+from tests.conftest import ROOT, wait_until
 
 TIMING = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]
 CLI = [sys.executable, "-m", "crosscheck.cli"]
@@ -47,10 +46,13 @@ def rows(directory: Path) -> pd.DataFrame:
 
 
 def wait_for_rows(path: Path, process: subprocess.Popen[bytes]) -> None:
-    deadline = time.monotonic() + 120
-    while not (path.exists() and path.stat().st_size) and time.monotonic() < deadline:
+    def written() -> bool:
+        if path.exists() and path.stat().st_size:
+            return True
         assert process.poll() is None, "the run ended before it wrote a row"
-        time.sleep(0.01)
+        return False
+
+    wait_until(written, f"{path} got no row", timeout_s=120, poll_s=0.01)
 
 
 def raw_keys(directory: Path) -> Counter[tuple[str, str, str]]:
@@ -97,9 +99,7 @@ def test_losing_the_scheduler_fails_cleanly_with_a_resume_hint(tmp_path: Path) -
                                  env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     worker = None
     try:
-        deadline = time.monotonic() + 60
-        while not address_file.exists() and time.monotonic() < deadline:
-            time.sleep(0.05)
+        wait_until(address_file.exists, "the scheduler wrote no address file")
         address = json.loads(address_file.read_text())["address"]
         worker = subprocess.Popen([*WORKER, address, "--nthreads", "1", "--no-nanny"],
                                   env=ENV, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

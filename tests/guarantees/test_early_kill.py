@@ -22,7 +22,7 @@ from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
-from tests.conftest import ROOT, sphere
+from tests.conftest import ROOT, sphere, wait_until
 
 TIMING = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]
 CLI = [sys.executable, "-m", "crosscheck.cli"]
@@ -59,11 +59,8 @@ def wait_for(moment: float | str, out: Path) -> None:
         time.sleep(moment)
         return
     path = out if moment == "folder" else out / moment
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:
-        if path.exists() and (moment != "results.jsonl" or path.stat().st_size):
-            return
-        time.sleep(0.001)
+    wait_until(lambda: path.exists() and (moment != "results.jsonl" or path.stat().st_size > 0),
+               f"the run never made {moment}", poll_s=0.001)
 
 
 def state(out: Path) -> str:

@@ -28,7 +28,7 @@ from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.run.runner import run
 from crosscheck.run.worker import LocalLanes
 from tests import fakes
-from tests.conftest import ROOT, sphere
+from tests.conftest import ROOT, lines_in, sphere, wait_until
 
 CASES = [sphere(0.0, 2.0, id="before"), sphere(0.0, 1.5, id="boom"), sphere(0.0, 3.0, id="after")]
 SKIPPED = "declared known hang, not run in-process (--no-isolation has no time limit to stop it): "
@@ -146,12 +146,8 @@ def case_file(path: Path, count: int, stuck_at: int) -> Path:
 
 
 def wait_for_lines(path: Path, lines: int) -> None:
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        if path.exists() and path.read_text(encoding="utf-8").count("\n") >= lines:
-            return
-        time.sleep(0.05)
-    raise AssertionError(f"{path} never reached {lines} lines")
+    wait_until(lambda: lines_in(path) >= lines, f"{path} never reached {lines} lines",
+               timeout_s=120)
 
 
 def whole_cases(out: Path) -> Counter[str]:

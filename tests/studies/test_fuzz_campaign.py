@@ -26,7 +26,7 @@ from crosscheck.studies.fuzz import findings as findings_module
 from crosscheck.studies.fuzz import generator as fuzzgen
 from crosscheck.studies.fuzz.findings import Groups
 from crosscheck.testing.fakes import AlwaysRight, OffByOne
-from tests.conftest import ROOT
+from tests.conftest import ROOT, wait_until
 from tests.studies.test_fuzz import fuzz_cli
 
 
@@ -99,10 +99,14 @@ def test_a_campaign_killed_by_sigkill_resumes_to_the_outputs_of_an_uninterrupted
     killed = tmp_path / "killed"
     child = subprocess.Popen([sys.executable, "-c", SCRIPT.format(n=N), str(killed)], cwd=ROOT,
                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.monotonic() + 120
-    while not (killed / "chunks").exists() or not fuzz.finished_chunks(killed):
-        assert child.poll() is None and time.monotonic() < deadline, "no chunk was written"
-        time.sleep(0.01)
+
+    def chunk_written() -> bool:
+        if (killed / "chunks").exists() and fuzz.finished_chunks(killed):
+            return True
+        assert child.poll() is None, "the campaign ended before it wrote a chunk"
+        return False
+
+    wait_until(chunk_written, "no chunk was written", timeout_s=120, poll_s=0.01)
     child.send_signal(signal.SIGKILL)
     child.wait()
     before = fuzz.finished_chunks(killed)
@@ -196,7 +200,10 @@ def test_a_campaign_on_dask_gives_the_outputs_of_a_local_one(tmp_path: Path) -> 
 
 
 def test_campaign_throughput_reports_every_engine_and_memory() -> None:
-    figure = fuzz.campaign_throughput(40, [AlwaysRight(), OffByOne()], jobs=1)
+    readings = iter([100.0, 102.5])  # injected time: the 40 cases take 2.5 s
+    figure = fuzz.campaign_throughput(40, [AlwaysRight(), OffByOne()], jobs=1,
+                                      clock=lambda: next(readings))
     assert figure["n"] == 40 and figure["engines"] == ["fake-right", "fake-off"]
     assert set(figure["engine_cases_per_s"]) == {"fake-right", "fake-off"}
-    assert figure["cases_per_s"] > 0 and figure["peak_lanes_mb"] > 0  # values, not timings
+    assert (figure["wall_s"], figure["cases_per_s"]) == (2.5, 16.0)
+    assert figure["peak_lanes_mb"] > 0
