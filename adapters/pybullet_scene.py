@@ -62,7 +62,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -177,15 +177,17 @@ def in_dim(dim: int, vectors: Sequence[Vec3], what: str) -> tuple[tuple[float, .
     return tuple((float(v[0]), float(v[1])) for v in vectors)
 
 
-def run_scene(prepared: Any, steps: int) -> SceneRun:
-    """Step the scene ``steps`` times (only this loop is timed) and read its final state."""
+def run_scene(prepared: Any, steps: int,
+              clock: Callable[[], float] = time.perf_counter) -> SceneRun:
+    """Step the scene ``steps`` times (only this loop is timed, read from ``clock``
+    just before and just after it) and read its final state."""
     scene: Prepared = prepared
     check_steps(steps)
     step, cid = engine().stepSimulation, scene.cid
-    start = time.perf_counter()
+    start = clock()
     for _ in range(steps):
         step(physicsClientId=cid)
-    wall = time.perf_counter() - start
+    wall = clock() - start
     positions, velocities = state(scene)
     return SceneRun(in_dim(scene.dim, positions, "position"),
                     in_dim(scene.dim, velocities, "velocity"), wall, steps)

@@ -21,7 +21,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -32,11 +32,13 @@ ROOT = Path(__file__).resolve().parent.parent
 OUTPUT = ROOT / "docs" / "measurements" / "setup.json"
 
 
-def timed(command: Sequence[str], cwd: Path, env: dict[str, str]) -> float | None:
-    """Run ``command`` in ``cwd``; its wall-clock seconds, or None when it failed."""
-    start = time.perf_counter()
+def timed(command: Sequence[str], cwd: Path, env: dict[str, str],
+          clock: Callable[[], float] = time.perf_counter) -> float | None:
+    """Run ``command`` in ``cwd``; its wall-clock seconds (``clock`` read before and after
+    it), or None when it failed."""
+    start = clock()
     done = subprocess.run(list(command), cwd=cwd, env=env, check=False)
-    seconds = time.perf_counter() - start
+    seconds = clock() - start
     if done.returncode:
         print(f"error: {' '.join(command)} failed (exit {done.returncode}) after "
               f"{seconds:.0f} s: not recorded", file=sys.stderr)

@@ -38,6 +38,13 @@ def test_set_up_records_are_merged_into_the_file(tmp_path: Path,
 
 
 def test_a_failed_step_is_not_recorded(tmp_path: Path) -> None:
-    assert measure_setup.timed(["false"], tmp_path, {}) is None
-    seconds = measure_setup.timed(["true"], tmp_path, {"PATH": "/usr/bin:/bin"})
-    assert seconds is not None and seconds >= 0
+    readings: list[float] = []
+
+    def clock() -> float:  # injected time: 1.5 s between the readings around each command
+        readings.append(1.5 * len(readings))
+        return readings[-1]
+
+    assert measure_setup.timed(["false"], tmp_path, {}, clock) is None
+    readings.clear()
+    seconds = measure_setup.timed(["true"], tmp_path, {"PATH": "/usr/bin:/bin"}, clock)
+    assert seconds == 1.5 and len(readings) == 2

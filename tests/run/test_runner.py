@@ -88,8 +88,9 @@ def test_timing_columns_filled_unless_quick(tmp_path: Path) -> None:
     quick = run_fakes(tmp_path / "q", fakes.AlwaysRight())
     timed = run_fakes(tmp_path / "t", fakes.AlwaysRight(), quick=False)
     assert quick["query_s"].isna().all() and (quick["loops"] == 0).all()
-    assert (timed["query_s"] > 0).all() and (timed["loops"] >= 1).all()
-    assert (timed["setup_s"] >= 0).all()
+    # filled, not judged: what a measured time should be is crosscheck bench's business
+    assert timed[["query_s", "query_iqr_s", "setup_s"]].notna().all().all()
+    assert (timed["loops"] >= 1).all()
 
 
 def test_cases_are_stored_for_the_report(tmp_path: Path) -> None:

@@ -1,9 +1,12 @@
-"""``crosscheck bench`` at small sizes: every figure is produced and written; no timing asserted."""
+"""``crosscheck bench`` at small sizes: every figure is produced and written; no measured
+timing asserted (the figures' arithmetic is checked on injected times: ``best_of`` replaced,
+or a fake ``clock``)."""
 
 from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -24,24 +27,58 @@ def test_batch_figures_agree_with_the_pure_oracle() -> None:
         assert f.detail["refined"] > 0 and f.detail["fallbacks"] == 0
 
 
+def inject_best_of(monkeypatch: pytest.MonkeyPatch, seconds: list[float]) -> list[int]:
+    """Replace the figures' ``best_of``: it runs the function once (the path still runs) and
+    returns the next of ``seconds``; the list returned counts the calls."""
+    given: Iterator[float] = iter(seconds)
+    calls: list[int] = []
+
+    def best_of(f: Callable[[], object], repeat: int = 3) -> float:
+        f()
+        calls.append(repeat)
+        return next(given)
+
+    monkeypatch.setattr(bench, "best_of", best_of)
+    return calls
+
+
+def fake_clock(*readings: float) -> Callable[[], float]:
+    """A clock that gives ``readings`` in turn."""
+    given = iter(readings)
+    return lambda: next(given)
+
+
 @pytest.mark.engine
-def test_overhead_figures_measure_raw_engine_path_and_harness() -> None:
+def test_overhead_figures_measure_raw_engine_path_and_harness(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # (raw, engine path, harness) seconds per figure: 50% over raw meets the 50% limit, 100% not
+    times = [(0.5, 0.625, 0.75), (0.5, 0.5, 1.0), (0.25, 0.375, 0.375), (1.0, 1.5, 2.0)]
+    calls = inject_best_of(monkeypatch, [t for triple in times for t in triple])
     figures = bench.overhead_figures(60)
+    assert len(calls) == 12
     assert [f.name for f in figures] == [
         "harness overhead fcl sphere", "harness overhead fcl aabb",
         "harness overhead pymunk sphere", "harness overhead pymunk aabb"]
-    for f in figures:
+    for f, (raw, path, harness) in zip(figures, times, strict=True):
         d = f.detail
         assert d["cases"] == 60
-        assert all(math.isfinite(d[k]) and d[k] > 0
-                   for k in ("raw_us", "engine_path_us", "harness_us"))
-        assert f.ok == (f.value <= 50.0)
+        assert (d["raw_us"], d["engine_path_us"], d["harness_us"]) == pytest.approx(
+            (raw / 60 * 1e6, path / 60 * 1e6, harness / 60 * 1e6))
+        assert f.value == pytest.approx((harness / raw - 1) * 100)
+        assert d["engine_path_overhead_pct"] == pytest.approx((path / raw - 1) * 100)
+    assert [f.ok for f in figures] == [True, False, True, False]
 
 
 @pytest.mark.engine
-def test_pybullet_stream_reports_memory_and_bodies() -> None:
-    stream, memory = bench.pybullet_figures(400)
-    assert stream.detail["cases"] == 400 and stream.value > 0
+def test_pybullet_stream_reports_memory_and_bodies(monkeypatch: pytest.MonkeyPatch) -> None:
+    # raw loop 0.2 s (best of 3), harness on a tenth 0.05 s, the stream 3.0 -> 3.5 s
+    calls = inject_best_of(monkeypatch, [0.2, 0.05])
+    stream, memory = bench.pybullet_figures(400, clock=fake_clock(3.0, 3.5))
+    assert calls == [3, 1]
+    assert stream.detail["cases"] == 400 and stream.value == pytest.approx(0.5 / 0.2)
+    assert stream.ok  # <= 3
+    assert (stream.detail["raw_us"], stream.detail["engine_path_us"],
+            stream.detail["harness_us"]) == pytest.approx((500.0, 1250.0, 1250.0))
     assert len(memory.detail["rss_mb"]) == 10
     assert 0 < memory.detail["bodies_left"] <= 64
 
@@ -105,7 +142,9 @@ def test_values_figure_checks_every_near_pair_bit_for_bit() -> None:
 
 @pytest.mark.engine
 def test_campaign_figure_reports_every_engine_and_memory() -> None:
-    figure = bench.campaign_figure(1_000, ["reference", "pymunk"])
+    # injected: the 1,000 cases take 60 s, so a million take 1,000 minutes, over the 15
+    figure = bench.campaign_figure(1_000, ["reference", "pymunk"], clock=fake_clock(5.0, 65.0))
     assert set(figure.detail["engine_cases_per_s"]) == {"reference", "pymunk"}
     assert figure.detail["n"] == 1_000 and figure.detail["peak_parent_mb"] > 0
-    assert figure.unit == "min" and math.isfinite(figure.value)
+    assert figure.detail["wall_s"] == 60.0
+    assert figure.unit == "min" and figure.value == pytest.approx(1_000.0) and not figure.ok
