@@ -11,7 +11,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 BUNDLE := $(VENV)/.plotly-bundle
 
-.PHONY: run test test-long lint venv clean browser docs docs-figures cli-page
+.PHONY: run test test-long lint venv clean browser valgrind docs docs-figures cli-page
 
 $(STAMP): requirements.lock pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -42,6 +42,15 @@ browser:
 	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
 	  else echo "chromium not found: the browser test will be skipped (install Debian's chromium)"; fi; }
 
+# The instruction timer (crosscheck run --timer instructions) and its tests count under Debian's
+# valgrind; install it when it is missing and we can.
+valgrind:
+	@command -v valgrind >/dev/null 2>&1 || { \
+	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+	    echo "installing Debian's valgrind for the instruction timer"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq valgrind >/dev/null; \
+	  else echo "valgrind not found: --timer instructions is refused and its tests are skipped (install Debian's valgrind)"; fi; }
+
 # The site: the CLI page checked against the parser (make cli-page rewrites it), then a strict
 # build (a broken link, a missing page or snippet fails it).  NO_MKDOCS_2_WARNING: Material's notice about its end of
 # life (the versions are pinned in the lock) is not printed on every build.
@@ -58,11 +67,11 @@ docs-figures: $(STAMP)
 	  echo "usage: make docs-figures RUN=<run folder> [BENCH=docs/bench.json]" >&2; exit 2; fi
 	$(BIN)/python -m tools.docs_figures "$(RUN)" $(if $(BENCH),--bench "$(BENCH)")
 
-test: lint browser docs
+test: lint browser valgrind docs
 	$(BIN)/python -m pytest -m "not slow and not wallclock" $(PYTEST_ARGS)
 
 # Nightly-style: everything, including the tests marked slow (a 100,000-case run).
-test-long: lint browser docs
+test-long: lint browser valgrind docs
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
 
 clean:

@@ -405,6 +405,11 @@ class Box2dTuned(Adapter):
     def available(self) -> str | None:
         return import_problem(engine, "Box2D")
 
+    binding_objects: ClassVar[tuple[str, ...]] = ("_Box2D*.so",)
+    """The engine's shared objects for the instruction timer: pybox2d's SWIG module, Box2D compiled
+    in.
+    """
+
     def binding_call(self) -> Callable[[], object]:
         """A zero ``b2Vec2``: one object made through pybox2d's SWIG binding."""
         return engine().b2Vec2  # type: ignore[no-any-return]

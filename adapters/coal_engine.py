@@ -288,6 +288,13 @@ class CoalTuned(Adapter):
     def available(self) -> str | None:
         return import_problem(engine, "coal")
 
+    binding_objects: ClassVar[tuple[str, ...]] = (
+        "coal_pywrap*.so", "libcoal.so*", "eigenpy_pywrap*.so", "libeigenpy.so*",
+        "libboost_python*.so*")
+    """The engine's shared objects for the instruction timer: coal's Boost.Python module, libcoal,
+    and the eigenpy and Boost.Python conversions it calls.
+    """
+
     def binding_call(self) -> Callable[[], object]:
         """An identity ``coal.Transform3s()``: one C++ object made through the binding."""
         return engine().Transform3s  # type: ignore[no-any-return]

@@ -195,6 +195,12 @@ class Fcl(Adapter):
     def available(self) -> str | None:
         return import_problem(engine, "fcl")
 
+    binding_objects: ClassVar[tuple[str, ...]] = (
+        "fcl.cpython-*.so", "libfcl-*.so*", "libccd-*.so*")
+    """The engine's shared objects for the instruction timer: python-fcl's Cython module and the
+    libfcl and libccd it bundles (python_fcl.libs/).
+    """
+
     def binding_call(self) -> Callable[[], object]:
         """An identity ``fcl.Transform()``: one C++ object made through the Cython binding."""
         return engine().Transform  # type: ignore[no-any-return]

@@ -303,6 +303,11 @@ class MujocoDefault(Adapter):
     def available(self) -> str | None:
         return import_problem(engine, "mujoco")
 
+    binding_objects: ClassVar[tuple[str, ...]] = ("*/mujoco/_*.so", "libmujoco.so*")
+    """The engine's shared objects for the instruction timer: MuJoCo's pybind11 modules
+    (mujoco/_functions, _structs, ...) and libmujoco.
+    """
+
     def binding_call(self) -> Callable[[], object]:
         """``mj_version()``: one call through the pybind11 binding into libmujoco."""
         return engine().mj_version  # type: ignore[no-any-return]

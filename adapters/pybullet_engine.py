@@ -408,6 +408,11 @@ class PyBulletTuned(Adapter):
     def available(self) -> str | None:
         return import_problem(engine, "pybullet")
 
+    binding_objects: ClassVar[tuple[str, ...]] = ("pybullet.cpython-*.so",)
+    """The engine's shared objects for the instruction timer: pybullet's one C extension, Bullet
+    linked in (entry points such as pybullet_getClosestPointData).
+    """
+
     def binding_call(self) -> Callable[[], object]:
         """``getNumBodies`` on the variant's detection client: one call into the C API."""
         bt, cid = engine(), client(self.name, self.world)

@@ -293,6 +293,11 @@ class PymunkTuned(Adapter):
             return "pymunk signals 'no contact' with an assert, which python -O strips"
         return None
 
+    binding_objects: ClassVar[tuple[str, ...]] = ("_chipmunk*.so",)
+    """The engine's shared objects for the instruction timer: pymunk's cffi module, Chipmunk2D
+    compiled in.
+    """
+
     def binding_call(self) -> Callable[[], object]:
         """``Shape.cache_bb()`` of one static circle: one call through pymunk's cffi binding."""
         import pymunk

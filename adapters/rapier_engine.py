@@ -322,6 +322,11 @@ class RapierTuned(Adapter):
     def available(self) -> str | None:
         return contract.import_problem(lambda: importlib.import_module("rapier3d"), "rapier3d")
 
+    binding_objects: ClassVar[tuple[str, ...]] = ("_rapier3d*.so",)
+    """The engine's shared objects for the instruction timer: the rapier3d PyO3 module, Rapier
+    compiled in.
+    """
+
     def binding_call(self) -> Callable[[], object]:
         """``Vec3.zeros()``: one float32 vector made through the PyO3 binding."""
         import rapier3d as rp

@@ -97,7 +97,7 @@ def _render(directory: Path) -> bool:
 
 CHANGES_THE_RUN = ("paths", "engine", "out", "quick", "timing_cases", "timing_seed", "samples",
                    "min_sample", "scene_repeats", "no_pin", "timeout", "jobs", "no_isolation",
-                   "scheduler", "worker_memory", "repeat_check")
+                   "scheduler", "worker_memory", "repeat_check", "timer")
 """The options of ``run`` that ``--resume`` refuses: a resumed run keeps those it started with."""
 
 _PARSER_DEFAULTS: dict[str, object] = {}
@@ -124,7 +124,7 @@ def start(args: argparse.Namespace) -> int:
     from crosscheck.results.store import ResultsStore, StoreError
     from crosscheck.run.launch import new_info
 
-    problem = _path_problem(args.paths)
+    problem = _path_problem(args.paths) or _timer_problem(args)
     if problem:
         fail(problem)
         return 2
@@ -172,7 +172,21 @@ def _options(args: argparse.Namespace) -> RunOptions:
                       timing_seed=args.timing_seed, scene_repeats=args.scene_repeats,
                       pin=not args.no_pin, isolate=not args.no_isolation,
                       jobs=args.jobs or os.cpu_count() or 1, scheduler=args.scheduler,
-                      worker_memory_mb=args.worker_memory, repeat_check=args.repeat_check)
+                      worker_memory_mb=args.worker_memory, repeat_check=args.repeat_check,
+                      timer=args.timer)
+
+
+def _timer_problem(args: argparse.Namespace) -> str | None:
+    """Why ``--timer instructions`` cannot be honoured (None: it can, or it was not asked)."""
+    if args.timer != "instructions":
+        return None
+    if args.quick or args.timing_cases == 0:
+        given = "--quick" if args.quick else "--timing-cases 0"
+        return (f"--timer instructions counts the timing sample, and {given} has none: drop "
+                f"one of them")
+    from crosscheck.run.callgrind import missing
+
+    return missing()
 
 
 def resume(directory: Path) -> int:
@@ -247,6 +261,11 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help=f"timing samples kept per case (default {defaults.samples})")
     p.add_argument("--min-sample", type=_number(float, 0, False), default=defaults.min_sample_s,
                    help=f"seconds per timing sample (default {defaults.min_sample_s:g})")
+    p.add_argument("--timer", choices=("wall", "instructions"), default=defaults.timer,
+                   help="wall: time the sample on the wall clock; instructions: also count "
+                        "each sampled pair's instructions per query under Valgrind's callgrind, "
+                        "deterministic whatever the machine's load (needs valgrind; "
+                        "default: %(default)s)")
     p.add_argument("--scene-repeats", type=_number(int, 1, True), default=defaults.scene_repeats,
                    help=f"runs of each timed scene (default {defaults.scene_repeats})")
     p.add_argument("--no-pin", action="store_true",

@@ -11,6 +11,9 @@
   and end times);
 - ``results.csv``: the tidy table, written from ``results.jsonl`` (with the timing
   phase's medians and the repeat check's second answers, :mod:`crosscheck.results.repeats`);
+- ``timings.jsonl`` and ``counts.jsonl``: the timing phase's wall-clock samples
+  (:mod:`crosscheck.results.timings`) and the instruction timer's raw counts
+  (:mod:`crosscheck.results.counts`), joined to the results' timing columns when read;
 - ``repro/``: a standalone script per breaking case x engine (:func:`repro_name`, written by
   :mod:`crosscheck.studies.repro`; :func:`written_repros` says which are there).
 
@@ -23,6 +26,9 @@ saying so; the rows written before it stay loadable (a half-written last line
 is skipped by every reader and dropped by ``--resume``), and the run can be
 resumed once there is space.  ``cases.jsonl`` is written before ``run.json``,
 so a folder with a run.json always has the cases to resume.
+
+Over 400 lines: the store is the one owner of the run folder (writing, locking,
+resuming and reading back belong together), so it stays one module.
 """
 
 from __future__ import annotations
@@ -41,7 +47,7 @@ import pandas as pd
 from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.core.values import upgrade
-from crosscheck.results import legacy, repeats
+from crosscheck.results import counts, legacy, repeats
 from crosscheck.results.rows import line
 from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
@@ -85,12 +91,15 @@ class ResultsStore:
         if resume:  # drop a half-written last line, so that appends start on a line of their own
             _replace_if_exists(directory / TIMINGS)
             _replace_if_exists(directory / repeats.FILE)
+            _replace_if_exists(directory / counts.FILE)
         self.repeated: set[tuple[str, str]] = set(repeats.read_repeats(directory) if resume else ())
         timings = read_timings(directory) if resume else None
         self.timed: set[tuple[str, str]] = (
             set(zip(timings["case_id"], timings["engine"], strict=True))
             if timings is not None else set())
         """The (case id, engine) pairs the timing phase has already measured."""
+        self.counted = counts.counted_pairs(directory) if resume else set()
+        """The (case id, engine) pairs the instruction timer has already counted."""
 
     def add_cases(self, cases: Iterable[AnyCase]) -> None:
         """Record the inputs of every case of the run, in suite order (replacing any): once
@@ -122,6 +131,12 @@ class ResultsStore:
         with (self.directory / TIMINGS).open("a", encoding="utf-8") as handle:
             handle.write(record.to_json() + "\n")
         self.timed.add((record.case_id, record.engine))
+
+    def append_count(self, record: counts.CountRecord) -> None:
+        """Append one case x engine's instruction counts to ``counts.jsonl`` and flush."""
+        with (self.directory / counts.FILE).open("a", encoding="utf-8") as handle:
+            handle.write(record.to_json() + "\n")
+        self.counted.add((record.case_id, record.engine))
 
     def append_repeat(self, record: repeats.RepeatRecord) -> None:
         """Append one pair's second answer to ``repeats.jsonl`` and flush."""
@@ -249,7 +264,7 @@ def read_results(directory: Path) -> pd.DataFrame:
     rows = [legacy.record_fields(row) for row in _parsed_lines(directory / "results.jsonl")]
     frame = pd.DataFrame(rows, columns=list(COLUMNS))
     if not rows:
-        return repeats.with_repeats(frame, directory)
+        return repeats.with_repeats(counts.with_counts(frame, directory), directory)
     frame = frame.astype({"dim": "int64", "loops": "int64"})
     for column in ("value", "truth"):  # formats 1-3 wrote "", undefined and bare NaN
         frame[column] = frame[column].map(upgrade)
@@ -263,7 +278,7 @@ def read_results(directory: Path) -> pd.DataFrame:
     })
     order = keys.sort_values(["case", "engine", "quantity"], kind="stable").index
     frame = _with_timings(frame.loc[order].reset_index(drop=True), read_timings(directory))
-    return repeats.with_repeats(frame, directory)
+    return repeats.with_repeats(counts.with_counts(frame, directory), directory)
 
 
 def _with_timings(frame: pd.DataFrame, timings: pd.DataFrame) -> pd.DataFrame:

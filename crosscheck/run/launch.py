@@ -36,6 +36,7 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.results.runinfo import RunInfo, now
 from crosscheck.results.store import ResultsStore
 from crosscheck.run import environment
+from crosscheck.run.cost import cost_phase
 from crosscheck.run.repeat import repeat_check
 from crosscheck.run.runner import Progress, run_pending
 from crosscheck.run.timing_phase import time_phase
@@ -73,7 +74,9 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     then asks every disagreeing pair not yet asked again (the ``"repeat check"`` phase) and
     records its summary in run.json; unless the run is ``quick`` or its ``timing_cases``
     is 0, the timing phase then measures a sample in quiet
-    (:mod:`crosscheck.run.timing_phase`).  The store is closed in every case.  An
+    (:mod:`crosscheck.run.timing_phase`) and, with ``options.timer == "instructions"``, the
+    instruction timer counts the same sample (:mod:`crosscheck.run.cost`).  The store is
+    closed in every case.  An
     interruption (Ctrl-C) propagates after the store is closed: every finished
     row and sample is on disk, run.json says the run did not finish, and
     ``crosscheck run --resume`` completes it.
@@ -91,7 +94,13 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
             store.write_run_info(info)  # kept if the timing phase is interrupted
         if not options.quick and options.timing_cases > 0:
             start = (lambda total: phases("timing", total)) if phases else None
-            info = replace(info, timing=time_phase(store, cases, engines, options, start))
+            timing = time_phase(store, cases, engines, options, start)
+            info = replace(info, timing=timing)
+            if options.timer == "instructions":
+                store.write_run_info(info)  # the wall-clock samples are kept if interrupted
+                count = (lambda total: phases("counting", total)) if phases else None
+                timing = timing | {"cost": cost_phase(store, cases, engines, options, count)}
+                info = replace(info, timing=timing)
         info = info.finish()
         store.write_run_info(info)
     finally:

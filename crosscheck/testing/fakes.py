@@ -239,6 +239,12 @@ class BusyLoopTwice(BusyLoop):
     ITERATIONS: ClassVar[int] = 2 * BusyLoop.ITERATIONS
 
 
+class BusyLoopFivePercent(BusyLoop):
+    """The same engine doing 5% more work per query: for a cost ``compare`` to catch."""
+
+    ITERATIONS: ClassVar[int] = BusyLoop.ITERATIONS * 105 // 100
+
+
 class SlowWithDeclaredHang(_Fake):
     """Right answers after ``DELAY_S`` each (a slow engine); on the case with id 'stuck',
     which it declares a known hang, it loops and ignores Ctrl-C, as an engine stuck in C

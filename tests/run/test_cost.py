@@ -1,0 +1,185 @@
+"""The instruction timer: what a callgrind dump counts, the counts it stores, and a cost
+``compare`` that flags exactly the pairs whose work changed.  Nothing here measures time:
+the counts are instructions, the same run after run."""
+
+from __future__ import annotations
+
+import json
+import threading
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from crosscheck.core.contract import Adapter
+from crosscheck.core.options import RunOptions
+from crosscheck.report.compare_cost import cost_changes, judged, run_counts
+from crosscheck.results.counts import FILE, CountRecord, read_counts, with_counts
+from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.run import callgrind, cost
+from crosscheck.run.launch import launch, new_info
+from tests import fakes
+from tests.conftest import sphere
+
+NO_VALGRIND = callgrind.missing()
+needs_valgrind = pytest.mark.skipif(NO_VALGRIND is not None, reason=str(NO_VALGRIND))
+
+ENGINE = "/venv/site-packages/pybullet.cpython-311-x86_64-linux-gnu.so"
+DUMP = f"""events: Ir
+ob=/usr/lib/libpython3.11.so
+fn=_PyEval_EvalFrameDefault
+1 500
+cob={ENGINE}
+cfn=pybullet_getClosestPointData
+calls=10 0
+1 40000
+cob={ENGINE}
+cfn=pybullet_getNumBodies
+calls=10 0
+1 2000
+cfn=PyFloat_FromDouble
+calls=30 0
+1 900
+ob={ENGINE}
+fn=pybullet_getClosestPointData
+1 30000
+cfn=btGjkPairDetector
+calls=10 0
+1 9000
+cob=/usr/lib/libpython3.11.so
+cfn=PyFloat_FromDouble
+calls=10 0
+1 1000
+totals: 43400
+"""
+
+
+def test_a_dump_counts_as_the_engine_only_the_calls_that_enter_its_objects() -> None:
+    counts = callgrind.parse_dump(DUMP, ("pybullet*.so",))
+    # 40,000 + 2,000 entered from libpython; the GJK call inside the engine is already in
+    # them, and the interpreter's own float call is not the engine's
+    assert counts == callgrind.Counts(total=43_400, engine=42_000)
+
+
+def test_a_dump_matches_objects_by_file_name_or_whole_path() -> None:
+    by_path = callgrind.parse_dump(DUMP, ("/venv/site-packages/*",))
+    assert by_path.engine == 42_000
+    assert callgrind.parse_dump(DUMP, ("fcl*.so",)).engine == 0
+    assert callgrind.parse_dump(DUMP, ()).engine == 0
+
+
+def test_counts_are_read_per_query_net_of_the_empty_loop(tmp_path: Path) -> None:
+    records = [CountRecord("a", "e", "sphere", "call", 10, 1_000_100, 100, 600_000),
+               CountRecord("b", "e", "sphere", "call", 10, 500_100, 100)]
+    text = "".join(r.to_json() + "\n" for r in records) + '{"case_id": "c", "eng'
+    (tmp_path / FILE).write_text(text, encoding="utf-8")
+    frame = read_counts(tmp_path).set_index("case_id")
+    assert list(frame.index) == ["a", "b"]  # the half-written last line is skipped
+    assert frame.loc["a", "query_instructions"] == 100_000.0
+    assert frame.loc["a", "engine_instructions"] == 60_000.0
+    assert pd.isna(frame.loc["b", "engine_instructions"])  # no binding named
+
+
+def test_results_gain_the_count_columns_empty_where_nothing_was_counted(
+        tmp_path: Path) -> None:
+    rows = pd.DataFrame({"case_id": ["a", "z"], "engine": ["e", "e"]})
+    empty = with_counts(rows.copy(), tmp_path)
+    assert empty[["query_instructions", "engine_instructions"]].isna().all().all()
+    (tmp_path / FILE).write_text(
+        CountRecord("a", "e", "sphere", "call", 4, 400, 0, 200).to_json() + "\n")
+    filled = with_counts(rows.copy(), tmp_path).set_index("case_id")
+    assert filled.loc["a", "query_instructions"] == 100.0
+    assert filled.loc["a", "engine_instructions"] == 50.0
+    assert pd.isna(filled.loc["z", "query_instructions"])
+
+
+def test_a_cost_verdict_needs_a_move_beyond_the_threshold_either_way() -> None:
+    assert judged(1000.0, 1009.0)[0] == "same"
+    assert judged(1000.0, 1011.0)[0] == "more"
+    assert judged(1000.0, 989.0)[0] == "less"
+    assert judged(0.0, 10.0)[0] == "unknown"
+    assert "+5.00%" in judged(1000.0, 1050.0)[1]
+
+
+def test_a_run_without_counts_is_never_compared_with_one_that_has_them(tmp_path: Path) -> None:
+    a = tmp_path / "a"
+    a.mkdir()
+    (a / FILE).write_text(CountRecord("s0", "e", "sphere", "call", 1, 10, 0).to_json() + "\n")
+    b = tmp_path / "b"
+    b.mkdir()
+
+    class Run:
+        def __init__(self, directory: Path) -> None:
+            self.directory = directory
+
+    ra, rb = run_counts(Run(a)), run_counts(Run(b))  # type: ignore[arg-type]
+    changes = cost_changes(ra, rb, {"s0"}, {"e"})
+    assert list(changes["verdict"]) == ["unknown"]
+    assert "B: no instructions counted" in changes["reason"].iloc[0]
+
+
+def test_the_counting_command_runs_python_under_callgrind_without_counting_start_up(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(callgrind, "valgrind", lambda: "/usr/bin/valgrind")
+    command = callgrind.command(["python", "-m", "x"], tmp_path)
+    assert command[:2] == ["/usr/bin/valgrind", "--tool=callgrind"]
+    assert "--instr-atstart=no" in command and command[-3:] == ["python", "-m", "x"]
+
+
+def test_without_valgrind_the_timer_says_so_and_counts_nothing(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(callgrind, "valgrind", lambda: None)
+    assert "valgrind is not installed" in str(callgrind.missing())
+    store = ResultsStore(tmp_path / "run")
+    try:
+        section = cost.cost_phase(store, CASES, [fakes.BusyLoop()], OPTIONS)
+    finally:
+        store.close()
+    assert section["none"].startswith("valgrind is not installed")
+    assert not (tmp_path / "run" / FILE).exists()
+
+
+CASES = [sphere(0.0, 2.0 + i / 10, id=f"s{i}") for i in range(6)]
+OPTIONS = RunOptions(min_sample_s=0.0005, samples=10, timing_cases=4, isolate=False,
+                     timer="instructions")
+
+
+def counted_run(folder: Path, engine: Adapter) -> Path:
+    launch(ResultsStore(folder), CASES, [engine], OPTIONS,
+           new_info(folder, "test", OPTIONS, [engine], CASES))
+    return folder
+
+
+@needs_valgrind
+def test_identical_cost_runs_flag_nothing_and_five_percent_more_work_is_flagged_everywhere(
+        tmp_path: Path) -> None:
+    a = counted_run(tmp_path / "a", fakes.BusyLoop())
+    again = counted_run(tmp_path / "again", fakes.BusyLoop())
+    more = counted_run(tmp_path / "more", fakes.BusyLoopFivePercent())
+    section = json.loads((a / "run.json").read_text())["timing"]["cost"]
+    assert section["counted"] == 4 and section["failed"] == 0
+    results = read_run(a).results.drop_duplicates("case_id")
+    assert results["query_instructions"].notna().sum() == 4  # the sampled pairs, filled
+
+    base = run_counts(read_run(a))
+    cases, engines = {c.id for c in CASES}, {"fake-busy"}
+    same = cost_changes(base, run_counts(read_run(again)), cases, engines)
+    assert len(same) == 4 and set(same["verdict"]) == {"same"}
+    changed = cost_changes(base, run_counts(read_run(more)), cases, engines)
+    assert len(changed) == 4 and set(changed["verdict"]) == {"more"}
+    assert all(1.03 < r < 1.06 for r in changed["ratio"])  # 5% more loop, the rest fixed
+
+
+@needs_valgrind
+def test_a_counting_worker_that_dies_costs_one_pair_and_the_next_is_counted(
+        tmp_path: Path) -> None:
+    store = ResultsStore(tmp_path / "run")
+    library = cost.LibraryCounter(store, OPTIONS, threading.Lock(), None, threading.Event())
+    dies = sphere(0.0, 2.0, id="boom")
+    try:
+        library.count([(dies, fakes.CrashesOnSpheresAt()), (CASES[0], fakes.BusyLoop())])
+    finally:
+        store.close()
+    assert list(library.failed) == ["boom x fake-boom"]
+    assert "died" in library.failed["boom x fake-boom"]
+    assert set(read_counts(tmp_path / "run")["case_id"]) == {"s0"}
