@@ -133,7 +133,8 @@ class Comparison:
     timing_counts: dict[str, int]
     """Timed pairs of the overlap per verdict: slower, faster, same, unknown."""
     normalised: bool
-    """Whether B's timings were divided by the yardstick ratio (both runs have a yardstick)."""
+    """Whether timings were set against the machine yardstick: per round (both runs timed in
+    rounds), or B's divided by the runs' yardstick ratio (both runs have a steady one)."""
     normalisation: str
     yardstick_doubts: list[str]
     """Per run whose yardstick is unsteady: ``"A: why"`` (the normalisation is as uncertain)."""
@@ -204,15 +205,14 @@ def compare(dir_a: Path, dir_b: Path, out: Path) -> Comparison:
     verdicts = verdict_changes(rows_a, rows_b)
     unmatched, shared = _unmatched(rows_a, rows_b)
     ta, tb = run_timings(run_a), run_timings(run_b)
-    scale, method = normalisation(ta, tb)
-    timings = timing_changes(ta, tb, cases, engines, scale)
-    per_engine = engine_summary(timings, [e for e in engine_names(run_a) if e in engines],
-                                scale)
+    method = normalisation(ta, tb)
+    timings = timing_changes(ta, tb, cases, engines, method.scale)
+    per_engine = engine_summary(timings, [e for e in engine_names(run_a) if e in engines])
     result = Comparison(
         **differences, shared_cases=len(cases), unmatched_rows=unmatched, shared_rows=shared,
         verdict_changes=len(verdicts),
         timing_counts={v: int((timings["verdict"] == v).sum()) for v in VERDICTS},
-        normalised=scale is not None, normalisation=method,
+        normalised=method.normalised, normalisation=method.text,
         yardstick_doubts=[f"{name}: {run.doubt}" for name, run in (("A", ta), ("B", tb))
                           if run.doubt],
         samples_missing=[f"{name}: {run.missing}" for name, run in (("A", ta), ("B", tb))

@@ -6,11 +6,25 @@ median, so that a report can show the spread and ``compare`` can test whether
 two runs differ.  A sample is the time of one call (net of the timing loop's
 own cost, ``unit = "call"``) or of one whole scene run (``unit = "scene"``).
 
+The phase takes one sample per pair per round (:mod:`crosscheck.run.rounds`), and
+each record keeps, aligned with its samples, the machine yardstick of the round
+each was taken in (``yardstick``, seconds): a sample divided by its round's
+yardstick (:attr:`TimingRecord.normalised`) no longer carries the machine's drift
+during the run.  Lines written before the rounds (up to format 5) have no
+``yardstick`` key and read as having none (``()``: not normalised); a round
+without a yardstick is stored as ``null`` and read as NaN.
+
 >>> s = spread([1.0, 1.1, 0.9, 1.0, 1.05])
 >>> (s.median, round(s.iqr, 3), s.n, s.unstable)
 (1.0, 0.05, 5, False)
 >>> spread([1.0, 2.0, 1.0, 2.0]).unstable
 True
+>>> r = TimingRecord("c", "e", "sphere", "call", 10, 0.0, (2.0, 3.0), (1.0, 1.5))
+>>> r.normalised, TimingRecord.from_json(r.to_json()) == r
+((2.0, 2.0), True)
+>>> old = '{"case_id": "c", "engine": "e", "kind": "sphere", "unit": "call", "loops": 10, '
+>>> TimingRecord.from_json(old + '"overhead_s": 0.0, "values": [2.0]}').yardstick
+()
 """
 
 from __future__ import annotations
@@ -74,17 +88,53 @@ class TimingRecord:
     overhead_s: float
     """The timing loop's own cost per call, already subtracted from every sample."""
     values: tuple[float, ...] = field(default=())
+    yardstick: tuple[float, ...] = field(default=())
+    """Per sample, the yardstick of the round it was taken in (seconds; NaN: none that
+    round); empty for a record of a run before the rounds."""
 
     @property
     def spread(self) -> Spread:
         return spread(self.values)
 
+    @property
+    def normalised(self) -> tuple[float, ...]:
+        """Every sample over its round's yardstick; empty unless each sample has one."""
+        return normalised(self.values, self.yardstick)
+
     def to_json(self) -> str:
-        return json.dumps(asdict(self) | {"values": list(self.values)})
+        sticks = [y if math.isfinite(y) else None for y in self.yardstick]
+        return json.dumps(asdict(self) | {"values": list(self.values), "yardstick": sticks})
+
+    @classmethod
+    def from_json(cls, line: str) -> TimingRecord:
+        """A record from its line in ``timings.jsonl`` (of any format: see the module)."""
+        data = _upgraded(json.loads(line))
+        return cls(**{k: data[k] for k in COLUMNS[:6]}, values=tuple(data["values"]),
+                   yardstick=tuple(data["yardstick"]))
+
+
+def normalised(values: Sequence[float], yardstick: Sequence[float]) -> tuple[float, ...]:
+    """Each value over its yardstick; empty unless every yardstick is finite and positive.
+
+    >>> normalised([2.0, 4.0], [1.0, 2.0]), normalised([2.0], []), normalised([2.0], [math.nan])
+    ((2.0, 2.0), (), ())
+    """
+    if len(yardstick) != len(values) or not all(y > 0 and math.isfinite(y) for y in yardstick):
+        return ()
+    return tuple(v / y for v, y in zip(values, yardstick, strict=True))
+
+
+def _upgraded(data: dict[str, Any]) -> dict[str, Any]:
+    """A line's content in the current form: ``yardstick`` (absent before the rounds, null
+    for a round without one) as floats."""
+    sticks = data.get("yardstick") or []
+    return data | {"yardstick": [math.nan if y is None else float(y) for y in sticks]}
 
 
 COLUMNS = ["case_id", "engine", "kind", "unit", "loops", "overhead_s", "n", "median_s",
-           "q1_s", "q3_s", "iqr_s", "unstable", "values"]
+           "q1_s", "q3_s", "iqr_s", "unstable", "values", "yardstick", "normalised_median"]
+"""The columns of :func:`read_timings`; ``normalised_median``: the median of the samples over
+their rounds' yardsticks (a ratio; NaN without them)."""
 
 
 def read_timings(directory: Path) -> pd.DataFrame:
@@ -94,12 +144,14 @@ def read_timings(directory: Path) -> pd.DataFrame:
     if path.exists():
         for line in path.read_text(encoding="utf-8").splitlines():
             try:
-                data = json.loads(line)
+                data = _upgraded(json.loads(line))
             except json.JSONDecodeError:
                 continue  # a half-written last line of a killed run
             s = spread(data["values"])
             rows.append(data | {"n": s.n, "median_s": s.median, "q1_s": s.q1, "q3_s": s.q3,
-                                "iqr_s": s.iqr, "unstable": s.unstable})
+                                "iqr_s": s.iqr, "unstable": s.unstable,
+                                "normalised_median": spread(normalised(
+                                    data["values"], data["yardstick"])).median})
     frame = pd.DataFrame(rows, columns=COLUMNS)
     return frame.drop_duplicates(["case_id", "engine"], keep="last").reset_index(drop=True)
 

@@ -1,6 +1,8 @@
 """Executing one case on one adapter: prepare (untimed), query, and the calibrated timing loop.
 
-This is what a worker process does for each task (see :mod:`crosscheck.run.worker`);
+This is what a worker process does for each task (see :mod:`crosscheck.run.worker`):
+:func:`execute` for the verdict pass, :func:`time_step` for each step of the timing
+phase's rounds (:mod:`crosscheck.run.rounds`);
 it also runs in-process for tests and for ``--no-isolation``, where Ctrl-C waits for
 the cases in flight (:func:`stop_between_items`).  An exception
 raised by the engine becomes an ``error`` outcome with its reason.  With ``skip``
@@ -19,7 +21,7 @@ import threading
 import time
 import traceback
 import types
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, replace
 from typing import Any, Protocol, TypeVar
 
@@ -27,7 +29,7 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Observation, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.run.timing import Timing, measure
+from crosscheck.run.timing import Timing, calibration, measure, one_sample, yardstick
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,9 +97,50 @@ def execute(adapter: Adapter, case: AnyCase, options: RunOptions, timed: bool = 
                 query, min_sample_s=options.min_sample_s, samples=options.samples)
         return Outcome(observation, setup_s=setup, timing=timing)
     except Exception as exc:  # an engine fault is data, not a harness failure
-        where = traceback.extract_tb(exc.__traceback__)[-1]
-        return Outcome(None, Status.ERROR,
-                        f"{type(exc).__name__}: {exc} (at {where.name}:{where.lineno})")
+        return Outcome(None, Status.ERROR, _fault(exc))
+    finally:
+        if prepared is not None:
+            adapter.release(prepared)
+
+
+def _fault(exc: Exception) -> str:
+    """An engine's exception in words, with where it was raised."""
+    where = traceback.extract_tb(exc.__traceback__)[-1]
+    return f"{type(exc).__name__}: {exc} (at {where.name}:{where.lineno})"
+
+
+def time_step(adapter: Adapter, case: AnyCase, options: RunOptions,
+              calibrated: Timing | None) -> Outcome:
+    """One step of the timing phase's rounds for ``case`` on ``adapter``, prepared anew
+    (untimed) and released after.
+
+    ``calibrated`` None (round 0): query once, then calibrate the query loop (its loops,
+    one warm-up sample, the empty loop's cost): the outcome's timing has no values yet (a
+    scene's one run is its warm-up: unit ``scene``, 1 loop).  Else: the outcome's timing
+    is ``calibrated`` with one sample, taken with its loops (a scene: one whole run).
+    """
+    unable = _availability(adapter) or adapter.unsupported(case)
+    if unable:
+        return Outcome(None, Status.SKIP, unable)
+    prepared: Any = None
+
+    def query() -> Observation:
+        return adapter.query(prepared)
+
+    try:
+        prepared = adapter.prepare(case)
+        if calibrated is None:
+            observation = query()
+            if observation.wall_s is not None:
+                return Outcome(observation, timing=Timing.of_runs(()))
+            return Outcome(observation, timing=calibration(
+                query, min_sample_s=options.min_sample_s))
+        if calibrated.unit == "scene":
+            wall = query().wall_s
+            return Outcome(None, timing=Timing.of_runs([math.nan if wall is None else wall]))
+        return Outcome(None, timing=one_sample(query, calibrated))
+    except Exception as exc:  # an engine fault is data, not a harness failure
+        return Outcome(None, Status.ERROR, _fault(exc))
     finally:
         if prepared is not None:
             adapter.release(prepared)
@@ -114,6 +157,29 @@ def _scene_runs(adapter: Adapter, case: AnyCase, repeats: int) -> list[float]:
             adapter.release(prepared)
         walls.append(float("nan") if wall is None else wall)
     return walls
+
+
+@dataclass(frozen=True)
+class Step:
+    """A step of the timing phase's rounds, as a worker's task: :func:`time_step`."""
+
+    case: AnyCase
+    calibrated: Timing | None
+
+    def take(self, adapter: Adapter, options: RunOptions) -> Outcome:
+        return time_step(adapter, self.case, options, self.calibrated)
+
+
+@dataclass(frozen=True)
+class Yardstick:
+    """The machine yardstick as a worker's task: ``samples`` per workload, with the loops of
+    ``calibrated`` (None: calibrated there), see :func:`crosscheck.run.timing.yardstick`."""
+
+    samples: int
+    calibrated: Mapping[str, Timing] | None = None
+
+    def measure(self, options: RunOptions) -> dict[str, Timing]:
+        return yardstick(self.samples, self.calibrated, options.min_sample_s)
 
 
 def probe_binding(adapter: Adapter, options: RunOptions) -> Timing | str:

@@ -1,20 +1,23 @@
 """The timing phase: after the verdict pass, measure a representative sample in quiet.
 
-One case x engine at a time (no other lane, no scoring competing for the
-cores), in the engine's own worker, pinned to one core and the harness to
-another where the OS allows it:
+In the engines' own workers (no other lane, no scoring competing for the cores),
+pinned to one core and the harness to another where the OS allows it:
 
-1. the machine yardstick (a fixed numpy kernel and a fixed pure-Python loop);
-2. per engine: the cheapest call into its binding (``Adapter.binding_call``),
-   then its sample: per kind, ``timing_cases`` cases drawn at random (seeded)
+1. the sample: per engine x kind, ``timing_cases`` cases drawn at random (seeded)
    from every case family, leaving out swapped twins (the same work), bad input
    and pairs that failed in the verdict pass; scenes only up to
-   :data:`SCENE_LIMIT_S` per run, ``scene_repeats`` runs each;
-3. the yardstick again, so the report shows whether the machine drifted.
+   :data:`SCENE_LIMIT_S` per run;
+2. the interleaved rounds (:mod:`crosscheck.run.rounds`): round 0 probes each
+   engine's binding (``Adapter.binding_call``) and calibrates each pair; then every
+   round takes one sample of every pair, engine after engine, and reads the machine
+   yardstick (a fixed numpy kernel and a fixed pure-Python loop) on the engines' CPU,
+   so that every engine's samples span the same stretch of the machine's drift, and
+   each sample is stored with its round's yardstick.
 
-Every kept sample goes to ``timings.jsonl`` as it is measured (a resumed run
-skips what is there); the method, the pinning, the yardsticks and the binding
-costs go to ``run.json`` (``RunInfo.timing``).
+Every pair goes to ``timings.jsonl`` as soon as it is complete (a resumed run skips
+what is there); the method, the pinning, the yardsticks (at the start and the end,
+and per round with the drift they measured) and the binding costs go to ``run.json``
+(``RunInfo.timing``).
 """
 
 from __future__ import annotations
@@ -23,9 +26,9 @@ import os
 import random
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import replace
 from typing import Any
 
-import numpy as np
 import pandas as pd
 
 from crosscheck.core.contract import Adapter
@@ -33,16 +36,13 @@ from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.store import ResultsStore, read_results
-from crosscheck.results.timings import TimingRecord, spread
-from crosscheck.run.execute import Outcome, case_options, execute, probe_binding
-from crosscheck.run.timing import Timing, measure
+from crosscheck.run.execute import Outcome, Step, Yardstick, case_options, probe_binding, time_step
+from crosscheck.run.rounds import Pair, Sampler, Tick, run_rounds, steps
+from crosscheck.run.timing import Timing
 from crosscheck.run.worker import WorkerPool, pin
 
 SCENE_LIMIT_S = 0.2
 """Scenes whose one run in the verdict pass took longer are not re-timed (budget)."""
-
-Tick = Callable[[int], None]
-Pair = tuple[AnyCase, Adapter]
 
 
 # --- the sample -----------------------------------------------------------------------------
@@ -79,42 +79,15 @@ def timing_sample(cases: Sequence[AnyCase], engines: Sequence[Adapter], frame: p
 
 def method(options: RunOptions) -> str:
     """The timing method in words, for run.json and the report."""
-    return (f"after the verdict pass, one case at a time: per engine x kind, up to "
+    return (f"after the verdict pass, in interleaved rounds: per engine x kind, up to "
             f"{options.timing_cases} cases drawn at random (seed {options.timing_seed}) from "
             "every case family, leaving out swapped twins, bad input and pairs that failed; "
-            f"each query in a loop calibrated to at least {options.min_sample_s * 1e3:g} ms per "
-            f"sample, 1 warm-up sample discarded, {options.samples} samples kept, the empty "
-            f"loop's cost subtracted; scenes of at most {SCENE_LIMIT_S:g} s per run are run "
-            f"{options.scene_repeats} times")
-
-
-# --- the yardstick ----------------------------------------------------------------------------
-
-
-_ARRAY = np.random.default_rng(12345).random(20_000)
-
-
-def _numpy_kernel() -> object:
-    return np.sort(_ARRAY)
-
-
-def _python_loop() -> object:
-    total = 0
-    for i in range(2_000):
-        total += i * i
-    return total
-
-
-def _summary(timing: Timing) -> dict[str, Any]:
-    s = spread(timing.values)
-    return {"median_s": s.median, "q1_s": s.q1, "q3_s": s.q3, "values": list(timing.values)}
-
-
-def yardstick(options: RunOptions) -> dict[str, dict[str, Any]]:
-    """The machine's speed now: a fixed numpy sort and a fixed pure-Python loop."""
-    return {name: _summary(measure(fn, min_sample_s=options.min_sample_s,
-                                   samples=options.samples))
-            for name, fn in (("numpy", _numpy_kernel), ("python", _python_loop))}
+            f"round 0 calibrates each query's loop to at least {options.min_sample_s * 1e3:g} "
+            "ms per sample and discards 1 warm-up sample; then each round takes one sample of "
+            "every case x engine, engine after engine, prepared anew, the empty loop's cost "
+            f"subtracted, for {options.samples} rounds (scenes of at most {SCENE_LIMIT_S:g} s "
+            f"per run: one run a round, {options.scene_repeats} runs), and reads the machine "
+            "yardstick on the engines' CPU between rounds, stored with each sample")
 
 
 # --- measuring ---------------------------------------------------------------------------------
@@ -140,70 +113,63 @@ def _pinned(options: RunOptions) -> Iterator[tuple[int | None, str]]:
         os.sched_setaffinity(0, set(allowed))
 
 
-class _Measurer:
-    """Runs timed cases and binding probes, in workers (``isolate``) or in this process."""
+class Measurer:
+    """The real :class:`~crosscheck.run.rounds.Sampler`: steps, binding probes and the
+    yardstick in workers on ``cpu`` (``isolate``), or in this process, moved to ``cpu``."""
 
     def __init__(self, options: RunOptions, cpu: int | None) -> None:
         self.options = options
         self.pool = WorkerPool(options, cpu) if options.isolate else None
+        self.loops: dict[str, Timing] | None = None  # the yardstick's, once calibrated
         if self.pool is None:
             pin(0, cpu)
 
-    def case(self, adapter: Adapter, case: AnyCase) -> Outcome:
+    def step(self, adapter: Adapter, case: AnyCase, calibrated: Timing | None) -> Outcome:
         options = case_options(case, self.options)
         if self.pool is None:
-            return execute(adapter, case, options, True)
-        return self.pool.execute(adapter, case, options, True)
+            return time_step(adapter, case, options, calibrated)
+        return self.pool.execute(adapter, Step(case, calibrated), options, True)
 
     def binding(self, adapter: Adapter) -> Timing | str:
         if self.pool is None:
             return probe_binding(adapter, self.options)
         return self.pool.binding(adapter, self.options)
 
+    def yardstick(self, samples: int) -> dict[str, Timing] | str:
+        task = Yardstick(samples, self.loops)
+        found = task.measure(self.options) if self.pool is None else self.pool.yardstick(
+            task, self.options)
+        if self.loops is None and not isinstance(found, str):
+            self.loops = {name: replace(t, values=()) for name, t in found.items()}
+        return found
+
     def close(self) -> None:
         if self.pool is not None:
             self.pool.close()
 
 
-def _record(case: AnyCase, adapter: Adapter, timing: Timing) -> TimingRecord:
-    return TimingRecord(case.id, adapter.name, case.kind, timing.unit, timing.loops,
-                        timing.overhead_s, timing.values)
-
-
-def _binding(found: Timing | str) -> dict[str, Any]:
-    return {"none": found} if isinstance(found, str) else _summary(found)
+SamplerFactory = Callable[[RunOptions, int | None], Sampler]
+"""Makes the phase's sampler from the options and the engines' CPU (None: not pinned)."""
 
 
 def time_phase(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
-               options: RunOptions, start: Callable[[int], Tick] | None = None) -> dict[str, Any]:
+               options: RunOptions, start: Callable[[int], Tick] | None = None, *,
+               sampler: SamplerFactory = Measurer) -> dict[str, Any]:
     """Measure the sample into ``store`` (skipping pairs already timed); the run.json section.
 
-    ``start(total)`` is told how many pairs are to be timed and returns the
-    function to call as each finishes (a progress bar).
+    ``start(total)`` is told how many steps are to be taken (per pair: its calibration
+    and each of its samples, :func:`crosscheck.run.rounds.steps`) and returns the
+    function to call as they are taken (a progress bar).  ``sampler`` measures: the
+    engines' workers, or injected times in tests.
     """
     sample = timing_sample(cases, engines, read_results(store.directory), options)
     todo = [(c, a) for c, a in sample if (c.id, a.name) not in store.timed]
-    tick = start(len(todo)) if start else None
+    tick = start(steps(todo, options)) if start else None
     with _pinned(options) as (cpu, pinned):
-        before = yardstick(options)
-        measurer = _Measurer(options, cpu)
-        binding: dict[str, dict[str, Any]] = {}
-        failed = 0
+        measurer = sampler(options, cpu)
         try:
-            for adapter in engines:
-                binding[adapter.name] = _binding(measurer.binding(adapter))
-                for case, _ in (p for p in todo if p[1] is adapter):
-                    outcome = measurer.case(adapter, case)
-                    if outcome.timing is None:
-                        failed += 1
-                    else:
-                        store.append_timing(_record(case, adapter, outcome.timing))
-                    if tick:
-                        tick(1)
+            rounds = run_rounds(store, todo, engines, options, measurer, tick)
         finally:
             measurer.close()
-        after = yardstick(options)
-    return {"method": method(options), "sampled": len(sample), "failed": failed,
-            "pinned": pinned, "yardstick": {"start": before, "end": after},
-            "binding": binding}
-
+    return {"method": method(options), "sampled": len(sample), "pinned": pinned,
+            **rounds.section()}

@@ -24,7 +24,9 @@ memory fails imports and turns an engine's ``std::bad_alloc`` into an abort,
 while RSS is what a leak actually costs the machine.  Where ``/proc`` is missing
 the limit is not enforced.
 
-A dead or killed worker is replaced on the next task.  Workers are started by
+A dead or killed worker is replaced on the next task.  The timing phase sends the steps
+of its rounds (:class:`~crosscheck.run.execute.Step`) to the engine workers, and the
+machine yardstick to a worker of its own on the same CPU.  Workers are started by
 the ``forkserver`` method, which is safe with the parent's threads (the
 progress bar) and cheap to restart.  Their C-level stdout and stderr go to
 /dev/null, so engine banners and warnings never reach the CLI.  (How a worker process
@@ -48,7 +50,15 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.run.execute import Executor, Outcome, execute, probe_binding, stop_between_items
+from crosscheck.run.execute import (
+    Executor,
+    Outcome,
+    Step,
+    Yardstick,
+    execute,
+    probe_binding,
+    stop_between_items,
+)
 from crosscheck.run.processes import CONTEXT, Resident, death, quiet_child, start
 from crosscheck.run.timing import Timing
 
@@ -56,9 +66,13 @@ from crosscheck.run.timing import Timing
 CONTEXT.set_forkserver_preload(["crosscheck.run.execute", "crosscheck.run.worker"])
 
 BINDING = "binding"
-Task = tuple[type[Adapter], AnyCase | str | None, RunOptions, bool, frozenset[str]]
+YARDSTICK = "(yardstick)"
+"""The key of the yardstick's own worker among the engines' (no engine has this name)."""
+Task = tuple[type[Adapter] | None, AnyCase | Step | Yardstick | str | None, RunOptions, bool,
+             frozenset[str]]
 """What a worker is sent: a case to run (whether to time it, the quantities to skip),
-``None`` to warm up, or :data:`BINDING` to time the cheapest call into the engine."""
+``None`` to warm up, :data:`BINDING` to time the cheapest call into the engine, a step of
+the timing phase's rounds, or the yardstick (no adapter)."""
 
 STARTUP_TIMEOUT_S = 120.0
 """Time a new worker may take to start and load its engine; not charged to any case."""
@@ -84,8 +98,14 @@ def _serve(conn: Connection) -> None:
             cls, case, options, timed, skip = conn.recv()
         except (EOFError, OSError):
             return
+        if isinstance(case, Yardstick):
+            conn.send(case.measure(options))
+            continue
+        assert cls is not None
         adapter = adapters.setdefault(cls, cls())
-        if case is None:  # warm-up: import the engine and connect, outside any case's time
+        if isinstance(case, Step):
+            conn.send(case.take(adapter, options))
+        elif case is None:  # warm-up: import the engine and connect, outside any case's time
             adapter.available()
             conn.send(None)
         elif isinstance(case, str):
@@ -204,11 +224,7 @@ class WorkerPool:
     def _worker(self, adapter: Adapter, options: RunOptions) -> _Worker | Outcome:
         """The engine's live worker, started and the adapter warmed up in it if need be; or
         why it cannot."""
-        worker = self._workers.get(adapter.engine)
-        if worker is None or not worker.alive():
-            worker = self._workers[adapter.engine] = _Worker(options.worker_memory_mb)
-            self.started += 1
-            pin(worker.process.pid or 0, self.cpu)
+        worker = self._live(adapter.engine, options)
         if type(adapter) in worker.warmed:
             return worker
         started = worker.call((type(adapter), None, options, False, frozenset()),
@@ -225,9 +241,30 @@ class WorkerPool:
         worker.warmed.add(type(adapter))
         return worker
 
+    def _live(self, key: str, options: RunOptions) -> _Worker:
+        """The live worker under ``key`` (an engine, or :data:`YARDSTICK`), started and pinned
+        if need be."""
+        worker = self._workers.get(key)
+        if worker is None or not worker.alive():
+            worker = self._workers[key] = _Worker(options.worker_memory_mb)
+            self.started += 1
+            pin(worker.process.pid or 0, self.cpu)
+        return worker
+
     def _drop(self, adapter: Adapter) -> None:
         """Kill the adapter's worker (a fresh one starts on its engine's next task)."""
         self._workers.pop(adapter.engine).kill()
+
+    def yardstick(self, task: Yardstick, options: RunOptions) -> dict[str, Timing] | str:
+        """The machine yardstick, measured in a worker of its own on the engine workers' CPU;
+        or why not (its worker died or hung)."""
+        worker = self._live(YARDSTICK, options)
+        answer = worker.call((None, task, options, True, frozenset()), STARTUP_TIMEOUT_S)
+        if isinstance(answer, Outcome):
+            self._workers.pop(YARDSTICK).kill()
+            return answer.reason
+        assert isinstance(answer, dict)
+        return answer
 
     def binding(self, adapter: Adapter, options: RunOptions) -> Timing | str:
         """The cost of the cheapest call into the adapter's engine, measured in its worker."""
@@ -242,10 +279,10 @@ class WorkerPool:
         assert isinstance(answer, Timing | str)
         return answer
 
-    def execute(self, adapter: Adapter, case: AnyCase, options: RunOptions,
+    def execute(self, adapter: Adapter, case: AnyCase | Step, options: RunOptions,
                 timed: bool = False, skip: frozenset[str] = frozenset()) -> Outcome:
-        """Run ``case`` on ``adapter`` (without the quantities in ``skip``) in the adapter's
-        worker, within the time limit."""
+        """Run ``case`` on ``adapter`` (without the quantities in ``skip``), or a step of the
+        timing phase's rounds, in the adapter's worker, within the time limit."""
         worker = self._worker(adapter, options)
         if isinstance(worker, Outcome):
             return worker

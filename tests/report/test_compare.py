@@ -102,7 +102,8 @@ def test_the_same_distribution_in_both_runs_flags_nothing(tmp_path: Path) -> Non
     assert result.timing_counts == {"slower": 0, "faster": 0, "same": 60, "unknown": 0}
     assert result.normalised and result.differences == []
     assert list(timings.columns) == ["case_id", "engine", "n_a", "n_b", "median_a_s",
-                                     "median_b_s", "ratio", "p_value", "verdict", "reason"]
+                                     "median_b_s", "ratio", "raw_ratio", "p_value", "verdict",
+                                     "reason"]
     assert timings["ratio"].between(0.9, 1.1).all()
 
 
