@@ -135,17 +135,23 @@ def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
 
 def print_summary(directory: Path) -> None:
     """Print the engine x kind counts from the run's summary.csv (written by the report), then
-    the query times, when the run timed any case."""
+    the instructions per query when the run counted any case (``--timer instructions``),
+    then the query times when it timed any."""
     import pandas as pd
 
     table = pd.read_csv(directory / "summary.csv")
     out.print(summary_table(table, f"summary of {directory}"))
+    if "median_query_instructions" in table and table["median_query_instructions"].notna().any():
+        say(COUNTS_TITLE)
+        out.print(counts_table(table))
     if table["median_query_s"].notna().any():
         say(TIMES_TITLE)
         out.print(times_table(table))
 
 
 TIMES_TITLE = "query time: median ± IQR over the timed cases (scenes: per run)"
+COUNTS_TITLE = ("instructions per query, counted under callgrind: median ± IQR over the "
+                "counted cases (scenes: per run)")
 
 
 def times_table(table: pd.DataFrame) -> Table:
@@ -153,10 +159,26 @@ def times_table(table: pd.DataFrame) -> Table:
     the format of the report page's engine x kind table (``-``: not timed)."""
     from crosscheck.report.speed import median_iqr
 
+    return _engine_kind_table(table, "median_query_s", "iqr_query_s", median_iqr)
+
+
+def counts_table(table: pd.DataFrame) -> Table:
+    """Per engine x kind, the median instructions per query ± their IQR over the counted cases:
+    the figure and the format of the report page's engine x kind table (``-``: not
+    counted)."""
+    from crosscheck.report.speed import instructions_iqr
+
+    return _engine_kind_table(table, "median_query_instructions", "iqr_query_instructions",
+                              instructions_iqr)
+
+
+def _engine_kind_table(table: pd.DataFrame, median_column: str, iqr_column: str,
+                       written: Callable[[float, float], str]) -> Table:
+    """One row per engine, one column per kind: each median ± IQR as ``written`` writes it."""
     kinds = [str(k) for k in dict.fromkeys(table["kind"])]
-    times = {(str(engine), str(kind)): median_iqr(float(median), float(iqr))
+    cells = {(str(engine), str(kind)): written(float(median), float(iqr))
              for engine, kind, median, iqr in zip(table["engine"], table["kind"],
-                                                 table["median_query_s"], table["iqr_query_s"],
+                                                 table[median_column], table[iqr_column],
                                                  strict=True) if not math.isnan(float(median))}
     rich_table = Table(box=box.SIMPLE_HEAD, show_edge=False, pad_edge=False,
                        collapse_padding=True)
@@ -164,7 +186,7 @@ def times_table(table: pd.DataFrame) -> Table:
     for kind in kinds:
         rich_table.add_column(kind, justify="right")
     for engine in dict.fromkeys(table["engine"]):
-        rich_table.add_row(str(engine), *(times.get((str(engine), k), "-") for k in kinds))
+        rich_table.add_row(str(engine), *(cells.get((str(engine), k), "-") for k in kinds))
     return fit(rich_table)
 
 

@@ -2,20 +2,22 @@
 
 The data (per kind, per engine, per quantity) is :mod:`crosscheck.report.speed_points`:
 errors are in units of each case's float64 bound (scale-free), clipped to a fixed range.
-Each panel draws, per engine, x its median time per query with a horizontal whisker over
-the interquartile range of its per-case times, y its median error with a vertical whisker
-up to the 95th percentile (nearest rank) and a cross at the largest error.  Errors below
-the floor (exact answers among them) sit on a labelled floor line; errors above the
-ceiling sit on the ceiling line, the largest drawn as an arrow instead of a cross, and are
-counted in the ceiling's label and in the hover.  The accuracy asked for (by default the
-float64 bound itself, 1) is drawn as a labelled line: an engine under it and to the left
-is accurate enough and fast.  The last panel counts the wrong verdicts.
+Each panel draws, per engine, x its median cost per query with a horizontal whisker over
+the interquartile range of its per-case costs (instructions per query when every engine of
+the chart was counted, else wall-clock seconds: the axis title says which), y its median
+error with a vertical whisker up to the 95th percentile (nearest rank) and a cross at the
+largest error.  Errors below the floor (exact answers among them) sit on a labelled floor
+line; errors above the ceiling sit on the ceiling line, the largest drawn as an arrow
+instead of a cross, and are counted in the ceiling's label and in the hover.  The accuracy
+asked for (by default the float64 bound itself, 1) is drawn as a labelled line: an engine
+under it and to the left is accurate enough and cheap.  The last panel counts the wrong verdicts.
 
 Labels never overlap: engines are named in the legend and the hover only, never beside
 their points; each panel's three labels (floor, ceiling, accuracy) sit at fixed places of
 the fixed error axis.  Engines that would hide one another are drawn side by side (their
-hover names the others).  An engine whose timings are mostly unstable (see
-:mod:`crosscheck.report.speed`) is drawn hollow and named so in the legend.
+hover names the others).  On a wall-clock axis, an engine whose timings are mostly unstable
+(see :mod:`crosscheck.report.speed`) is drawn hollow and named so in the legend; a count is
+exact, so a counted axis draws none hollow.  The hover gives both measures where both exist.
 
 Every text that reaches plotly (engine names and settings, case ids and descriptions) is
 HTML-escaped first: plotly renders its labels as HTML.
@@ -33,7 +35,7 @@ import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
 from crosscheck.report import axes, style
-from crosscheck.report.speed import UNSTABLE_SPREAD, seconds, with_iqr
+from crosscheck.report.speed import UNSTABLE_SPREAD, instructions, seconds, with_iqr
 from crosscheck.report.speed_points import (
     CEILING,
     FLOOR,
@@ -83,6 +85,18 @@ def _binding_line(p: Point) -> str:
     return f"binding call (cheapest call into it): {with_iqr(p.binding)}{share}"
 
 
+def _count_lines(p: Point) -> list[str]:
+    """The counted instructions per query, when the engine was counted (else none)."""
+    c = p.counted
+    if not c.n:
+        return []
+    own = "" if math.isnan(p.in_engine) else (
+        f"<br>of which inside the engine's own code: {instructions(p.in_engine)} (median)")
+    return [f"instructions per query (callgrind): {instructions(c.median)}, IQR over cases "
+            f"{instructions(c.q1)} to {instructions(c.q3)} (counted on {c.n} of {p.cases} "
+            f"cases){own}"]
+
+
 def _timing_lines(p: Point) -> list[str]:
     flag = " <b>(timing unstable)</b>" if p.mostly_unstable else ""
     return [
@@ -107,7 +121,7 @@ def hover(p: Point, measure: Measure, quantity: str | None = None) -> str:
     """The hover text of a point on the panel of ``quantity`` (the first by default)."""
     quantity = quantity or measure.errors[0]
     return "<br>".join([
-        f"<b>{html.escape(p.engine)}</b>", _esc(p.about), *_timing_lines(p),
+        f"<b>{html.escape(p.engine)}</b>", _esc(p.about), *_count_lines(p), *_timing_lines(p),
         *_error_lines(p.errors[quantity], quantity),
         f"{html.escape(measure.verdict_label)}: {_share(p.wrong, p.verdicts)}",
         f"failed (error, crash, timeout): {p.failed} cases",
@@ -121,32 +135,32 @@ def _style(index: int) -> dict[str, Any]:
     return {"color": COLOURS[index % len(COLOURS)], "symbol": SYMBOLS[symbol]}
 
 
-def _marker(p: Point, style: dict[str, Any]) -> dict[str, Any]:
-    """A filled marker, or a hollow one when the engine's timings are mostly unstable."""
-    if p.mostly_unstable:
+def _marker(hollow: bool, style: dict[str, Any]) -> dict[str, Any]:
+    """A filled marker, or a hollow one (the engine's timings are mostly unstable)."""
+    if hollow:
         return {"size": 12, "color": style["color"], "symbol": f"{style['symbol']}-open",
                 "line": {"width": 2, "color": style["color"]}}
     return {"size": 12, "line": {"width": 1, "color": "#333"}, **style}
 
 
-def _legend_name(p: Point) -> str:
-    return html.escape(p.engine) + (" (timing unstable)" if p.mostly_unstable else "")
+def _legend_name(p: Point, hollow: bool) -> str:
+    return html.escape(p.engine) + (" (timing unstable)" if hollow else "")
 
 
-def _add_point(fig: go.Figure, p: Point, quantity: str, col: int, style: dict[str, Any],
-               x: float, extra: str) -> None:
-    """The point of one engine on one panel, drawn at ``x`` (its median time, unless pulled
+def _add_point(fig: go.Figure, chart: SpeedChart, p: Point, quantity: str, col: int,
+               style: dict[str, Any], x: float, extra: str) -> None:
+    """The point of one engine on one panel, drawn at ``x`` (its median cost, unless pulled
     apart from a coincident point; the hover gives the true numbers)."""
     errors, y = p.errors[quantity], SpeedChart.y(p.errors[quantity].median)
-    group, first = html.escape(p.engine), col == 1
+    group, first, cost, hollow = html.escape(p.engine), col == 1, chart.x(p), chart.hollow(p)
     fig.add_trace(go.Scatter(
-        x=[x], y=[y], mode="markers", name=_legend_name(p), legendgroup=group,
+        x=[x], y=[y], mode="markers", name=_legend_name(p, hollow), legendgroup=group,
         showlegend=first, hovertext=[hover(p, MEASURE_OF[quantity], quantity) + extra],
-        hoverinfo="text", marker=_marker(p, style),
+        hoverinfo="text", marker=_marker(hollow, style),
         error_y={"type": "data", "symmetric": False, "array": [SpeedChart.y(errors.p95) - y],
                  "arrayminus": [0.0], "color": style["color"], "thickness": 2, "width": 6},
-        error_x={"type": "data", "symmetric": False, "array": [p.time.q3 - p.time.median],
-                 "arrayminus": [p.time.median - p.time.q1], "color": style["color"],
+        error_x={"type": "data", "symmetric": False, "array": [cost.q3 - cost.median],
+                 "arrayminus": [cost.median - cost.q1], "color": style["color"],
                  "thickness": 1.5, "width": 4},
     ), row=1, col=col)
     off = SpeedChart.clipped(errors.max)
@@ -185,10 +199,10 @@ def error_range() -> tuple[float, float]:
 
 
 def time_range(chart: SpeedChart) -> tuple[float, float]:
-    """log10 of the ends of the time axis: whole decades over every whisker, so that small
+    """log10 of the ends of the cost axis: whole decades over every whisker, so that small
     differences do not look large."""
-    times = [t for p in chart.plotted for t in (p.time.q1, p.time.q3, p.query_s)]
-    return axes.data_range(times)
+    costs = [chart.x(p) for p in chart.plotted]
+    return axes.data_range([v for c in costs for v in (c.q1, c.q3, c.median)])
 
 
 def off_label(count: int) -> str:
@@ -220,8 +234,7 @@ def _panel_axes(fig: go.Figure, chart: SpeedChart, quantity: str, col: int,
                 accuracy: float) -> None:
     title = ERROR_TITLE if col == 1 else ""
     fig.update_yaxes(axes.log_axis(title, *error_range()), row=1, col=col)
-    time_title = "median time per call (s)"
-    fig.update_xaxes(axes.log_axis(time_title, *time_range(chart)), row=1, col=col)
+    fig.update_xaxes(axes.log_axis(chart.x_title, *time_range(chart)), row=1, col=col)
     _line(fig, col, FLOOR, FLOOR_TEXT, left=False, above=False, dash="dot", colour="#666")
     _line(fig, col, CEILING, off_label(chart.off_scale(quantity)), left=False, above=True,
           dash="dot", colour="#666")
@@ -235,9 +248,11 @@ def drawn_x(chart: SpeedChart, quantity: str) -> tuple[list[float], list[list[in
     low, high = time_range(chart)
     bottom, top = error_range()
     plotted = chart.plotted
-    groups = axes.coincident([(p.query_s, SpeedChart.y(p.errors[quantity].median))
-                              for p in plotted], (high - low, top - bottom))
-    return axes.spread([p.query_s for p in plotted], groups, high - low), groups
+    xs = [chart.x(p).median for p in plotted]
+    groups = axes.coincident([(x, SpeedChart.y(p.errors[quantity].median))
+                              for x, p in zip(xs, plotted, strict=True)],
+                             (high - low, top - bottom))
+    return axes.spread(xs, groups, high - low), groups
 
 
 def _panel(fig: go.Figure, chart: SpeedChart, quantity: str, col: int,
@@ -246,7 +261,7 @@ def _panel(fig: go.Figure, chart: SpeedChart, quantity: str, col: int,
     names = [html.escape(p.engine) for p in chart.plotted]
     for p, x, others in zip(chart.plotted, xs, axes.beside(groups, names), strict=True):
         extra = f"<br>drawn beside (same spot): {others}" if others else ""
-        _add_point(fig, p, quantity, col, styles[p.engine], x, extra)
+        _add_point(fig, chart, p, quantity, col, styles[p.engine], x, extra)
 
 
 def figure(chart: SpeedChart, order: list[str], template: bool = True,
@@ -265,10 +280,11 @@ def figure(chart: SpeedChart, order: list[str], template: bool = True,
         _panel(fig, chart, quantity, col, styles)
         _panel_axes(fig, chart, quantity, col, (accuracy or {}).get(quantity, ACCURACY))
     _add_verdicts(fig, chart, styles, len(quantities) + 1)
+    hollow = "" if chart.by_counts else "; hollow: timing unstable"
     fig.update_layout(height=HEIGHT, hoverlabel={"align": "left"},
                       margin={"t": 40, "b": 40, "l": 40, "r": 20},
-                      legend={"title_text": "engine (cross: max error; arrow: off scale; "
-                                            "hollow: timing unstable)", "title_side": "top",
+                      legend={"title_text": "engine (cross: max error; arrow: off scale"
+                                            f"{hollow})", "title_side": "top",
                               "orientation": "h", "x": 0, "xanchor": "left",
                               "y": -0.16, "yanchor": "top"})
     return fig.update_layout(template=plotly_template()) if template else fig

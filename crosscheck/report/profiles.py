@@ -18,9 +18,12 @@ separation query is never asked a separated pair's distance.  So each profile he
    is agree / judged over those rows, so no engine gains by skipping; its coverage (rows
    it answers / the profile's rows) is shown beside the score.
 
-Ranked engines are ordered by score, then by coverage, then by median query time
-(cheapest first): of two engines as right on the common ground, the one that answers
-more of the profile comes first.
+Ranked engines are ordered by score, then by coverage, then by cost (cheapest first): of
+two engines as right on the common ground, the one that answers more of the profile comes
+first.  The cost is the median instructions per query over the profile's counted cases
+when every ranked engine of the profile was counted (``crosscheck run --timer
+instructions``; :mod:`crosscheck.report.query_cost`), else the median wall-clock query time
+over its timed cases, as before counts existed.
 
 >>> rows = pd.DataFrame([
 ...     {"case_id": c, "kind": "sphere", "dim": 3, "tags": "basic",
@@ -42,9 +45,11 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import BAD_INPUT_TAG
-from crosscheck.report.speed import with_iqr
+from crosscheck.report import query_cost
+from crosscheck.report.query_cost import Cost
+from crosscheck.report.speed import instructions_iqr, with_iqr
 from crosscheck.report.verdict import Cell, Mode, failure_modes, share_text
-from crosscheck.results.timings import Spread, spread
+from crosscheck.results.timings import Spread
 
 BASELINES = ("reference", "reference-f32")
 """The textbook formulas: drawn beside the engines as baselines, never ranked."""
@@ -72,6 +77,10 @@ PROFILES = (
 )
 
 
+def _cases(measured: Spread) -> str:
+    return f"{measured.n} case{'' if measured.n == 1 else 's'}"
+
+
 @dataclass(frozen=True)
 class EngineScore:
     """One engine on one profile: its score on the common ground, coverage, cost, modes."""
@@ -85,6 +94,9 @@ class EngineScore:
     cost: Spread | None
     """Its per-case query times over the profile's timed cases; None: none timed."""
     modes: list[Mode] = field(default_factory=list)
+    counted: Spread | None = None
+    """Its per-case instructions per query over the profile's counted cases; None: none
+    counted."""
 
     @property
     def coverage(self) -> float:
@@ -103,7 +115,21 @@ class EngineScore:
         """Its median query time with the IQR over its timed cases ('-': none timed)."""
         if self.cost is None:
             return "\u2013"
-        return f"{with_iqr(self.cost)}, {self.cost.n} case{'' if self.cost.n == 1 else 's'}"
+        return f"{with_iqr(self.cost)}, {_cases(self.cost)}"
+
+    @property
+    def counted_text(self) -> str:
+        """Its median instructions per query with the IQR over its counted cases ('-': none
+        counted)."""
+        if self.counted is None:
+            return "\u2013"
+        return f"{instructions_iqr(self.counted.median, self.counted.iqr)}, {_cases(self.counted)}"
+
+    @property
+    def both(self) -> Cost:
+        """Its cost both ways (:class:`~crosscheck.report.query_cost.Cost`)."""
+        unmeasured = query_cost.UNMEASURED
+        return Cost(self.cost or unmeasured, self.counted or unmeasured, 0.0)
 
 
 @dataclass(frozen=True)
@@ -130,6 +156,9 @@ class ProfileVerdict:
     ranked: list[EngineScore] = field(default_factory=list)
     baselines: list[EngineScore] = field(default_factory=list)
     not_ranked: list[NotRanked] = field(default_factory=list)
+    by_counts: bool = False
+    """Every ranked engine was counted: ties after score and coverage are broken by median
+    instructions per query, and the cost column shows them (the wall clock beside)."""
 
 
 def _answered(rows: pd.DataFrame) -> pd.DataFrame:
@@ -160,11 +189,11 @@ def _score(engine: str, rows: pd.DataFrame, common: pd.Index, total: int,
     mine = rows[rows["engine"] == engine]
     on_ground = mine[_keys(mine).isin(common)]
     judged = on_ground[on_ground["status"].isin(Status.members("judged"))]
-    timed = mine.drop_duplicates("case_id")["query_s"].dropna().tolist()
+    cost = query_cost.cost_of(mine)
     return EngineScore(
         engine, Cell(int((judged["status"] == Status.AGREE).sum()), len(judged)),
-        len(_answered(mine)), total, spread(timed) if timed else None,
-        failure_modes(on_ground, repros))
+        len(_answered(mine)), total, cost.wall if cost.timed else None,
+        failure_modes(on_ground, repros), cost.counted if cost.is_counted else None)
 
 
 def _keys(rows: pd.DataFrame) -> pd.Index:
@@ -190,12 +219,14 @@ def profile(frame: pd.DataFrame, wanted: Profile,
     common = pd.Index(sorted(set.intersection(*per_engine))) if per_engine else pd.Index([])
     total = len(rows.drop_duplicates(["case_id", "quantity"]))
     scores = [_score(e, rows, common, total, repros) for e in ranked]
+    counts = query_cost.by_counts(s.both for s in scores)
     scores.sort(key=lambda s: (s.score.share is None, -(s.score.share or 0.0), -s.coverage,
-                               s.cost is None, s.cost.median if s.cost else 0.0))
+                               *s.both.key(counts)))
     baselines = [_score(e, rows, common, total, repros) for e in engines
                  if e in BASELINES and len(answered[answered["engine"] == e])]
     cases = len({str(key).split("\x00")[0] for key in common})
-    return ProfileVerdict(wanted, total, len(common), cases, scores, baselines, not_ranked)
+    return ProfileVerdict(wanted, total, len(common), cases, scores, baselines, not_ranked,
+                          counts)
 
 
 def profiles(frame: pd.DataFrame, repros: Collection[str] = ()) -> list[ProfileVerdict]:
@@ -245,5 +276,6 @@ def robustness(frame: pd.DataFrame) -> list[Robustness]:
 
 def context(frame: pd.DataFrame, repros: Collection[str] = ()) -> dict[str, Any]:
     """The profile part of the verdict section's context."""
-    return {"profiles": profiles(frame, repros), "robustness": robustness(frame),
-            "profile_shown": SHOWN}
+    made = profiles(frame, repros)
+    return {"profiles": made, "robustness": robustness(frame), "profile_shown": SHOWN,
+            "profiles_counted": any(p.by_counts for p in made)}

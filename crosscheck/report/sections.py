@@ -141,7 +141,8 @@ def _matrix(view: RunView) -> Context:
 
 def _summary(view: RunView) -> Context:
     return {"summary": view.summary.to_dict("records"), "statuses": STATUSES,
-            "threshold": speed.UNSTABLE_SPREAD}
+            "threshold": speed.UNSTABLE_SPREAD,
+            "counted": bool(view.summary.get("counted", pd.Series(dtype=int)).gt(0).any())}
 
 
 def _speed(view: RunView) -> Context:

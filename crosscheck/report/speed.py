@@ -11,7 +11,9 @@ changed meanwhile.
 
 Every median with its spread is written one way, on the page, in the advise form
 and on the command line (:func:`median_iqr`): the median to three significant
-digits in ns, µs, ms or s, then ``±`` the IQR in the same unit.
+digits in ns, µs, ms or s, then ``±`` the IQR in the same unit.  A count of
+instructions per query (``crosscheck run --timer instructions``) is written the same
+way with a decimal prefix (:func:`instructions_iqr`): ``93.3 ± 4.1 k instr``.
 
 >>> seconds(2e-05)
 '20 µs'
@@ -33,9 +35,8 @@ from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.timings import UNSTABLE_SPREAD, Spread, spread
 
 __all__ = ["DRIFT_WARNING", "UNSTABLE_SPREAD", "Spread", "binding", "binding_note",
-           "binding_rows", "case_times", "drift", "median_iqr", "seconds", "timing_context",
-           "with_iqr",
-           "yardstick_rows"]
+           "binding_rows", "case_times", "drift", "instructions", "instructions_iqr",
+           "median_iqr", "seconds", "timing_context", "with_iqr", "yardstick_rows"]
 
 DRIFT_WARNING = 0.10
 """A yardstick whose end/start ratio moves further than this from 1: the machine changed speed."""
@@ -90,6 +91,45 @@ def median_iqr(median: float | None, iqr: float | None) -> str:
     if median is None or math.isnan(median):
         return "n/a"
     scale, unit = _unit(median)
+    if iqr is None or math.isnan(iqr):
+        return f"{_digits(median / scale, 3)} {unit}"
+    return f"{_digits(median / scale, 3)} ± {_digits(iqr / scale, 2)} {unit}"
+
+
+COUNT_UNITS = ((1e9, "G instr"), (1e6, "M instr"), (1e3, "k instr"), (1.0, "instr"))
+"""The units a count of instructions is written in, largest first."""
+
+
+def _count_unit(value: float) -> tuple[float, str]:
+    return next(((scale, unit) for scale, unit in COUNT_UNITS if value >= scale * 0.9995),
+                COUNT_UNITS[-1])
+
+
+def instructions(value: float) -> str:
+    """A count of instructions with a decimal prefix, to three significant digits.
+
+    >>> instructions(93349.0), instructions(850.0), instructions(1.2e6), instructions(math.nan)
+    ('93.3 k instr', '850 instr', '1.2 M instr', 'n/a')
+    """
+    if math.isnan(value):
+        return "n/a"
+    scale, unit = _count_unit(value)
+    return f"{_digits(value / scale, 3)} {unit}"
+
+
+def instructions_iqr(median: float | None, iqr: float | None) -> str:
+    """A median count of instructions and its interquartile range, as :func:`median_iqr`
+    writes a time: the median to three significant digits, ``±`` the IQR to two, in the
+    median's unit.
+
+    >>> instructions_iqr(93349.0, 4100.0), instructions_iqr(850.0, 30.0)
+    ('93.3 ± 4.1 k instr', '850 ± 30 instr')
+    >>> instructions_iqr(1.2e6, None), instructions_iqr(None, None)
+    ('1.2 M instr', 'n/a')
+    """
+    if median is None or math.isnan(median):
+        return "n/a"
+    scale, unit = _count_unit(median)
     if iqr is None or math.isnan(iqr):
         return f"{_digits(median / scale, 3)} {unit}"
     return f"{_digits(median / scale, 3)} ± {_digits(iqr / scale, 2)} {unit}"

@@ -1,8 +1,11 @@
 """What the speed-against-error charts plot: per kind, one point per engine and quantity.
 
-A point's x is the engine's median time per query over the cases of that kind it
-timed (``query_s``, one value per case x engine: the median of its samples), with
-the quartiles of those per-case times.  Its errors are read per quantity (one
+A point's x is the engine's cost per query over the cases of that kind
+(:mod:`crosscheck.report.query_cost`): its median instructions per query over the cases
+it counted, when every engine of the chart was counted (``crosscheck run --timer
+instructions``), else its median wall-clock time per query over the cases it timed
+(``query_s``, one value per case x engine: the median of its samples); with the quartiles
+of those per-case figures.  Its errors are read per quantity (one
 panel each: ``distance`` and ``normal`` for detection, ``v1`` and ``v2`` for
 responses) on a **scale-free axis**: each case's error divided by that case's
 agree tolerance, the float64 bound of :mod:`crosscheck.truth.bounds` (a few units
@@ -30,6 +33,8 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
+from crosscheck.report import query_cost
+from crosscheck.report.query_cost import UNMEASURED, Cost
 from crosscheck.report.speed import Spread, binding, binding_note, case_times
 from crosscheck.results.runinfo import RunInfo
 
@@ -101,6 +106,15 @@ class Point:
     wrong: int
     verdicts: int
     failed: int
+    counted: Spread = UNMEASURED
+    """Per-case instructions per query over the counted cases (``n == 0``: none counted)."""
+    in_engine: float = math.nan
+    """Median instructions per query inside the engine's shared objects (NaN: unknown)."""
+
+    @property
+    def cost(self) -> Cost:
+        """Its cost both ways: the wall-clock times and the counted instructions."""
+        return Cost(self.time, self.counted, self.in_engine)
 
     @property
     def scored(self) -> int:
@@ -137,12 +151,41 @@ class SpeedChart:
     points: list[Point]
 
     @property
+    def by_counts(self) -> bool:
+        """Every scored engine with a cost was counted: x is instructions per query."""
+        return query_cost.by_counts(p.cost for p in self.points if p.scored)
+
+    @property
+    def any_counted(self) -> bool:
+        """Some scored engine was counted (its counts are shown, whatever x is)."""
+        return any(p.cost.is_counted for p in self.points if p.scored)
+
+    @property
+    def x_title(self) -> str:
+        """What x is, in words: the speed axis's title."""
+        return query_cost.COUNTED if self.by_counts else query_cost.WALL
+
+    def x(self, p: Point) -> Spread:
+        """The per-case spread ``p`` is drawn at along x (counted, or wall clock)."""
+        return p.cost.ranked_by(self.by_counts)
+
+    def cost_text(self, p: Point) -> str:
+        """``p``'s cost in this chart's measure (counted: the wall clock in brackets)."""
+        return p.cost.text(self.by_counts)
+
+    def hollow(self, p: Point) -> bool:
+        """Drawn hollow: its wall-clock times are mostly unstable and x is the wall clock (a
+        count is exact)."""
+        return p.mostly_unstable and not self.by_counts
+
+    @property
     def plotted(self) -> list[Point]:
-        return [p for p in self.points if p.scored and p.timed]
+        return [p for p in self.points if p.scored and self.x(p).n]
 
     @property
     def not_timed(self) -> list[Point]:
-        return [p for p in self.points if p.scored and not p.timed]
+        """Scored engines without this chart's measure (not timed, or not counted)."""
+        return [p for p in self.points if p.scored and not self.x(p).n]
 
     @property
     def not_scored(self) -> list[Point]:
@@ -156,10 +199,11 @@ class SpeedChart:
     @property
     def within_bound(self) -> list[Point]:
         """The plotted engines whose median error is within the float64 bound (1 on the error
-        axis) on every panel they are scored on, fastest first: the headline of the kind."""
+        axis) on every panel they are scored on, cheapest first along x: the headline of the
+        kind."""
         scored = [(p, [e for e in p.errors.values() if e.scored]) for p in self.plotted]
         good = [p for p, errors in scored if errors and all(e.median <= 1 for e in errors)]
-        return sorted(good, key=lambda p: p.query_s)
+        return sorted(good, key=lambda p: self.x(p).median)
 
     def off_scale(self, quantity: str) -> int:
         """Answers of the plotted engines off scale on the panel of ``quantity``."""
@@ -230,6 +274,7 @@ def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
     scored = rows[rows["status"].isin(Status.members("scored"))]
     verdicts = scored[scored["quantity"].isin(measure.verdicts)]
     time, unstable = case_times(rows)
+    cost = query_cost.cost_of(rows)
     return Point(
         engine=engine, about=_about(engine, info), cases=rows["case_id"].nunique(),
         time=time, unstable=unstable, binding=binding(info, engine),
@@ -237,7 +282,8 @@ def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
         errors={q: errors_of(scored, q, cases) for q in measure.errors},
         verdicts=verdicts["case_id"].nunique(),
         wrong=verdicts.loc[verdicts["status"] == Status.DISAGREE, "case_id"].nunique(),
-        failed=rows.loc[rows["status"].isin(Status.members("failed")), "case_id"].nunique())
+        failed=rows.loc[rows["status"].isin(Status.members("failed")), "case_id"].nunique(),
+        counted=cost.counted, in_engine=cost.in_engine)
 
 
 def speed_chart(frame: pd.DataFrame, kind: str, info: RunInfo,

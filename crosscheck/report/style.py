@@ -39,10 +39,13 @@ PLOT_CONFIG = {"displaylogo": False, "responsive": True}
 @functools.cache
 def templates() -> Environment:
     """The Jinja environment of every page (autoescaping on, templates in ``report/templates``;
-    every template can write a time with ``seconds`` and ``median_iqr``)."""
+    every template can write a time with ``seconds`` and ``median_iqr``, a count of
+    instructions with ``instructions`` and ``instructions_iqr``)."""
     env = Environment(loader=PackageLoader("crosscheck.report", "templates"),
                       autoescape=select_autoescape(default=True, default_for_string=True))
-    env.globals.update(seconds=speed.seconds, median_iqr=speed.median_iqr)
+    env.globals.update(seconds=speed.seconds, median_iqr=speed.median_iqr,
+                       instructions=speed.instructions,
+                       instructions_iqr=speed.instructions_iqr)
     return env
 
 

@@ -12,21 +12,31 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
+from crosscheck.report import query_cost
 
 STATUSES = [str(s) for s in Status]
 
 
 def _times(frame: pd.DataFrame) -> pd.DataFrame:
     """Per engine x kind: the median of the per-case query times, their IQR over the timed
-    cases, and how many cases were timed and how many of those timings are unstable."""
+    cases, and how many cases were timed and how many of those timings are unstable; then
+    the same of the counted instructions per query (NaN and 0 where none was counted), and
+    the median of those inside the engine's own code."""
     per_case = frame.drop_duplicates(["engine", "case_id"])
     per_case = per_case.assign(_unstable=per_case["unstable"].isin([True])
-                               & per_case["query_s"].notna())
+                               & per_case["query_s"].notna(),
+                               _instructions=query_cost.column(per_case, "query_instructions"),
+                               _in_engine=query_cost.column(per_case, "engine_instructions"))
     groups = per_case.groupby(["engine", "kind"])
+    counted = groups["_instructions"]
     return pd.DataFrame({
         "median_query_s": groups["query_s"].median(),
         "iqr_query_s": groups["query_s"].quantile(0.75) - groups["query_s"].quantile(0.25),
-        "timed": groups["query_s"].count(), "unstable": groups["_unstable"].sum()})
+        "timed": groups["query_s"].count(), "unstable": groups["_unstable"].sum(),
+        "median_query_instructions": counted.median(),
+        "iqr_query_instructions": counted.quantile(0.75) - counted.quantile(0.25),
+        "counted": counted.count(),
+        "median_engine_instructions": groups["_in_engine"].median()})
 
 
 ERROR_COLUMNS = {
@@ -53,7 +63,8 @@ def _errors(frame: pd.DataFrame) -> pd.DataFrame:
 def summary(frame: pd.DataFrame) -> pd.DataFrame:
     """Per engine x kind: counts of each status, the share of wrong verdicts and the median
     error of each measure separately, the median query time with its IQR over the timed cases,
-    timed and unstable cases."""
+    timed and unstable cases, and the median instructions per query with their IQR over the
+    counted cases, counted cases, and the median inside the engine."""
     if frame.empty:
         return pd.DataFrame(columns=["engine", "kind", *STATUSES])
     counts = pd.crosstab([frame["engine"], frame["kind"]], frame["status"])

@@ -1,7 +1,9 @@
 """The verdict block: which engine can I trust, and what breaks it.
 
 Per engine, one row: its share of agreeing rows per kind and overall, its speed
-rank per kind, and its failure modes.  A failure mode is the (status, category,
+rank per kind (by median instructions per query where every engine of the kind with a
+cost was counted, else by median wall-clock query time: :mod:`crosscheck.report.query_cost`),
+and its failure modes.  A failure mode is the (status, category,
 reason pattern) of breaking rows (disagree, error, crash, timeout), where the
 reason pattern is the reason with every number replaced by ``#``: reasons that
 differ only in their numbers are one mode.
@@ -16,6 +18,7 @@ asked again and, per engine, how many answered differently (``nondeterministic``
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Collection
 from dataclasses import dataclass, field
@@ -24,6 +27,7 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
+from crosscheck.report.query_cost import column
 from crosscheck.report.tables import share_colour
 from crosscheck.results.store import REPRO_DIR, repro_name
 
@@ -72,6 +76,10 @@ class Cell:
     rank: int | None = None
     ranked: int = 0
     median_s: float | None = None
+    median_instructions: float | None = None
+    """Median instructions per query over the counted cases (None: none counted)."""
+    by_counts: bool = False
+    """The rank is by instructions per query (every engine of the kind was counted)."""
 
     @property
     def share(self) -> float | None:
@@ -145,13 +153,21 @@ def agreement(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def speed_ranks(frame: pd.DataFrame) -> pd.DataFrame:
-    """Per engine x kind with timings: median ``query_s`` of its timed cases, its rank among
-    the timed engines of the kind (1 = fastest; ties share the better rank) and how many."""
-    timed = frame[frame["query_s"].notna()].drop_duplicates(["engine", "kind", "case_id"])
-    medians = timed.groupby(["engine", "kind"])["query_s"].median().rename("median_s")
-    by_kind = medians.groupby(level="kind")
-    return pd.DataFrame({"median_s": medians, "rank": by_kind.rank(method="min"),
-                         "ranked": by_kind.transform("size")})
+    """Per engine x kind with a cost: median ``query_s`` of its timed cases and median
+    ``query_instructions`` of its counted ones, whether its kind is ranked ``by_counts``
+    (every engine of the kind with a cost was counted), its rank in that measure among the
+    engines of the kind measured so (1 = cheapest; ties share the better rank) and how many."""
+    per_case = frame.drop_duplicates(["engine", "kind", "case_id"])
+    costs = pd.DataFrame({"median_s": column(per_case, "query_s"),
+                          "median_instructions": column(per_case, "query_instructions")})
+    medians = costs.groupby([per_case["engine"], per_case["kind"]]).median()
+    medians = medians[medians.notna().any(axis=1)]
+    counted = medians["median_instructions"].notna()
+    by_counts = counted.groupby(level="kind").transform("all").astype(bool)
+    key = medians["median_instructions"].where(by_counts, medians["median_s"])
+    ranked = medians.assign(by_counts=by_counts)[key.notna()]
+    by_kind = key.dropna().groupby(level="kind")
+    return ranked.assign(rank=by_kind.rank(method="min"), ranked=by_kind.transform("size"))
 
 
 def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mode]:
@@ -188,13 +204,22 @@ def cells(frame: pd.DataFrame) -> dict[tuple[str, str], Cell]:
     agreed, ranks = agreement(frame), speed_ranks(frame)
     counts = {(str(e), str(k)): (int(a), int(j)) for (e, k), a, j in zip(
         agreed.index, agreed["agree"], agreed["judged"], strict=True)}
-    timed = {(str(e), str(k)): (int(r), int(n), float(m)) for (e, k), r, n, m in zip(
-        ranks.index, ranks["rank"], ranks["ranked"], ranks["median_s"], strict=True)}
+    timed = {(str(e), str(k)): r for (e, k), r in zip(
+        ranks.index, ranks.to_dict("records"), strict=True)}
     out = {}
     for key in dict.fromkeys([*counts, *timed]):
         agree, judged = counts.get(key, (0, 0))
-        out[key] = Cell(agree, judged, *timed[key]) if key in timed else Cell(agree, judged)
+        out[key] = _ranked(Cell(agree, judged), timed[key]) if key in timed else Cell(
+            agree, judged)
     return out
+
+
+def _ranked(cell: Cell, rank: dict[Any, Any]) -> Cell:
+    """``cell`` with its speed rank and medians (a row of :func:`speed_ranks`)."""
+    instructions = float(rank["median_instructions"])
+    return Cell(cell.agree, cell.judged, int(rank["rank"]), int(rank["ranked"]),
+                float(rank["median_s"]), None if math.isnan(instructions) else instructions,
+                bool(rank["by_counts"]))
 
 
 def repeat_counts(frame: pd.DataFrame) -> tuple[int, dict[str, int]]:
@@ -236,6 +261,7 @@ def verdict(frame: pd.DataFrame, repros: Collection[str] = (),
     rows = verdicts(frame, repros)
     asked, changed = repeat_counts(frame)
     return {"kinds": kinds_of(frame), "rows": rows, "shown": SHOWN,
+            "kinds_counted": any(c.by_counts for row in rows for c in row.cells),
             "modes": [m for row in rows for m in row.modes],
             "repeat": None if repeat_check is None else {
                 "asked": asked, "changed": {e: n for e, n in changed.items() if n}}}
