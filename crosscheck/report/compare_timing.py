@@ -103,7 +103,7 @@ class RunTimings:
     normalised: dict[tuple[str, str], list[float]]
     """Per (case id, engine) timed in rounds: every sample over its round's yardstick."""
     rounds: list[float]
-    """Every round yardstick the run's samples carry (seconds; empty: not timed in rounds)."""
+    """The round yardstick of every normalised sample (seconds; empty: not timed in rounds)."""
     timed: set[tuple[str, str]]
     """Every pair the run timed (from its samples, or from its results' ``query_s``)."""
     yardstick: dict[str, float]
@@ -116,19 +116,19 @@ class RunTimings:
 def run_timings(run: StoredRun) -> RunTimings:
     """The stored samples, timed pairs and yardstick of ``run``."""
     frame = read_timings(run.directory)
-    samples, normalised, rounds = {}, {}, set()
+    samples, normalised, rounds = {}, {}, []
     for row in frame.to_dict("records"):
         key = (str(row["case_id"]), str(row["engine"]))
         samples[key] = (str(row["unit"]), [float(v) for v in row["values"]])
         if ratios := timings_normalised(row["values"], row["yardstick"]):
             normalised[key] = list(ratios)
-            rounds |= {float(y) for y in row["yardstick"]}
+            rounds += [float(y) for y in row["yardstick"]]
     results = run.results.dropna(subset=["query_s"])
     timed = set(samples) | set(zip(results["case_id"], results["engine"], strict=True))
     missing = None
     if not (run.directory / FILE).exists():
         missing = OLD_FORMAT if run.format_version < 3 else "no samples stored (no timing phase)"
-    return RunTimings(samples, normalised, sorted(rounds), timed, yardstick(run.info.timing),
+    return RunTimings(samples, normalised, rounds, timed, yardstick(run.info.timing),
                       yardstick_doubt(run.info.timing), missing)
 
 
@@ -244,7 +244,7 @@ def run_drift(run: RunTimings) -> float:
 
 
 def rounds_ratio(a: RunTimings, b: RunTimings) -> float:
-    """B's median round yardstick over A's (NaN: either not timed in rounds)."""
+    """The median yardstick of B's samples over A's (NaN: either not timed in rounds)."""
     if not (a.rounds and b.rounds):
         return math.nan
     return float(np.median(b.rounds) / np.median(a.rounds))

@@ -1,14 +1,15 @@
 """crosscheck compare: what differs up front, verdicts on the overlap, timings from samples.
 
 Run folders are built here by hand (run.json, results.jsonl, timings.jsonl) with
-samples drawn from a seeded RNG: nothing is timed.
+samples drawn from a seeded RNG, and for runs timed in rounds a machine whose
+speed is given per round: nothing is timed.
 """
 
 from __future__ import annotations
 
 import math
 import shutil
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -63,11 +64,15 @@ def make_run(directory: Path, cases: Iterable[str], *, seed: int, slower: float 
              timing: dict[str, Any] | None = None, n: int = 20,
              statuses: dict[str, str] | None = None, options: RunOptions | None = None,
              versions: dict[str, str] | None = None,
-             untimed: Iterable[tuple[str, str]] = ()) -> Path:
-    """A format-3 run folder: one ``hit`` row and one timing record per case x engine.
+             untimed: Iterable[tuple[str, str]] = (),
+             machine: Sequence[float] | None = None) -> Path:
+    """A run folder: one ``hit`` row and one timing record per case x engine.
 
     ``slower`` multiplies every sample; ``n`` is the samples per pair; pairs in
-    ``untimed`` have no timing record.
+    ``untimed`` have no timing record.  ``machine``: a run timed in rounds, the
+    machine's slowness per round (``n`` of them): each sample is multiplied by its
+    round's, and stored with its round's yardstick, 1 ms times it (None: a run timed
+    before the rounds, no yardstick per sample).
     """
     cases, skip, rng = list(cases), set(untimed), np.random.default_rng(seed)
     store = ResultsStore(directory)
@@ -78,9 +83,11 @@ def make_run(directory: Path, cases: Iterable[str], *, seed: int, slower: float 
         engines=tuple({"name": e, "engine": "fake", "version": (versions or {}).get(e, "1")}
                       for e in ENGINES), timing=timing))
     store.close()
-    lines = [TimingRecord(c, e, "sphere", "call", 100, 0.0,
-                          tuple(slower * v for v in samples(rng, median(c), n))).to_json()
-             for c in cases for e in ENGINES if (c, e) not in skip]
+    slowness = machine or [1.0] * n
+    sticks = tuple(1e-3 * m for m in machine) if machine else ()
+    lines = [TimingRecord(c, e, "sphere", "call", 100, 0.0, tuple(
+        slower * v * m for v, m in zip(samples(rng, median(c), n), slowness, strict=True)),
+        sticks).to_json() for c in cases for e in ENGINES if (c, e) not in skip]
     (directory / "timings.jsonl").write_text("".join(line + "\n" for line in lines))
     return directory
 
@@ -143,6 +150,55 @@ def test_without_a_yardstick_nothing_is_normalised_and_the_comparison_says_so(
     result, _ = compared(tmp_path, {"timing": None}, {"timing": yardstick(2.0), "slower": 2.0})
     assert not result.normalised and result.timing_counts["slower"] == 60
     assert any("no yardstick in A" in d for d in result.differences)
+
+
+STEADY = [1.0] * 20
+"""A machine that kept its speed through the 20 rounds of a run."""
+
+
+def test_raw_slower_within_the_drift_the_rounds_measured_is_unknown(tmp_path: Path) -> None:
+    drifting = [1.4] * 18 + [2.2] * 2  # B's machine: slower, and slower still in two rounds
+    result, timings = compared(tmp_path, {"timing": yardstick(), "machine": STEADY},
+                               {"timing": yardstick(), "machine": drifting})
+    assert result.timing_counts == {"slower": 0, "faster": 0, "same": 0, "unknown": 60}
+    assert result.normalised and "its round's yardstick" in result.normalisation
+    assert "A x1.00, B x1.57; B's over A's: x1.40" in result.normalisation
+    assert timings["ratio"].between(0.9, 1.1).all() and timings["raw_ratio"].gt(1.2).all()
+    reasons = timings["reason"].str.replace(r"^x1\.\d\d slower raw", "x slower raw", regex=True)
+    assert set(reasons) == {"x slower raw, within the machine's drift x1.57 measured by B's round "
+                            "yardsticks"}
+
+
+def test_faster_after_the_yardsticks_but_not_raw_is_unknown(tmp_path: Path) -> None:
+    # B's engine 1.5 times slower on a machine 1.5 times faster: raw, nothing moved
+    result, timings = compared(tmp_path, {"timing": yardstick(), "machine": STEADY},
+                               {"timing": yardstick(), "machine": [1 / 1.5] * 20,
+                                "slower": 1.5})
+    assert result.timing_counts["unknown"] == 60
+    assert timings["reason"].str.match(
+        r"x1\.\d\d slower normalised, but not raw \(.*\), within the machine's drift x1\.50 "
+        r"measured between the two runs' round yardsticks$").all()
+
+
+def test_twice_as_slow_in_rounds_is_slower_on_every_pair_despite_the_drift(
+        tmp_path: Path) -> None:
+    result, timings = compared(tmp_path, {"timing": yardstick(), "machine": STEADY},
+                               {"timing": yardstick(), "machine": [1.0] * 10 + [1.5] * 10,
+                                "slower": 2.0})
+    assert result.timing_counts["slower"] == 60
+    assert timings["ratio"].between(1.8, 2.2).all() and timings["raw_ratio"].gt(2.2).all()
+    assert timings["reason"].str.startswith("normalised: p = ").all()
+    per_engine = pd.read_csv(tmp_path / "cmp" / "timing_engines.csv")
+    assert (per_engine["geomean_raw"] > per_engine["geomean_ratio"] * 1.1).all()
+
+
+def test_a_run_in_rounds_against_one_before_them_is_judged_the_old_way(tmp_path: Path) -> None:
+    result, timings = compared(tmp_path, {"timing": yardstick()},
+                               {"timing": yardstick(2.0), "machine": [2.0] * 20})
+    assert result.timing_counts["same"] == 60
+    assert result.normalised and result.normalisation.startswith(
+        "B's samples divided by the yardstick ratio B/A = 2.000")
+    assert timings["raw_ratio"].between(1.8, 2.2).all()
 
 
 def test_too_few_samples_or_one_run_only_is_unknown_never_a_change(tmp_path: Path) -> None:
