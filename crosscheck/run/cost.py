@@ -68,9 +68,9 @@ def method() -> str:
     """The instruction timer in words, for run.json and the report."""
     return (f"instructions counted under Valgrind's callgrind, one worker per engine library: "
             f"per pair, {WARMUPS} uncounted queries, then a loop of {CALLS} counted ones, net "
-            f"of the same loop around an empty call; scenes of at most {SCENE_LIMIT_S:g} s "
-            "per run counted once; the engine's own work is what ran inside calls into its "
-            "shared objects")
+            f"of the same loop around an empty call, on the thread that runs the queries; "
+            f"scenes of at most {SCENE_LIMIT_S:g} s per run counted once; the engine's own "
+            "work is what ran inside calls into its shared objects")
 
 
 def cost_sample(cases: Sequence[AnyCase], engines: Sequence[Adapter], frame: pd.DataFrame,
@@ -114,12 +114,13 @@ class CountingWorker:
             return f"the counting worker died (exit code {code})"
 
     def dump(self, pid: int, number: int, objects: Sequence[str]) -> callgrind.Counts:
-        """The counts of one of the worker's dumps (the file is removed once read)."""
-        path = callgrind.dump_path(self.out, pid, number)
+        """The counts of one of the worker's dumps, on the querying thread (the dump's files
+        are removed once read)."""
         try:
-            return callgrind.read_dump(path, objects)
+            return callgrind.read_dump(callgrind.dump_path(self.out, pid, number), objects)
         finally:
-            path.unlink(missing_ok=True)
+            for path in callgrind.dump_files(self.out, pid, number):
+                path.unlink(missing_ok=True)
 
     def alive(self) -> bool:
         return self.process.poll() is None

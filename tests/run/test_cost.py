@@ -4,9 +4,11 @@ the counts are instructions, the same run after run."""
 
 from __future__ import annotations
 
-import json
 import threading
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import pandas as pd
 import pytest
@@ -142,44 +144,63 @@ def test_without_valgrind_the_timer_says_so_and_counts_nothing(
 CASES = [sphere(0.0, 2.0 + i / 10, id=f"s{i}") for i in range(6)]
 OPTIONS = RunOptions(min_sample_s=0.0005, samples=10, timing_cases=4, isolate=False,
                      timer="instructions")
+RUNS = {"a": fakes.BusyLoop(), "again": fakes.BusyLoop(), "more": fakes.BusyLoopFivePercent()}
 
 
-def counted_run(folder: Path, engine: Adapter) -> Path:
-    launch(ResultsStore(folder), CASES, [engine], OPTIONS,
-           new_info(folder, "test", OPTIONS, [engine], CASES))
-    return folder
+def verdicts_and_wall_times(folder: Path, engine: Adapter) -> ResultsStore:
+    """A run's verdict pass and wall-clock phase, in this process; its store left open."""
+    options = replace(OPTIONS, timer="wall")
+    launch(ResultsStore(folder), CASES, [engine], options,
+           new_info(folder, "test", options, [engine], CASES))
+    return ResultsStore(folder, resume=True)
+
+
+@pytest.fixture(scope="module")
+def counted(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """Three runs counted side by side (counts do not depend on the load: each counting
+    worker pays its Valgrind start-up at once), and a library whose first pair kills its
+    counting worker."""
+    if NO_VALGRIND:
+        pytest.skip(NO_VALGRIND)
+    root = tmp_path_factory.mktemp("counted")
+    stores = {name: verdicts_and_wall_times(root / name, engine)
+              for name, engine in RUNS.items()}
+    dying = ResultsStore(root / "dying")
+    library = cost.LibraryCounter(dying, OPTIONS, threading.Lock(), None, threading.Event())
+    boom = sphere(0.0, 2.0, id="boom")
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        sections = {name: pool.submit(cost.cost_phase, store, CASES, [RUNS[name]], OPTIONS)
+                    for name, store in stores.items()}
+        died = pool.submit(library.count, [(boom, fakes.CrashesOnSpheresAt()),
+                                           (CASES[0], fakes.BusyLoop())])
+        out = {name: future.result() for name, future in sections.items()}
+        died.result()
+    for store in [*stores.values(), dying]:
+        store.close()
+    return {"root": root, "sections": out, "failed": library.failed}
 
 
 @needs_valgrind
 def test_identical_cost_runs_flag_nothing_and_five_percent_more_work_is_flagged_everywhere(
-        tmp_path: Path) -> None:
-    a = counted_run(tmp_path / "a", fakes.BusyLoop())
-    again = counted_run(tmp_path / "again", fakes.BusyLoop())
-    more = counted_run(tmp_path / "more", fakes.BusyLoopFivePercent())
-    section = json.loads((a / "run.json").read_text())["timing"]["cost"]
+        counted: dict[str, Any]) -> None:
+    root = counted["root"]
+    section = counted["sections"]["a"]
     assert section["counted"] == 4 and section["failed"] == 0
-    results = read_run(a).results.drop_duplicates("case_id")
+    results = read_run(root / "a").results.drop_duplicates("case_id")
     assert results["query_instructions"].notna().sum() == 4  # the sampled pairs, filled
 
-    base = run_counts(read_run(a))
+    base = run_counts(read_run(root / "a"))
     cases, engines = {c.id for c in CASES}, {"fake-busy"}
-    same = cost_changes(base, run_counts(read_run(again)), cases, engines)
+    same = cost_changes(base, run_counts(read_run(root / "again")), cases, engines)
     assert len(same) == 4 and set(same["verdict"]) == {"same"}
-    changed = cost_changes(base, run_counts(read_run(more)), cases, engines)
+    changed = cost_changes(base, run_counts(read_run(root / "more")), cases, engines)
     assert len(changed) == 4 and set(changed["verdict"]) == {"more"}
     assert all(1.03 < r < 1.06 for r in changed["ratio"])  # 5% more loop, the rest fixed
 
 
 @needs_valgrind
 def test_a_counting_worker_that_dies_costs_one_pair_and_the_next_is_counted(
-        tmp_path: Path) -> None:
-    store = ResultsStore(tmp_path / "run")
-    library = cost.LibraryCounter(store, OPTIONS, threading.Lock(), None, threading.Event())
-    dies = sphere(0.0, 2.0, id="boom")
-    try:
-        library.count([(dies, fakes.CrashesOnSpheresAt()), (CASES[0], fakes.BusyLoop())])
-    finally:
-        store.close()
-    assert list(library.failed) == ["boom x fake-boom"]
-    assert "died" in library.failed["boom x fake-boom"]
-    assert set(read_counts(tmp_path / "run")["case_id"]) == {"s0"}
+        counted: dict[str, Any]) -> None:
+    assert list(counted["failed"]) == ["boom x fake-boom"]
+    assert "died" in counted["failed"]["boom x fake-boom"]
+    assert set(read_counts(counted["root"] / "dying")["case_id"]) == {"s0"}
