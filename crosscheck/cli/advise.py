@@ -166,6 +166,15 @@ def _time(engine: EngineAdvice) -> str:
                                                                  engine.query_iqr_s)
 
 
+def _count(engine: EngineAdvice) -> str:
+    """The median instructions per query ± their IQR, as the report page writes them ('-':
+    not counted)."""
+    from crosscheck.report.speed import instructions_iqr
+
+    median = engine.median_query_instructions
+    return "-" if median is None else instructions_iqr(median, engine.query_instructions_iqr)
+
+
 def _percent(share: float | None) -> str:
     return "-" if share is None else f"{share:.0%}"
 
@@ -201,19 +210,26 @@ TIERS = {"passes": ("pass", "green"), "partial": ("part", "yellow"), "fails": ("
 """Each tier's word in the table, and its colour."""
 HEADER = ("#", "engine", "tier", "cover", "within", "median ± IQR")
 """The ranking's columns; the first three read left to right, the numbers align right."""
+COUNTED_HEADER = (*HEADER[:5], "instr/query ± IQR", "wall ± IQR")
+"""The ranking's columns when an engine was counted: its instructions per query first, the
+wall-clock time beside them."""
 
 
-def _cells(rank: str, engine: EngineAdvice) -> tuple[str, ...]:
+def _cells(rank: str, engine: EngineAdvice, counted: bool) -> tuple[str, ...]:
+    cost = (_count(engine), _time(engine)) if counted else (_time(engine),)
     return (rank, engine.engine, TIERS[engine.tier][0], _percent(engine.coverage),
-            _percent(engine.share_within), _time(engine))
+            _percent(engine.share_within), *cost)
 
 
 def ranking_lines(rows: Sequence[tuple[str, EngineAdvice]], width: int) -> list[Text]:
     """The ranking as aligned columns, one line per engine, with its worst answer on the
     line below (indented, wrapped at spaces to ``width``, never cut): a case id is too long
-    to share a line with the figures in 80 columns."""
-    table = [HEADER, *(_cells(rank, engine) for rank, engine in rows)]
-    widths = [max(len(cells[i]) for cells in table) for i in range(len(HEADER))]
+    to share a line with the figures in 80 columns.  When an engine was counted
+    (``--timer instructions``), its instructions per query come before its wall-clock time."""
+    counted = any(engine.median_query_instructions is not None for _, engine in rows)
+    header = COUNTED_HEADER if counted else HEADER
+    table = [header, *(_cells(rank, engine, counted) for rank, engine in rows)]
+    widths = [max(len(cells[i]) for cells in table) for i in range(len(header))]
 
     def line(cells: Sequence[str], tier_style: str = "", style: str = "") -> Text:
         text = Text(style=style)
@@ -223,10 +239,10 @@ def ranking_lines(rows: Sequence[tuple[str, EngineAdvice]], width: int) -> list[
                         tier_style if i == 2 else "")
         return text
 
-    lines = [line(HEADER, style="bold"), Text("─" * (sum(widths) + 2 * (len(widths) - 1)))]
+    lines = [line(header, style="bold"), Text("─" * (sum(widths) + 2 * (len(widths) - 1)))]
     indent = " " * (widths[0] + 2)
     for rank, engine in rows:
-        lines.append(line(_cells(rank, engine), TIERS[engine.tier][1]))
+        lines.append(line(_cells(rank, engine, counted), TIERS[engine.tier][1]))
         worst = worst_text(engine)
         if worst != "-":
             lines += [Text(text) for text in wrapped(f"{indent}worst: {worst}", width)]
@@ -273,7 +289,8 @@ def print_advice(advice: Advice) -> None:
         say(f"bad input, judged apart ({advice.bad_input_cases} cases): "
             + (", ".join(broken) if broken else "no crash or timeout"))
     if advice.passing:
-        say(f"passing: {', '.join(e.engine for e in advice.passing)} (cheapest first)")
+        by = " by instructions per query" if advice.cost_by == "instructions" else ""
+        say(f"passing: {', '.join(e.engine for e in advice.passing)} (cheapest first{by})")
     else:
         more = f" and {len(advice.deciding) - 3} more" if len(advice.deciding) > 3 else ""
         say(f"nothing passes the whole envelope; closest: {advice.closest or '-'}, decided by "

@@ -6,11 +6,14 @@ The user states a scene profile (:mod:`crosscheck.report.advise_profile`);
 (:mod:`crosscheck.report.advise_grade`).  The answer is never empty:
 
 1. ``passing``: engines that answer every case of the envelope within the
-   needed accuracy, cheapest first (median query time);
+   needed accuracy, cheapest first: by median instructions per query when every
+   passing engine was counted (``crosscheck run --timer instructions``), else by
+   median wall-clock query time (``cost_by`` says which);
 2. ``partial``: engines within the accuracy on the part they answer, the most
    coverage first (``parts`` says which part);
 3. ``failing``: the others, by the share of the *whole envelope* they answer
-   within the accuracy (skipping never helps), then by cost;
+   within the accuracy (skipping never helps), then by cost (each tier's ties are
+   broken by instructions when every engine of the tier was counted, else by time);
 4. ``unsupported``: engines that answer no case (a 2-D-only engine for a 3-D
    scene): listed, never ranked;
 5. ``baselines``: the textbook formulas (``reference``, ``reference-f32``),
@@ -24,6 +27,7 @@ ranked engine and the few cases that decide it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -39,17 +43,21 @@ from crosscheck.report.advise_grade import (
     Mode,
     Part,
     Worst,
+    by_counts,
+    cost_key,
     grade,
 )
 from crosscheck.report.advise_judge import judged
 from crosscheck.report.advise_profile import Envelope, EnvelopeError
 from crosscheck.results.store import StoredRun
 
-__all__ = ["Advice", "EngineAdvice", "Envelope", "EnvelopeError", "Mode", "Part", "Worst",
-           "advise"]
+__all__ = ["INSTRUCTIONS", "WALL", "Advice", "EngineAdvice", "Envelope", "EnvelopeError", "Mode",
+           "Part", "Worst", "advise"]
 
 DECIDING = 5
 """Cases named as deciding the closest engine when nothing passes."""
+INSTRUCTIONS, WALL = "instructions", "wall"
+"""What a tier's cost is: median instructions per query, or median wall-clock time."""
 
 
 @dataclass(frozen=True)
@@ -78,6 +86,9 @@ class Advice:
     repeat_checked: bool = False
     """Whether the run made the repeat check (each engine's ``repeated`` and
     ``nondeterministic`` say what it found in the envelope)."""
+    cost_by: str = WALL
+    """How ``passing`` is ordered, cheapest first: :data:`INSTRUCTIONS` (every passing engine
+    was counted) or :data:`WALL`."""
 
     @property
     def ranking(self) -> list[EngineAdvice]:
@@ -134,17 +145,18 @@ def advise(run: StoredRun, envelope: Envelope) -> Advice:
     grades = [grade(run, name, rows[rows["engine"] == name], cases, bad[bad["engine"] == name])
               for name in run.info.engine_names]
     order = {name: i for i, name in enumerate(run.info.engine_names)}
-
-    def cost(e: EngineAdvice) -> tuple[bool, float, int]:
-        return e.median_query_s is None, e.median_query_s or 0.0, order[e.engine]
-
     contenders = [g for g in grades if not g.baseline and g.tier != UNSUPPORTED
                   and (envelope.float32 or not g.float32)]
-    passing = sorted((g for g in contenders if g.tier == PASSES), key=cost)
-    partial = sorted((g for g in contenders if g.tier == PARTIAL),
-                     key=lambda g: (-g.answered, *cost(g)))
-    failing = sorted((g for g in contenders if g.tier == FAILS),
-                     key=lambda g: (-g.within, *cost(g)))
+
+    def tier(name: str, first: Callable[[EngineAdvice], int]) -> list[EngineAdvice]:
+        """The contenders of a tier, by ``first`` then cost (in the tier's measure)."""
+        engines = [g for g in contenders if g.tier == name]
+        counts = by_counts(engines)
+        return sorted(engines, key=lambda g: (first(g), *cost_key(g, counts), order[g.engine]))
+
+    passing = tier(PASSES, lambda g: 0)
+    partial = tier(PARTIAL, lambda g: -g.answered)
+    failing = tier(FAILS, lambda g: -g.within)
     closest = None if passing or not (partial or failing) else (partial + failing)[0]
     return Advice(
         envelope, kinds, dims, tuple(dict.fromkeys(rows["quantity"])), cases,
@@ -155,7 +167,8 @@ def advise(run: StoredRun, envelope: Envelope) -> Advice:
         baselines=[g for g in grades if g.baseline],
         closest=None if closest is None else closest.engine,
         deciding=() if closest is None else _deciding(closest),
-        repeat_checked=run.info.repeat_check is not None)
+        repeat_checked=run.info.repeat_check is not None,
+        cost_by=INSTRUCTIONS if by_counts(passing) else WALL)
 
 
 def _deciding(engine: EngineAdvice) -> tuple[str, ...]:

@@ -3,7 +3,9 @@
 An engine's grade: how much of the envelope it answers (coverage), the share of
 its answers within the needed accuracy, its worst error with the case and the
 repro script, its failure modes and declared conventions with their numbers,
-its cost (median time per query over cases, with the interquartile range), its
+its cost (median wall-clock time per query over cases, with the interquartile range, and,
+in a run made with ``--timer instructions``, the median instructions per query over its
+counted cases, with theirs), its
 coverage per kind and dimension (the part of the envelope it answers), its
 robustness on the bad-input cases of the same kinds (judged apart), and how many of the
 envelope's cases the repeat check asked again and how many of those answered differently
@@ -23,6 +25,7 @@ import pandas as pd
 from crosscheck.core.model import Status
 from crosscheck.report.advise_judge import CONVENTION, FAILED, SKIP, WRONG
 from crosscheck.report.profiles import BASELINES, worst_statuses
+from crosscheck.report.query_cost import column
 from crosscheck.results.store import StoredRun, repro_name, repro_path
 
 PASSES, PARTIAL, FAILS, UNSUPPORTED = "passes", "partial", "fails", "unsupported"
@@ -91,6 +94,10 @@ class EngineAdvice:
     """within / answered; None: answers nothing."""
     median_query_s: float | None
     query_iqr_s: float | None
+    median_query_instructions: float | None
+    """Median instructions per query over its counted cases (None: none counted)."""
+    query_instructions_iqr: float | None
+    """Their interquartile range over those cases."""
     worst: Worst | None
     failure_modes: tuple[Mode, ...]
     conventions: tuple[Mode, ...]
@@ -123,7 +130,9 @@ def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
     parts = _parts(rows)
     unsupported = _unsupported(parts)
     float32 = is_float32(info)
-    times = answered_rows.drop_duplicates("case_id")["query_s"].dropna().astype(float)
+    per_case = answered_rows.drop_duplicates("case_id")
+    times = column(per_case, "query_s").dropna()
+    counts = column(per_case, "query_instructions").dropna()
     return EngineAdvice(
         engine=engine, tier=_tier(len(answered), within, cases),
         baseline=engine in BASELINES, float32=float32, cases=cases,
@@ -131,12 +140,34 @@ def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
         coverage=len(answered) / cases if cases else 0.0,
         share_within=within / len(answered) if answered else None,
         median_query_s=float(times.median()) if len(times) else None,
-        query_iqr_s=float(times.quantile(0.75) - times.quantile(0.25)) if len(times) else None,
+        query_iqr_s=_iqr(times),
+        median_query_instructions=float(counts.median()) if len(counts) else None,
+        query_instructions_iqr=_iqr(counts),
         worst=_worst(run, engine, failing), failure_modes=_modes(failing),
         conventions=_modes(_worst_first(answered_rows[answered_rows["judgment"] == CONVENTION])),
         parts=parts, unsupported=unsupported,
         failing_cases=tuple(dict.fromkeys(failing["case_id"])), robustness=worst_statuses(bad),
         **_repeats(rows))
+
+
+def _iqr(values: pd.Series) -> float | None:
+    """The interquartile range of ``values`` (None: none)."""
+    return float(values.quantile(0.75) - values.quantile(0.25)) if len(values) else None
+
+
+def by_counts(grades: list[EngineAdvice]) -> bool:
+    """Whether a tier is ordered by instructions per query: every engine of it with a cost
+    was counted (and one was), as :func:`crosscheck.report.query_cost.by_counts` says of
+    any group; else by the wall clock."""
+    measured = [g for g in grades
+                if g.median_query_s is not None or g.median_query_instructions is not None]
+    return bool(measured) and all(g.median_query_instructions is not None for g in measured)
+
+
+def cost_key(grade: EngineAdvice, counts: bool) -> tuple[bool, float]:
+    """Cheapest first in the tier's measure (``counts``: instructions), unmeasured last."""
+    value = grade.median_query_instructions if counts else grade.median_query_s
+    return value is None, value or 0.0
 
 
 def _repeats(rows: pd.DataFrame) -> dict[str, int]:

@@ -66,6 +66,7 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
                  repros: Collection[str]) -> dict[str, Any]:
     """The table's data: ``quantities`` (in run order), ``cases`` (inputs, by index) and
     ``rows`` (one per case x engine: worst status, largest error, repro link, query time,
+    instructions per query where counted,
     per quantity ``[status, category, error, value, truth, tolerance, reason]``, and for a
     nondeterministic pair its second answer, ``again``)."""
     columns = [str(c) for c in frame.columns]
@@ -88,6 +89,9 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
                 "query_s": _number(record.get("query_s", math.nan)),
                 "query_iqr_s": _number(record.get("query_iqr_s", math.nan)),
                 "folded": False, "twins": []}
+            counted = _number(record.get("query_instructions", math.nan))
+            if counted is not None:  # only where counted: a run without counts packs no key
+                row["query_instructions"] = counted
         row["q"][str(record["quantity"])] = [
             str(record["status"]), str(record["category"] or ""), _number(record["error"]),
             str(record["value"]), str(record["truth"]),

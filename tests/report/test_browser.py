@@ -14,12 +14,14 @@ from playwright.sync_api import Page
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
-from crosscheck.report.speed import median_iqr
+from crosscheck.report.speed import instructions_iqr, median_iqr
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests.conftest import ROOT, sphere
 from tests.fakes import AlwaysRight, OffByOne
+from tests.report import counted as run
 from tests.report.browser import needs_chromium, opened
+from tests.report.counted import counted_run
 
 pytestmark = pytest.mark.browser
 
@@ -192,7 +194,8 @@ def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def submit(page: Page, fields: dict[str, str]) -> list[tuple[str, ...]]:
     """Fill the advise form (every field not given is cleared), submit it and return the answer
-    table's rows as (engine, tier, cover, within, median ± IQR)."""
+    table's rows as (engine, tier, cover, within, and its cost: median ± IQR; or, where an
+    engine was counted, instructions per query ± IQR and the wall clock's median ± IQR)."""
     for name in ("dim", "kind"):
         page.select_option(f"#advise-form select[name={name}]", fields.get(name, ""))
     for name in ("lo", "hi", "offset", "speed", "ratio", "tolerance", "rtol", "quantities"):
@@ -201,8 +204,8 @@ def submit(page: Page, fields: dict[str, str]) -> list[tuple[str, ...]]:
     page.wait_for_function("!/Judging/.test(document.getElementById('advise-out').textContent)")
     rows: list[tuple[str, ...]] = page.eval_on_selector_all(
         "#advise-out tr[data-engine]",
-        "rows => rows.map(r => [r.dataset.engine, r.cells[2].textContent,"
-        " r.cells[3].textContent, r.cells[4].textContent, r.cells[5].textContent])")
+        "rows => rows.map(r => [r.dataset.engine].concat("
+        " Array.from(r.cells).slice(2, -1).map(c => c.textContent)))")
     return [tuple(row) for row in rows]
 
 
@@ -264,23 +267,55 @@ def real_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 def form_and_cli(run_dir: Path, profiles: list[tuple[dict[str, str], list[str]]],
                  capsys: pytest.CaptureFixture[str]) -> tuple[list[Any], list[Any], list[str]]:
-    """Per profile: the form's answer rows, advise --json's as the same (engine, tier, cover,
-    within, median ± IQR) rows, and the page's console errors."""
+    """Per profile: the form's answer rows, advise --json's as the same rows (:func:`submit`),
+    and the page's console errors."""
     expected = []
     for _, options in profiles:
         capsys.readouterr()
         assert main(["advise", str(run_dir), *options, "--json"]) == 0
         data = json.loads(capsys.readouterr().out)
+        graded = [*data["passing"], *data["partial"], *data["failing"], *data["baselines"]]
+        counted = any(e["median_query_instructions"] is not None for e in graded)
         expected.append([
             (e["engine"], e["tier"], f"{e['coverage']:.0%}",
              "-" if e["share_within"] is None else f"{e['share_within']:.0%}",
+             *((counted_cell(e),) if counted else ()),
              "-" if e["median_query_s"] is None
              else median_iqr(e["median_query_s"], e["query_iqr_s"]))
-            for e in [*data["passing"], *data["partial"], *data["failing"], *data["baselines"]]])
+            for e in graded])
     messages: list[str] = []
     with opened(run_dir / "report.html", messages) as page:
         found = [submit(page, fields) for fields, _ in profiles]
     return found, expected, errors(messages)
+
+
+def counted_cell(grade: dict[str, Any]) -> str:
+    """A grade's instructions per query ± IQR as advise prints them ('-': not counted)."""
+    median = grade["median_query_instructions"]
+    return "-" if median is None else instructions_iqr(median, grade["query_instructions_iqr"])
+
+
+COUNTED_PROFILES = [({}, []), ({"tolerance": "2"}, ["--tolerance", "2"]),
+                    ({"quantities": "hit"}, ["--quantities", "hit"])]
+"""Profiles of the counted run: two passing engines then one failing, three passing, and
+the hit verdicts alone."""
+
+
+@pytest.mark.parametrize("counted", [run.INSTRUCTIONS, run.PARTLY], ids=["all", "partly"])
+def test_the_advise_form_on_a_counted_run_ranks_as_the_cli_does(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], counted: dict[str, float]) -> None:
+    # costs written by the test: fake-right the cheapest in instructions, fake-twin on the
+    # wall clock; all counted, the form orders by instructions as the CLI does; fake-twin
+    # not counted, both by the wall clock
+    needs_chromium()
+    directory = counted_run(tmp_path / "run", counted)
+    found, expected, console = form_and_cli(directory, COUNTED_PROFILES, capsys)
+    assert console == []
+    assert found == expected
+    cheapest = ["fake-right", "fake-twin"] if counted is run.INSTRUCTIONS else [
+        "fake-twin", "fake-right"]
+    assert [row[0] for row in found[0][:2]] == cheapest
+    assert all(len(row) == 6 for rows in found for row in rows)  # instructions and wall clock
 
 
 @pytest.mark.engine
