@@ -19,6 +19,16 @@ disagreeing rows, which a format-5 run with ``--repeat-check`` would have asked 
     PYTHONPATH=. python -m crosscheck.cli run cases/sphere.toml --engine reference \
         --engine reference-f32 --quick --out out/format4-run
     cp out/format4-run/{run.json,cases.jsonl,results.jsonl} tests/data/format4-run/
+
+``tests/data/format5-timed-run`` was written by the harness of the commit before the timing
+phase's rounds (``55f0e8d``, format 5), with a timing phase: its ``timings.jsonl`` lines
+have no per-round ``yardstick``, and run.json's ``timing`` no ``rounds``:
+
+    git archive 55f0e8d | tar -x -C /tmp/fmt5 && cd /tmp/fmt5
+    PYTHONPATH=. python -m crosscheck.cli run cases/sphere.toml --engine reference \
+        --engine reference-f32 --timing-cases 2 --samples 12 --out reports/format5-timed
+    cp reports/format5-timed/{run.json,cases.jsonl,results.jsonl,timings.jsonl} \
+        tests/data/format5-timed-run/
 """
 
 from __future__ import annotations
@@ -33,11 +43,14 @@ import pytest
 
 from crosscheck.cli import main
 from crosscheck.core.values import decode
+from crosscheck.report.compare import compare
 from crosscheck.results.store import read_results, read_run_info
+from crosscheck.results.timings import TimingRecord, read_timings
 from tests.conftest import ROOT
 
 FORMAT3 = Path(__file__).resolve().parent.parent / "data" / "format3-run"
 FORMAT4 = Path(__file__).resolve().parent.parent / "data" / "format4-run"
+FORMAT5_TIMED = Path(__file__).resolve().parent.parent / "data" / "format5-timed-run"
 
 
 def copy_of(source: Path, target: Path) -> Path:
@@ -144,3 +157,42 @@ def test_report_and_advise_read_a_format_4_run(tmp_path: Path,
     assert all(e["repeated"] == 0 == e["nondeterministic"]
                for e in advice["baselines"] + advice["passing"] + advice["partial"]
                + advice["failing"])
+
+
+def test_timings_from_before_the_rounds_read_back_without_yardsticks() -> None:
+    lines = (FORMAT5_TIMED / "timings.jsonl").read_text().splitlines()
+    assert lines and not any("yardstick" in json.loads(line) for line in lines)
+    assert "rounds" not in json.loads((FORMAT5_TIMED / "run.json").read_text())["timing"]
+    timings = read_timings(FORMAT5_TIMED)
+    assert len(timings) == len(lines) and (timings["n"] == 12).all()
+    assert all(list(y) == [] for y in timings["yardstick"])
+    assert timings["normalised_median"].isna().all()
+    assert all(TimingRecord.from_json(line).normalised == () for line in lines)
+    frame = read_results(FORMAT5_TIMED)  # the results' timing columns still come from them
+    assert frame["query_s"].notna().sum() > 0
+
+
+def test_report_renders_a_run_timed_before_the_rounds(tmp_path: Path) -> None:
+    run = copy_of(FORMAT5_TIMED, tmp_path / "run")
+    assert main(["report", str(run)]) == 0
+    assert "Timing" in (run / "report.html").read_text()
+
+
+def in_rounds(source: Path, target: Path) -> Path:
+    """A copy of a stored run whose samples carry a round yardstick each (1 ms)."""
+    run = copy_of(source, target)
+    lines = [json.loads(line) for line in (run / "timings.jsonl").read_text().splitlines()]
+    (run / "timings.jsonl").write_text("".join(
+        json.dumps(line | {"yardstick": [1e-3] * len(line["values"])}) + "\n" for line in lines))
+    return run
+
+
+def test_compare_judges_a_run_before_the_rounds_the_old_way(tmp_path: Path) -> None:
+    old = copy_of(FORMAT5_TIMED, tmp_path / "old")
+    new = in_rounds(FORMAT5_TIMED, tmp_path / "new")
+    mixed = compare(old, new, tmp_path / "mixed")
+    assert mixed.timing_pairs == 4 and mixed.timing_counts["same"] == 4
+    assert "round" not in mixed.normalisation  # the start and end yardsticks, or none
+    both = compare(new, in_rounds(FORMAT5_TIMED, tmp_path / "new2"), tmp_path / "both")
+    assert both.normalised and "its round's yardstick" in both.normalisation
+    assert both.timing_counts["same"] == 4
