@@ -150,8 +150,7 @@ def print_summary(directory: Path) -> None:
 
 
 TIMES_TITLE = "query time: median ± IQR over the timed cases (scenes: per run)"
-COUNTS_TITLE = ("instructions per query, counted under callgrind: median ± IQR over the "
-                "counted cases (scenes: per run)")
+COUNTS_TITLE = "instructions per query (callgrind): median ± IQR over the counted cases"
 
 
 def times_table(table: pd.DataFrame) -> Table:

@@ -15,11 +15,13 @@ from rich.console import Console
 import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
-from crosscheck.cli.console import TIMES_TITLE, summary_table
+from crosscheck.cli.console import COUNTS_TITLE, TIMES_TITLE, print_summary, summary_table
 from crosscheck.core.schema import ResponseCase
 from crosscheck.results.runinfo import FORMAT_VERSION
 from tests.cases.test_load import sphere_text
 from tests.conftest import ROOT, embedded
+from tests.report import counted as run
+from tests.report.counted import counted_run
 
 EVIL = "<script>alert('pwned')</script>"
 
@@ -257,3 +259,27 @@ def _cells(words: list[str]) -> list[list[str]]:
         cells.append(words[at:at + width])
         at += width
     return cells
+
+
+def test_the_closing_tables_give_instructions_where_counted_as_the_page_does(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """A run with counts (written by the test) ends with the instructions per query per engine
+    x kind before the query times, cell for cell as the page's engine x kind table; a run
+    without counts prints the query times alone, as before."""
+    counted = counted_run(tmp_path / "counted")
+    print_summary(counted)
+    printed = capsys.readouterr().out
+    assert printed.index(COUNTS_TITLE) < printed.index(TIMES_TITLE)
+    table = printed.split(COUNTS_TITLE + "\n")[1].split(TIMES_TITLE)[0]
+    header, *rows = [line.split() for line in table.splitlines()
+                     if line.strip() and not line.startswith("─")]
+    in_terminal = {(row[0], header[1]): " ".join(row[1:]) for row in rows}
+    page = (counted / "report.html").read_text()
+    cell = (r"<tr><td>([^<]+)</td><td>([^<]+)</td>(?:(?!</tr>).)*?"
+            r"<td class=\"num instr\"[^>]*>([^<]+)<")
+    on_page = {(engine, kind): text for engine, kind, text in re.findall(cell, page, re.S)}
+    assert set(on_page) == set(in_terminal) == {(e, "sphere") for e in run.INSTRUCTIONS}
+    assert on_page == in_terminal
+    print_summary(counted_run(tmp_path / "uncounted", {}))
+    printed = capsys.readouterr().out
+    assert COUNTS_TITLE not in printed and TIMES_TITLE in printed
