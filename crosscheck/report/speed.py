@@ -241,4 +241,15 @@ def timing_context(info: RunInfo, frame: pd.DataFrame, kinds: Sequence[str],
             "stored": len(timings), "unstable": int(timings["unstable"].isin([True]).sum()),
             "threshold": UNSTABLE_SPREAD, "limit": DRIFT_WARNING, "yardstick": sticks,
             "drifted": [r for r in sticks if r["warn"]], "kinds": list(kinds),
-            "binding": binding_rows(info, frame, kinds)}
+            "binding": binding_rows(info, frame, kinds), "cost": cost_record(info.timing)}
+
+
+def cost_record(timing: Mapping[str, Any]) -> dict[str, Any] | None:
+    """The instruction timer's record of the run (``--timer instructions``): its method and
+    counts, or ``none``, why nothing was counted; None: the run did not count.
+
+    >>> cost_record({}), cost_record({"cost": {"timer": "instructions", "none": "no valgrind"}})
+    (None, {'timer': 'instructions', 'none': 'no valgrind'})
+    """
+    cost = timing.get("cost")
+    return dict(cost) if isinstance(cost, Mapping) else None
