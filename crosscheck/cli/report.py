@@ -39,6 +39,14 @@ def cmd_compare(args: argparse.Namespace) -> int:
         say(f"warning: {difference}", err)
     counts = result.timing_counts
     yardstick = "after the yardstick" if result.normalised else "not normalised"
+    if result.cost_counts is not None:
+        cost = result.cost_counts
+        say(f"cost (counted instructions, both runs): {cost['more']} more work, {cost['less']} "
+            f"less work, {cost['unknown']} unknown of {result.cost_pairs} pairs (beyond "
+            f"{result.cost_threshold * 100:g}% of instructions per query)")
+    else:
+        say(f"cost: not compared (timers: A {result.timers[0]}, B {result.timers[1]}; counts "
+            "only against counts)")
     say(f"{result.verdict_changes} verdict changes among the {result.shared_rows} shared rows "
         f"({len(result.added_cases)} added, {len(result.removed_cases)} removed); timing: "
         f"{counts['slower']} slower, {counts['faster']} faster, {counts['unknown']} unknown "

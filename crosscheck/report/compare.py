@@ -5,9 +5,13 @@ before judging anything, the comparison says how the runs differ: cases only
 in A (``removed``) or only in B (``added``), engines in one run only, options,
 engine versions and machines.  Verdicts and timings are then compared on the
 overlap only (the cases and engines both runs have): a verdict is a row's
-status and category; a timing change is judged on the stored samples of each
-case x engine (see :mod:`crosscheck.report.compare_timing`).  Added and
-removed cases are counted apart, never as verdict changes.
+status and category.  Cost comes next: where both runs counted instructions
+(``--timer instructions``), a pair's cost change is judged on its counts
+(:mod:`crosscheck.report.compare_cost`), deterministic, with no statistics; a
+count is never compared with a wall time.  The wall-clock change of each case x
+engine is judged on its stored samples (:mod:`crosscheck.report.compare_timing`)
+and recorded beside.  Added and removed cases are counted apart, never as
+verdict changes.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from crosscheck.report import compare_cost
 from crosscheck.report.compare_timing import (
     ALPHA,
     MIN_EFFECT,
@@ -141,6 +146,26 @@ class Comparison:
     samples_missing: list[str]
     """Per run without stored samples: ``"A: why"``."""
     out: Path
+    timers: tuple[str, str] = ("wall", "wall")
+    """The timer each run used (``--timer``): ``wall`` or ``instructions``."""
+    cost_counts: dict[str, int] | None = None
+    """Counted pairs of the overlap per cost verdict (more, less, same, unknown); None when
+    either run counted nothing (then only wall-clock timing is compared)."""
+
+    @property
+    def cost_threshold(self) -> float:
+        """The share of instructions per query beyond which a counted pair has changed."""
+        return compare_cost.THRESHOLD
+
+    @property
+    def cost_changes(self) -> int:
+        """Pairs whose counted instructions moved beyond the threshold (0 if not counted)."""
+        counts = self.cost_counts or {}
+        return counts.get("more", 0) + counts.get("less", 0)
+
+    @property
+    def cost_pairs(self) -> int:
+        return sum((self.cost_counts or {}).values())
 
     @property
     def timing_changes(self) -> int:
@@ -169,6 +194,9 @@ class Comparison:
         if self.unmatched_rows:
             lines.append(f"{self.unmatched_rows} rows of shared cases and engines are in one "
                          "run only (a run cut short?): not compared")
+        if self.timers[0] != self.timers[1]:
+            lines.append(f"timers differ: A {self.timers[0]}, B {self.timers[1]}: counted "
+                         "instructions are not compared, only wall-clock timings")
         lines += [f"{m}: every timing pair is unknown" for m in self.samples_missing]
         if not self.normalised and not self.samples_missing:
             lines.append(self.normalisation)
@@ -194,8 +222,8 @@ def _unmatched(a: pd.DataFrame, b: pd.DataFrame) -> tuple[int, int]:
 
 
 def compare(dir_a: Path, dir_b: Path, out: Path) -> Comparison:
-    """Compare two runs; write verdict_changes.csv, case_changes.csv, timing_changes.csv,
-    timing_engines.csv and compare.html into ``out``."""
+    """Compare two runs; write verdict_changes.csv, case_changes.csv, cost_changes.csv,
+    cost_engines.csv, timing_changes.csv, timing_engines.csv and compare.html into ``out``."""
     run_a, run_b = read_run(dir_a), read_run(dir_b)
     differences = _differences(run_a, run_b)
     cases = case_ids(run_a) & case_ids(run_b)
@@ -207,7 +235,11 @@ def compare(dir_a: Path, dir_b: Path, out: Path) -> Comparison:
     ta, tb = run_timings(run_a), run_timings(run_b)
     method = normalisation(ta, tb)
     timings = timing_changes(ta, tb, cases, engines, method.scale)
-    per_engine = engine_summary(timings, [e for e in engine_names(run_a) if e in engines])
+    order = [e for e in engine_names(run_a) if e in engines]
+    per_engine = engine_summary(timings, order)
+    ca, cb = compare_cost.run_counts(run_a), compare_cost.run_counts(run_b)
+    costs = compare_cost.cost_changes(ca, cb, cases, engines)
+    counted = not (ca.missing or cb.missing)
     result = Comparison(
         **differences, shared_cases=len(cases), unmatched_rows=unmatched, shared_rows=shared,
         verdict_changes=len(verdicts),
@@ -217,13 +249,18 @@ def compare(dir_a: Path, dir_b: Path, out: Path) -> Comparison:
                           if run.doubt],
         samples_missing=[f"{name}: {run.missing}" for name, run in (("A", ta), ("B", tb))
                          if run.missing],
-        out=out)
-    _write(result, run_a, run_b, verdicts, timings, per_engine)
+        out=out, timers=(run_a.info.options.timer, run_b.info.options.timer),
+        cost_counts=({v: int((costs["verdict"] == v).sum()) for v in compare_cost.VERDICTS}
+                     if counted else None))
+    _write(result, run_a, run_b, verdicts, timings, per_engine,
+           (costs, compare_cost.cost_summary(costs, order)))
     return result
 
 
 def _write(result: Comparison, run_a: StoredRun, run_b: StoredRun, verdicts: pd.DataFrame,
-           timings: pd.DataFrame, per_engine: pd.DataFrame) -> None:
+           timings: pd.DataFrame, per_engine: pd.DataFrame,
+           costs: tuple[pd.DataFrame, pd.DataFrame]) -> None:
+    """The CSV tables and compare.html (cost: the pairs and the per-engine summary)."""
     out = result.out
     out.mkdir(parents=True, exist_ok=True)
     verdicts.to_csv(out / "verdict_changes.csv", index=False)
@@ -232,11 +269,15 @@ def _write(result: Comparison, run_a: StoredRun, run_b: StoredRun, verdicts: pd.
                  columns=["case_id", "change"]).to_csv(out / "case_changes.csv", index=False)
     timings.to_csv(out / "timing_changes.csv", index=False)
     per_engine.to_csv(out / "timing_engines.csv", index=False)
+    costs[0].to_csv(out / "cost_changes.csv", index=False)
+    costs[1].to_csv(out / "cost_engines.csv", index=False)
     changed = timings[timings["verdict"].isin(["slower", "faster"])]
     html = templates().get_template("compare.html.j2").render(
         a=str(run_a.directory), b=str(run_b.directory), c=result,
         verdicts=verdicts.to_dict("records"), timings=changed.to_dict("records"),
         per_engine=per_engine.to_dict("records"),
+        costs=costs[0][costs[0]["verdict"].isin(["more", "less"])].to_dict("records"),
+        cost_engines=costs[1].to_dict("records"),
         versions=version_table(run_a.info, run_b.info), alpha=ALPHA, min_effect=MIN_EFFECT,
         min_samples=MIN_SAMPLES, isnan=math.isnan)
     (out / "compare.html").write_text(html, encoding="utf-8")

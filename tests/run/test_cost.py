@@ -15,6 +15,7 @@ import pytest
 
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
+from crosscheck.report.compare import compare
 from crosscheck.report.compare_cost import cost_changes, judged, run_counts
 from crosscheck.results.counts import FILE, CountRecord, read_counts, with_counts
 from crosscheck.results.store import ResultsStore, read_run
@@ -103,6 +104,17 @@ def test_a_cost_verdict_needs_a_move_beyond_the_threshold_either_way() -> None:
     assert "+5.00%" in judged(1000.0, 1050.0)[1]
 
 
+def test_a_counted_run_and_a_wall_clock_run_compare_no_cost(tmp_path: Path) -> None:
+    a, b = tmp_path / "a", tmp_path / "b"
+    for folder in (a, b):
+        verdicts_and_wall_times(folder, fakes.BusyLoop()).close()
+    (a / FILE).write_text(CountRecord("s0", "fake-busy", "sphere", "call", 1, 10, 0).to_json()
+                          + "\n")
+    result = compare(a, b, tmp_path / "cmp")
+    assert result.cost_counts is None and result.cost_changes == 0
+    assert "Not compared" in (tmp_path / "cmp" / "compare.html").read_text()
+
+
 def test_a_run_without_counts_is_never_compared_with_one_that_has_them(tmp_path: Path) -> None:
     a = tmp_path / "a"
     a.mkdir()
@@ -189,12 +201,13 @@ def test_identical_cost_runs_flag_nothing_and_five_percent_more_work_is_flagged_
     results = read_run(root / "a").results.drop_duplicates("case_id")
     assert results["query_instructions"].notna().sum() == 4  # the sampled pairs, filled
 
-    base = run_counts(read_run(root / "a"))
-    cases, engines = {c.id for c in CASES}, {"fake-busy"}
-    same = cost_changes(base, run_counts(read_run(root / "again")), cases, engines)
-    assert len(same) == 4 and set(same["verdict"]) == {"same"}
-    changed = cost_changes(base, run_counts(read_run(root / "more")), cases, engines)
-    assert len(changed) == 4 and set(changed["verdict"]) == {"more"}
+    same = compare(root / "a", root / "again", root / "cmp-same")
+    assert same.cost_counts == {"more": 0, "less": 0, "same": 4, "unknown": 0}
+    more = compare(root / "a", root / "more", root / "cmp-more")
+    assert more.cost_counts == {"more": 4, "less": 0, "same": 0, "unknown": 0}
+    changed = pd.read_csv(root / "cmp-more" / "cost_changes.csv")
+    assert set(changed["verdict"]) == {"more"} and "more work" in (
+        root / "cmp-more" / "compare.html").read_text()
     assert all(1.03 < r < 1.06 for r in changed["ratio"])  # 5% more loop, the rest fixed
 
 
