@@ -42,7 +42,8 @@ def _table(figures: list[Figure], quick: bool) -> Table:
         table.add_column(column)
     for f in figures:
         value = f"{f.value:.3g} {f.unit}" if math.isfinite(f.value) else "-"
-        table.add_row(f.name, value, f.target, "yes" if f.ok else "NO", f.note)
+        met = "recorded" if not f.gating else "yes" if f.ok else "NO"
+        table.add_row(f.name, value, f.target, met, f.note)
     return fit(table)
 
 
@@ -59,7 +60,7 @@ def _print_comparison(result: Comparison, old: Path) -> None:
         met = {True: "yes", False: "NO", None: "-"}
         table.add_row(r.name, shown(r.old), shown(r.new),
                       f"{r.ratio:.2f}" if math.isfinite(r.ratio) else "-",
-                      met[r.ok_old], met[r.ok_new])
+                      met[r.ok_old], met[r.ok_new] if r.gating else "recorded")
     out.print(fit(table))
 
 

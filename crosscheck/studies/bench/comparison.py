@@ -10,7 +10,13 @@ listed before the figures.
 - **1**: figures with name, value, unit, target, ok, detail and note; one suite
   run each of ``--quick`` and the full run, all engines;
 - **2**: the suite runs name their engines (the seven variants of the targets,
-  and every available engine), and ``--help`` and the report render are figures.
+  and every available engine), and ``--help`` and the report render are figures;
+- **3**: a figure may be recorded only (``gating`` false, ``ok`` true, target
+  ``recorded, never gating``); the harness overhead is counted in instructions under
+  callgrind (``harness overhead <engine> <kind>, counted instructions``, gating, NaN with
+  the reason when not counted) and the wall-clock figures of the same name without
+  ``, counted instructions`` are recorded only.  A figure of an older file has no
+  ``gating`` field and is read as gating (its ``ok`` judged its target).
 
 >>> old = {"format_version": 1, "machine": {"cores": 2}, "figures": [
 ...     {"name": "f", "value": 2.0, "unit": "s", "target": "<= 3 s", "ok": True}]}
@@ -29,7 +35,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-READABLE = (1, 2)
+READABLE = (1, 2, 3)
 """The bench.json versions this harness reads."""
 
 
@@ -47,6 +53,8 @@ class Row:
     new: float
     ok_old: bool | None
     ok_new: bool
+    gating: bool = True
+    """Whether the new figure judges its target (False: recorded only)."""
 
     @property
     def ratio(self) -> float:
@@ -98,6 +106,7 @@ def compare(new: dict[str, Any], old: dict[str, Any]) -> Comparison:
     for f in new.get("figures", []):
         prior = before.get(f["name"], {})
         rows.append(Row(f["name"], f.get("unit", ""), float(prior.get("value", math.nan)),
-                        float(f["value"]), prior.get("ok"), bool(f["ok"])))
+                        float(f["value"]), prior.get("ok"), bool(f["ok"]),
+                        bool(f.get("gating", True))))
     return Comparison(machine_differences(new.get("machine", {}), old.get("machine", {})),
                       rows)

@@ -3,6 +3,8 @@ and a subprocess timer that follows a command's whole session.
 
 >>> Figure("x", 2.0, "x", ">= 1", True).ok
 True
+>>> Figure("wall", 300.0, "%", RECORDED, True, gating=False).gating
+False
 """
 
 from __future__ import annotations
@@ -23,9 +25,20 @@ ROOT = Path(__file__).resolve().parents[3]
 """The project folder (case files, reports)."""
 
 
+RECORDED = "recorded, never gating"
+"""The target of a figure kept for the record only (``gating`` False): a wall-clock figure
+whose target a counted figure judges instead, since the wall clock of a shared machine
+drifts too much within a run to judge it."""
+
+
 @dataclass(frozen=True)
 class Figure:
-    """One measured figure: its value, the target, whether it meets it, and details."""
+    """One measured figure: its value, the target, whether it meets it, and details.
+
+    ``gating`` False: the figure is recorded, never judged (its ``ok`` is True and its
+    target :data:`RECORDED`); a figure that could not be measured has a NaN value, ``ok``
+    False and the reason in its note.
+    """
     name: str
     value: float
     unit: str
@@ -33,6 +46,7 @@ class Figure:
     ok: bool
     detail: dict[str, Any] = field(default_factory=dict)
     note: str = ""
+    gating: bool = True
 
 
 def settle() -> None:
