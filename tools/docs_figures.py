@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import re
 import statistics
 import sys
@@ -165,6 +166,8 @@ def report_size(inputs: Inputs) -> str:
 # --- bench.json ------------------------------------------------------------------------------
 
 def _amount(value: float, unit: str) -> str:
+    if not math.isfinite(value):  # not measured (the figure's note says why)
+        return DASH
     if unit == "s":
         return speed.seconds(value)
     if unit == "x":
@@ -184,18 +187,28 @@ def _figure_spread(figure: dict[str, Any]) -> str:
     return DASH
 
 
+def _verdict(figure: dict[str, Any]) -> str:
+    if not figure.get("gating", True):  # bench.json 3: recorded, never judged
+        return "recorded"
+    return "met" if figure.get("ok") else "**not met**"
+
+
 def bench(inputs: Inputs) -> str:
-    """The bench figures of bench.json with their spread and target, and the unmet targets."""
+    """The bench figures of bench.json with their spread and target, and the unmet targets
+    (a figure recorded only, ``gating`` false, is never one of them)."""
     if inputs.bench is None:
         return "No bench.json was given: the bench figures are not measured yet.\n"
     figures = inputs.bench.get("figures") or []
     rows = [[f["name"], _amount(float(f["value"]), str(f.get("unit", ""))), _figure_spread(f),
-             f.get("target", ""), "met" if f.get("ok") else "**not met**", f.get("note", "")]
+             f.get("target", ""), _verdict(f), f.get("note", "")]
             for f in figures]
-    unmet = [f["name"] for f in figures if not f.get("ok")]
+    unmet = [f["name"] for f in figures if f.get("gating", True) and not f.get("ok")]
+    recorded = any(not f.get("gating", True) for f in figures)
     return "\n".join([
         f"From `{inputs.bench_arg}` (`{inputs.bench.get('command', 'crosscheck bench')}`): "
-        "each figure with its spread where it was measured more than once, beside its target.",
+        "each figure with its spread where it was measured more than once, beside its target"
+        + (("; a figure marked recorded is kept for the record and judges nothing (a "
+            "wall-clock figure whose target a counted figure judges).") if recorded else "."),
         "", table(["figure", "value", "spread", "target", "", "detail"], rows),
         (f"Unmet targets, as bench.json says ({count(len(unmet))} of {count(len(figures))}):"
          if unmet else "Every target is met, as bench.json says."), "",

@@ -4,6 +4,7 @@ provenance header, the report's own numbers, the same bytes twice, and clear ref
 from __future__ import annotations
 
 import json
+import math
 import re
 from pathlib import Path
 
@@ -50,6 +51,16 @@ BENCH = {"format_version": 2, "quick": False, "command": "crosscheck bench",
               "detail": {"median": 12.5, "q1": 12.0, "q3": 13.0, "n": 3}, "note": "median of 3"},
              {"name": "batch ratio", "value": 1.25, "unit": "x", "target": ">= 0.5", "ok": True,
               "detail": {}, "note": ""}]}
+COUNTED_BENCH = {**BENCH, "format_version": 3, "figures": [
+    {"name": "overhead, wall clock", "value": 300.0, "unit": "%",
+     "target": "recorded, never gating", "ok": True, "detail": {}, "note": "wall clock",
+     "gating": False},
+    {"name": "overhead, counted", "value": 120.0, "unit": "%", "target": "<= 50%", "ok": False,
+     "detail": {}, "note": "instructions", "gating": True},
+    {"name": "overhead, not counted", "value": math.nan, "unit": "%", "target": "<= 50%",
+     "ok": False, "detail": {}, "note": "not counted: valgrind is not installed",
+     "gating": True}]}
+"""A bench.json of format 3: a figure recorded only, a counted one, one not counted."""
 
 
 @pytest.fixture(scope="module")
@@ -141,6 +152,22 @@ def test_the_numbers_are_the_runs(files: dict[str, str], run_dir: Path) -> None:
     assert "- suite time" in files["bench.md"] and "- batch ratio" not in files["bench.md"]
     assert files["setup.md"].count("not measured yet") == 2
     assert "### reference" in files["conventions.md"] and "### fake-off" in files["conventions.md"]
+
+
+def test_a_recorded_bench_figure_is_shown_as_recorded_and_never_unmet(
+        run_dir: Path, tmp_path: Path) -> None:
+    path = tmp_path / "bench.json"
+    path.write_text(json.dumps(COUNTED_BENCH), encoding="utf-8")  # NaN as JSON's NaN token
+    text = figures(run_dir, path)["bench.md"]
+    d = run_figures.DASH
+    assert f"| overhead, wall clock | 300% | {d} | recorded, never gating | recorded |" in text
+    assert f"| overhead, counted | 120% | {d} | &lt;= 50% | **not met** |" in text
+    assert f"| overhead, not counted | {d} | {d} | &lt;= 50% | **not met** | not counted: " in (
+        text)
+    assert "a figure marked recorded is kept for the record and judges nothing" in text
+    assert "Unmet targets, as bench.json says (2 of 3):" in text
+    assert "- overhead, counted" in text and "- overhead, not counted" in text
+    assert "- overhead, wall clock" not in text
 
 
 def test_load_figures_are_used_only_for_the_report_they_measured(run_dir: Path,
