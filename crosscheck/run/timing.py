@@ -15,7 +15,7 @@ is taken, as :mod:`timeit` does: a collection landing in one sample and not in
 another is noise, not the engine's cost.
 
 >>> t = measure(lambda: sum(range(10)), min_sample_s=0.001, samples=3)
->>> t.loops >= 1 and t.median_s > 0 and len(t.values) == 3
+>>> t.loops >= 1 and len(t.values) == 3
 True
 >>> c = calibration(lambda: sum(range(10)), min_sample_s=0.001)
 >>> c.values, len(one_sample(lambda: sum(range(10)), c).values)

@@ -169,7 +169,7 @@ def test_timings_from_before_the_rounds_read_back_without_yardsticks() -> None:
     assert timings["normalised_median"].isna().all()
     assert all(TimingRecord.from_json(line).normalised == () for line in lines)
     frame = read_results(FORMAT5_TIMED)  # the results' timing columns still come from them
-    assert frame["query_s"].notna().sum() > 0
+    assert frame["query_s"].notna().any()
 
 
 def test_report_renders_a_run_timed_before_the_rounds(tmp_path: Path) -> None:

@@ -8,6 +8,7 @@ injected times: a :class:`Machine` behind the phase's ``sampler`` seam."""
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -67,7 +68,7 @@ def test_run_json_states_the_method_the_yardsticks_and_the_binding(tmp_path: Pat
     for moment in ("start", "end"):
         for workload in ("numpy", "python"):
             assert len(timing["yardstick"][moment][workload]["values"]) == 12
-            assert timing["yardstick"][moment][workload]["median_s"] > 0
+            assert math.isfinite(timing["yardstick"][moment][workload]["median_s"])
     rounds = timing["rounds"]
     assert rounds["count"] == 12 == len(rounds["yardstick_s"])
     assert rounds["drift"] == max(rounds["yardstick_s"]) / min(rounds["yardstick_s"])
@@ -98,7 +99,7 @@ def test_timing_runs_in_the_engine_worker_or_in_process(tmp_path: Path, isolate:
     timings = read_timings(folder)
     assert len(timings) == 3 and all(len(y) == 12 for y in timings["yardstick"])
     rounds = json.loads((folder / "run.json").read_text())["timing"]["rounds"]
-    assert rounds["count"] == 12 and all(y > 0 for y in rounds["yardstick_s"])
+    assert rounds["count"] == 12 and all(math.isfinite(y) for y in rounds["yardstick_s"])
 
 
 def test_too_few_samples_are_unknown_never_changed(tmp_path: Path) -> None:
