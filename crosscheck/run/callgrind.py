@@ -1,26 +1,28 @@
-"""Counting instructions under Valgrind's callgrind: the command, the client requests, the dumps.
+"""Counting instructions under Valgrind's callgrind: the command, the client requests, the
+dumps.
 
-Wall time on a shared machine drifts by half within a run; the number of
-instructions a query executes does not.  The instruction timer
-(:mod:`crosscheck.run.cost`) runs each engine library's worker under
-``valgrind --tool=callgrind --instr-atstart=no`` and, around a loop of queries, issues
-callgrind's client requests: start instrumentation, stop it, dump the counts (the dump
-zeroes them).  Nothing outside the loop is counted, so neither the interpreter's
-start-up nor the engine's import reaches a figure; and only the thread that runs the
-queries is counted (:data:`QUERY_THREAD`).
+Wall time on a shared machine drifts by half within a run; the number of instructions a
+query executes does not. The instruction timer (:mod:`crosscheck.run.cost`) runs each
+engine library's worker under ``valgrind --tool=callgrind --instr-atstart=no`` and, around
+a loop of queries, issues callgrind's client requests: start instrumentation, and dump the
+counts just before and just after the loop (a dump zeroes them). Nothing outside the loop
+is counted, so neither the interpreter's start-up nor the engine's import reaches a figure
+(instrumentation starts with the first count); and only the thread that runs the queries
+is counted (:data:`QUERY_THREAD`).
 
-The client requests are machine instructions that only Valgrind recognises; Python
-issues them through the native hooks that CodSpeed ships in ``pytest-codspeed`` (the
+The client requests are machine instructions that only Valgrind recognises; Python issues
+them through the native hooks that CodSpeed ships in ``pytest-codspeed`` (the
 ``callgrind_start_instrumentation``, ``callgrind_stop_instrumentation`` and
-``instrument_hooks_set_executed_benchmark`` functions of its
-``dist_instrument_hooks`` module: the last dumps the counts with a label).
+``instrument_hooks_set_executed_benchmark`` functions of its ``dist_instrument_hooks``
+module: the last dumps the counts with a label).
 
-A dump (callgrind's format, written with ``--compress-strings=no --compress-pos=no``)
-holds every function's cost and every call's inclusive cost.  :func:`read_dump` takes
-two figures from it: the total, and the instructions inside calls that enter the
-engine's shared objects from outside them (:attr:`Adapter.binding_objects
-<crosscheck.core.contract.Adapter.binding_objects>`): the engine's own work, its
-library and what it calls included; the rest is the harness's Python path.
+A dump (callgrind's format, names compressed as ``(id) name`` the first time and ``(id)``
+after, positions absolute with ``--compress-pos=no``) holds every function's cost and
+every call's inclusive cost. :func:`read_dump` takes two figures from it: the total, and
+the instructions inside calls that enter the engine's shared objects from outside them
+(:attr:`Adapter.binding_objects <crosscheck.core.contract.Adapter.binding_objects>`): the
+engine's own work, its library and what it calls included; the rest is the harness's
+Python path.
 
 >>> text = '''events: Ir
 ... ob=/usr/lib/libpython3.11.so
@@ -46,6 +48,7 @@ Counts(total=4100, engine=4000)
 from __future__ import annotations
 
 import fnmatch
+import importlib
 import os
 import shutil
 import subprocess
@@ -55,7 +58,7 @@ from pathlib import Path
 from typing import Any
 
 VALGRIND_OPTIONS = ("--tool=callgrind", "--instr-atstart=no", "--separate-threads=yes",
-                    "--compress-strings=no", "--compress-pos=no", "-q")
+                    "--compress-pos=no", "-q")
 """What every counting worker runs under (its output file and log are added per worker)."""
 QUERY_THREAD = 1
 """The thread whose instructions are counted: the worker's main thread, which runs the
@@ -96,8 +99,6 @@ def missing() -> str | None:
 
 def hooks() -> Any:
     """The native module that issues the client requests (ImportError if it is missing)."""
-    import importlib
-
     module = importlib.import_module(HOOKS)
     for name in ("callgrind_start_instrumentation", "callgrind_stop_instrumentation",
                  "instrument_hooks_init", "instrument_hooks_set_executed_benchmark"):
@@ -120,29 +121,37 @@ def command(python: Sequence[str], out_dir: Path) -> list[str]:
 class Counter:
     """In a process running under callgrind: count the instructions of a loop of calls.
 
-    Each :meth:`count` dumps once; the dumps of a process are numbered 1, 2, ... in
-    the order they were made, and :meth:`count` returns that number.
+    Instrumentation is switched on at the first count and stays on: switching it off and
+    on again makes Valgrind translate every code block anew, which cost more than the
+    counting itself (0.74 s a case against 0.29 s, for PyBullet's spheres).  A count is
+    then the span between two dumps (a dump zeroes the counts): one just before the
+    loop, whose counts are thrown away, and one just after it.  The dumps of a process
+    are numbered 1, 2, ... in the order they were made.
     """
 
     def __init__(self) -> None:
         self._hooks = hooks()
         self._instance = self._hooks.instrument_hooks_init()
         self.dumps = 0
+        self._started = False
 
-    def count(self, fn: Callable[[], object], calls: int, label: str) -> int:
-        """Count ``calls`` calls of ``fn`` (in one loop, its own cost included); the dump's
-        number."""
-        start, stop = (self._hooks.callgrind_start_instrumentation,
-                       self._hooks.callgrind_stop_instrumentation)
-        loop = range(calls)
-        start()
-        for _ in loop:
-            fn()
-        stop()
+    def _dump(self, label: str) -> int:
         self._hooks.instrument_hooks_set_executed_benchmark(
             self._instance, os.getpid(), label.encode("ascii", "replace"))
         self.dumps += 1
         return self.dumps
+
+    def count(self, fn: Callable[[], object], calls: int, label: str) -> int:
+        """Count ``calls`` calls of ``fn`` (in one loop, its own cost included); the number of
+        the dump that holds the count (the one before it holds what preceded the loop)."""
+        if not self._started:
+            self._hooks.callgrind_start_instrumentation()
+            self._started = True
+        loop = range(calls)
+        self._dump("before " + label)
+        for _ in loop:
+            fn()
+        return self._dump(label)
 
 
 def dump_path(out_dir: Path, pid: int, number: int) -> Path:
@@ -170,7 +179,16 @@ def parse_dump(text: str, objects: Sequence[str]) -> Counts:
     total = engine = 0
     current = callee = ""
     inside: dict[str, bool] = {}
+    names: dict[str, str] = {}
     pending = False
+
+    def named(value: str) -> str:  # "(3) /lib/x.so" defines object 3; "(3)" refers to it
+        if not value.startswith("("):
+            return value
+        key, _, name = value[1:].partition(")")
+        if name.strip():
+            names[key] = name.strip()
+        return names.get(key, value)
 
     def within(obj: str) -> bool:
         if obj not in inside:
@@ -184,9 +202,9 @@ def parse_dump(text: str, objects: Sequence[str]) -> Counts:
                 engine += int(fields[1])
             pending, callee = False, ""
         elif line.startswith("ob="):
-            current = line[3:]
+            current = named(line[3:])
         elif line.startswith("cob="):
-            callee = line[4:]
+            callee = named(line[4:])
         elif line.startswith("calls="):
             callee, pending = callee or current, True
         elif line.startswith("totals:"):

@@ -118,8 +118,9 @@ class CountingWorker:
         are removed once read)."""
         try:
             return callgrind.read_dump(callgrind.dump_path(self.out, pid, number), objects)
-        finally:
-            for path in callgrind.dump_files(self.out, pid, number):
+        finally:  # this dump's files, and those of the dump before it (thrown away)
+            for path in [*callgrind.dump_files(self.out, pid, number - 1),
+                         *callgrind.dump_files(self.out, pid, number)]:
                 path.unlink(missing_ok=True)
 
     def alive(self) -> bool:

@@ -23,6 +23,7 @@ import gc
 import os
 import signal
 import sys
+import time
 import traceback
 from multiprocessing.connection import Connection
 from typing import Any
@@ -32,6 +33,11 @@ from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.run.callgrind import Counter
 
 Reply = tuple[Any, ...]
+
+SETTLE_S = 0.02
+"""A pause before each count, so that an engine's worker threads (rapier's rayon pool)
+have stopped searching for work and gone to sleep: how the querying thread hands them
+a job depends on whether they are awake."""
 
 
 def _nothing() -> None:
@@ -63,6 +69,7 @@ def count_pair(counter: Counter, adapter: Adapter, case: AnyCase, calls: int,
         for _ in range(warmups):
             query()
         gc.collect()
+        time.sleep(SETTLE_S)
         gc.disable()
         try:
             label = f"{case.id} {adapter.name}"

@@ -64,6 +64,21 @@ def test_a_dump_counts_as_the_engine_only_the_calls_that_enter_its_objects() -> 
     assert counts == callgrind.Counts(total=43_400, engine=42_000)
 
 
+def test_a_dump_with_compressed_names_counts_the_same() -> None:
+    names: dict[str, str] = {}
+    lines = []
+    for line in DUMP.splitlines():  # callgrind's compression: "(id) name", then "(id)"
+        key, sep, value = line.partition("=")
+        if sep and key in ("ob", "cob"):
+            first = value not in names
+            names.setdefault(value, str(len(names) + 1))
+            value = f"({names[value]}) {value}" if first else f"({names[value]})"
+        lines.append(f"{key}{sep}{value}")
+    compressed = "\n".join(lines)
+    assert compressed.count(ENGINE) == 1 and "cob=(2)\n" in compressed
+    assert callgrind.parse_dump(compressed, ("pybullet*.so",)) == callgrind.Counts(43_400, 42_000)
+
+
 def test_a_dump_matches_objects_by_file_name_or_whole_path() -> None:
     by_path = callgrind.parse_dump(DUMP, ("/venv/site-packages/*",))
     assert by_path.engine == 42_000
