@@ -94,6 +94,9 @@ no ``no_value`` is declared and a missing value is ``error``):
   projection (face, some edge and corner gaps); otherwise the distance is Undefined.
 - a negative mass (1/ma + 1/mb < 0): no impulse, the bodies pass through each other; a
   negative restitution is read as 0.
+
+Just over 400 lines: the detection path and both variants' settings with their declared
+conventions belong together (the response path is :mod:`adapters.rapier_response`).
 """
 
 from __future__ import annotations
@@ -322,10 +325,7 @@ class RapierTuned(Adapter):
     def available(self) -> str | None:
         return contract.import_problem(lambda: importlib.import_module("rapier3d"), "rapier3d")
 
-    binding_objects: ClassVar[tuple[str, ...]] = ("_rapier3d*.so",)
-    """The engine's shared objects for the instruction timer: the rapier3d PyO3 module, Rapier
-    compiled in.
-    """
+    binding_objects: ClassVar[tuple[str, ...]] = ("_rapier3d*.so",)  # PyO3, Rapier within
 
     def binding_call(self) -> Callable[[], object]:
         """``Vec3.zeros()``: one float32 vector made through the PyO3 binding."""

@@ -30,8 +30,7 @@ examples in crosscheck/, adapters/, reference_impl/ and tools/ (pytest runs thos
 
 The rules cover every test, ``slow`` ones included (``make test-long`` must not flake either).
 Two measured values compared with each other (``prepare_s > idle.wall_s``) pass rule 2, but
-one of them was read from a clock in the test, which rule 1 forbids.  Files still waiting for
-work elsewhere are listed in :data:`PENDING` (expected to fail until it lands).
+one of them was read from a clock in the test, which rule 1 forbids.
 """
 
 from __future__ import annotations
@@ -179,18 +178,6 @@ def check_source(source: str, path: str, line_offset: int = 0) -> list[Violation
     return checker.found
 
 
-PENDING = {
-    "tests/run/test_timing_phase.py":
-        "bounds a measured yardstick median (median_s > 0); being rewritten by another "
-        "engineer (issue 26 item 6)",
-    "crosscheck/run/timing.py":
-        "its module doctest bounds a measured median (t.median_s > 0); the file is being "
-        "edited by another engineer (issue 26 item 6)",
-}
-"""Files that still break a rule, each owned by work in progress elsewhere: expected to fail
-(not strictly: once fixed they pass, and their entry here should go)."""
-
-
 def relative(path: Path) -> str:
     return path.relative_to(ROOT).as_posix()
 
@@ -238,9 +225,7 @@ def violations_in(path: str) -> list[Violation]:
 CHECKED = [*sources_of_tests(), *sources_with_doctests()]
 
 
-@pytest.mark.parametrize("path", [
-    pytest.param(path, marks=pytest.mark.xfail(reason=PENDING[path], strict=False))
-    if path in PENDING else path for path in CHECKED])
+@pytest.mark.parametrize("path", CHECKED)
 def test_reads_no_clock_and_bounds_no_measured_time(path: str) -> None:
     found = violations_in(path)
     assert not found, "\n".join(map(str, found))
@@ -251,7 +236,6 @@ def test_the_scan_reaches_the_tests_and_the_doctests() -> None:
             "tests/adapters/test_scene_stepping.py", "tests/run/test_isolation.py",
             "reference_impl/events.py", "crosscheck/run/execute.py"} <= set(CHECKED)
     assert len(sources_of_tests()) > 100 and len(sources_with_doctests()) > 50
-    assert set(PENDING) <= set(CHECKED)
 
 
 def test_the_safety_bound_is_where_the_allow_list_says_and_the_only_reader() -> None:

@@ -96,7 +96,8 @@ def progress_bar(total: int, label: str = "case x engine") -> Iterator[Callable[
         yield start(label, total)
 
 
-PHASES = {"verdicts": "case x engine", "timing": "timing (one at a time)"}
+PHASES = {"verdicts": "case x engine", "timing": "timing (rounds, steps)",
+          "counting": "counting instructions (cases)"}
 
 
 class PlainProgress:

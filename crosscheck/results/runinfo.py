@@ -29,6 +29,14 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   gain the columns ``nondeterministic``, ``repeat_value`` and ``repeat_status`` (on a run of
   an earlier format: False, None and ``""``, "not asked again"), the options gain
   ``repeat_check`` (False), and ``repeat_check`` here sums the check up (None: not run).
+- **6**: the timing phase in interleaved rounds: each line of ``timings.jsonl`` keeps
+  its round's yardstick per sample (``yardstick``; lines without it read as not
+  normalised) and ``timing`` here gains ``rounds`` (the round yardsticks and their drift);
+  the instruction timer (``--timer instructions``): the options gain ``timer``
+  (``"wall"``), ``counts.jsonl`` holds the raw counts (:mod:`crosscheck.results.counts`),
+  the results gain ``query_instructions`` and ``engine_instructions`` (empty on a run of an
+  earlier format), and ``timing`` here gains ``cost`` (how the counting went).  Nothing in
+  run.json changes shape: the update only stamps the version.
 
 A run.json of a later format (a newer crosscheck wrote it) is refused by
 :func:`migrate` with its version and how to upgrade; ``tests/data/format3-run`` and
@@ -54,7 +62,7 @@ from typing import Any
 
 from crosscheck.core.options import RunOptions
 
-FORMAT_VERSION = 5
+FORMAT_VERSION = 6
 """The version of run.json (and of the files beside it) that this harness writes."""
 
 
@@ -148,8 +156,12 @@ def _update_to_5(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "repeat_check": None, "format_version": 5}  # no repeats.jsonl: not asked
 
 
+def _update_to_6(data: dict[str, Any]) -> dict[str, Any]:
+    return {**data, "format_version": 6}  # no rounds, no counts: the readers' defaults
+
+
 _UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
-    1: _update_to_2, 2: _update_to_3, 3: _update_to_4, 4: _update_to_5}
+    1: _update_to_2, 2: _update_to_3, 3: _update_to_4, 4: _update_to_5, 5: _update_to_6}
 """Version N -> a function that turns a version-N run.json into version N + 1."""
 
 

@@ -182,7 +182,7 @@ def test_a_run_says_what_it_runs_progresses_in_plain_lines_and_says_when_it_is_d
     assert f"x 1 engines (reference) -> {out}" in printed and "finished in " in printed
     progress = captured.err  # not a terminal: plain lines, on stderr
     assert "case x engine: " in progress and "(100%," in progress
-    assert "timing (one at a time): " in progress and "case x engine" not in printed
+    assert "timing (rounds, steps): " in progress and "case x engine" not in printed
 
 
 def test_version(capsys: pytest.CaptureFixture[str]) -> None:
