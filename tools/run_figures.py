@@ -6,6 +6,14 @@ it.  The numbers are the report's own: status counts from
 :func:`crosscheck.report.tables.summary`, the case-group matrix from
 :func:`crosscheck.report.tables.group_matrix`, agreeing shares from
 :mod:`crosscheck.report.verdict`, times and their spreads from :mod:`crosscheck.report.speed`.
+
+A run made with ``crosscheck run --timer instructions`` also has counted instructions per
+query (``counts.jsonl``).  Where it does, the figures show them as the report does
+(:mod:`crosscheck.report.query_cost`): the headline gives a profile's counted cost where every
+ranked engine of it was counted (:attr:`~crosscheck.report.profiles.ProfileVerdict.by_counts`),
+the advice tables each engine's median instructions per query before its wall-clock time,
+and the query times a table of instructions per query beside the wall times.  A run without
+counts gives exactly the figures it gave before counts existed.
 """
 
 from __future__ import annotations
@@ -20,7 +28,7 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Category, Status
-from crosscheck.report import profiles, speed, tables, verdict
+from crosscheck.report import profiles, query_cost, speed, tables, verdict
 from crosscheck.results.store import StoredRun
 
 DASH = "\u2013"
@@ -172,7 +180,20 @@ def _timing_line(run: StoredRun) -> str:
         return "none (--quick)" if options.quick else "none recorded"
     return (f"{count(int(timing.get('sampled') or 0))} case x engine pairs timed "
             f"(up to {options.timing_cases} cases per engine x kind, {options.samples} samples "
-            f"each); {timing.get('pinned', '')}")
+            f"each); {timing.get('pinned', '')}" + _counting_text(timing))
+
+
+def _counting_text(timing: dict[str, Any]) -> str:
+    """The instruction timer's part of the timing line ('': the run did not count)."""
+    cost = speed.cost_record(timing)
+    if cost is None:
+        return ""
+    if cost.get("none"):
+        return f"; instructions not counted: {cost['none']}"
+    failed = int(cost.get("failed") or 0)
+    return (f"; instructions counted under callgrind (--timer instructions) on "
+            f"{count(int(cost.get('counted') or 0))} of {count(int(cost.get('sampled') or 0))}"
+            f" pairs" + (f", {count(failed)} failed" if failed else ""))
 
 
 # --- verdicts --------------------------------------------------------------------------------
@@ -237,22 +258,50 @@ def _spread(rows: pd.DataFrame) -> tuple[str, int]:
     return (DASH if spread.n == 0 else speed.with_iqr(spread)), spread.n
 
 
+def _instructions(rows: pd.DataFrame) -> tuple[str, int]:
+    """The median instructions per query over the counted cases of ``rows``, with their IQR,
+    and how many cases were counted."""
+    counted = query_cost.cost_of(rows).counted
+    text = DASH if counted.n == 0 else speed.instructions_iqr(counted.median, counted.iqr)
+    return text, counted.n
+
+
+def _is_counted(frame: pd.DataFrame) -> bool:
+    """Whether the run counted instructions of any pair (``--timer instructions``)."""
+    return bool(query_cost.column(frame, "query_instructions").notna().any())
+
+
 def query_times(run: StoredRun) -> str:
-    """Median query time per engine x kind with its IQR over the timed cases."""
+    """Median query time per engine x kind with its IQR over the timed cases; where the run
+    counted instructions, the median instructions per query with their IQR over the counted
+    cases beside them."""
     frame = run.results
     if frame.empty or frame["query_s"].isna().all():
         return "The run has no timing phase: no query was timed.\n"
     kinds = verdict.kinds_of(frame)
-    rows, timed = [], []
+    rows, timed, counts, counted = [], [], [], []
     for engine, rows_of in frame.groupby("engine", sort=False):
         made = [_spread(rows_of[rows_of["kind"] == kind]) for kind in kinds]
         rows.append([engine, *(text for text, _n in made)])
         timed.append([engine, *(count(n) for _text, n in made)])
-    return "\n".join([
+        tallied = [_instructions(rows_of[rows_of["kind"] == kind]) for kind in kinds]
+        counts.append([engine, *(text for text, _n in tallied)])
+        counted.append([engine, *(count(n) for _text, n in tallied)])
+    parts = [
         "The median of the per-case median query times of the timed cases, with the "
         "interquartile range over those cases (a scene's time is one run of its stepping "
-        "loop):", "", table(["engine", *kinds], rows),
-        "Timed cases per engine x kind:", "", table(["engine", *kinds], timed)])
+        "loop):", "", table(["engine", *kinds], rows)]
+    counted_run = _is_counted(frame)
+    if counted_run:
+        parts += [
+            "Beside them, the instructions per query counted under callgrind "
+            "(`--timer instructions`): the median over the counted cases, with the "
+            f"interquartile range over those cases ({DASH}: not counted; a scene's count is "
+            "one run of its stepping loop):", "", table(["engine", *kinds], counts)]
+    parts += ["Timed cases per engine x kind:", "", table(["engine", *kinds], timed)]
+    if counted_run:
+        parts += ["Counted cases per engine x kind:", "", table(["engine", *kinds], counted)]
+    return "\n".join(parts)
 
 
 HEADLINE_TOP = 3
@@ -261,27 +310,44 @@ HEADLINE_TOP = 3
 
 def headline(run: StoredRun) -> str:
     """The report's verdict on common ground, short: per standard profile, its top ranked
-    engines and the float64 textbook baseline, with score, coverage and median query time."""
+    engines and the float64 textbook baseline, with score, coverage and median query time;
+    where a profile's ranked engines were all counted (``ProfileVerdict.by_counts``), their
+    median instructions per query before it (``EngineScore.counted_text``)."""
     frame = run.results
     if frame.empty:
         return "The run has no results rows.\n"
+    answers = profiles.profiles(frame, run.repros)
+    counted = any(answer.by_counts for answer in answers)
     rows = []
-    for answer in profiles.profiles(frame, run.repros):
+    for answer in answers:
         ground = (f"{answer.profile.name} ({count(answer.common)} of {count(answer.total)} "
                   "rows)")
         shown = [(str(k + 1), s) for k, s in enumerate(answer.ranked[:HEADLINE_TOP])]
         shown += [("baseline", s) for s in answer.baselines[:1]]
         for k, (rank, s) in enumerate(shown):
+            cost = ([s.counted_text if answer.by_counts else DASH] if counted else [])
             rows.append([ground if k == 0 else "", rank, s.engine,
                          f"{s.score.text} ({count(s.score.agree)} / {count(s.score.judged)})",
-                         s.coverage_text, s.cost_text])
+                         s.coverage_text, *cost, s.cost_text])
+    if not counted:
+        return "\n".join([
+            "The verdict on common ground, per standard profile: each engine is scored over the "
+            "rows every ranked engine answers (bad input left out), with its coverage of the "
+            "profile beside the score and its median query time with the IQR over its timed "
+            f"cases; the top {HEADLINE_TOP} ranked engines and the float64 textbook baseline:",
+            "", table(["profile (common ground)", "rank", "engine", "score", "coverage",
+                       "median query ± IQR"], rows)])
     return "\n".join([
         "The verdict on common ground, per standard profile: each engine is scored over the "
         "rows every ranked engine answers (bad input left out), with its coverage of the "
-        "profile beside the score and its median query time with the IQR over its timed "
-        f"cases; the top {HEADLINE_TOP} ranked engines and the float64 textbook baseline:", "",
+        "profile beside the score, then its cost: its median instructions per query with the "
+        "IQR over its counted cases (counted under callgrind, `--timer instructions`) where "
+        "every ranked engine of the profile was counted, the count then breaking ties after "
+        f"score and coverage ({DASH}: a profile ranked by the wall clock, not every ranked "
+        "engine counted), and its median query time with the IQR over its timed cases; the "
+        f"top {HEADLINE_TOP} ranked engines and the float64 textbook baseline:", "",
         table(["profile (common ground)", "rank", "engine", "score", "coverage",
-               "median query ± IQR"], rows)])
+               "instructions per query ± IQR", "median query ± IQR"], rows)])
 
 
 # --- conventions and the report --------------------------------------------------------------
@@ -335,7 +401,7 @@ def advice(run: StoredRun) -> str:
     """``crosscheck advise`` on each of :data:`ADVICE_PROFILES`: the command and its answer."""
     from crosscheck.cli import build_parser
     from crosscheck.cli.advise import envelope_of, worst_text
-    from crosscheck.report.advise import EnvelopeError, advise
+    from crosscheck.report.advise import INSTRUCTIONS, EnvelopeError, advise
 
     parts = []
     for options in ADVICE_PROFILES:
@@ -349,28 +415,45 @@ def advice(run: StoredRun) -> str:
         if not answer.cases:
             parts += ["No case of this run lies inside this envelope.", ""]
             continue
-        rows = [[str(rank), *_grade_cells(e, worst_text(e))]
+        counted = any(e.median_query_instructions is not None
+                      for e in (*answer.ranking, *answer.baselines))
+        rows = [[str(rank), *_grade_cells(e, worst_text(e), counted)]
                 for rank, e in enumerate(answer.ranking, 1)]
-        rows += [["baseline", *_grade_cells(e, worst_text(e))] for e in answer.baselines]
+        rows += [["baseline", *_grade_cells(e, worst_text(e), counted)]
+                 for e in answer.baselines]
+        costs = COUNTED_COLUMNS if counted else ("median ± IQR",)
+        by = " by instructions per query" if answer.cost_by == INSTRUCTIONS else ""
         parts += [f"{answer.cases:,} cases inside the envelope "
                   f"({', '.join(answer.kinds)}; {', '.join(f'{d}-D' for d in answer.dims)}).",
-                  "", table(["#", "engine", "tier", "coverage", "within", "median ± IQR",
+                  "", table(["#", "engine", "tier", "coverage", "within", *costs,
                              "worst answer"], rows)]
         if answer.unsupported:
             parts += [f"Answer no case (not ranked): "
                       f"{', '.join(e.engine for e in answer.unsupported)}.", ""]
-        parts += [f"Passing, cheapest first: {', '.join(e.engine for e in answer.passing)}."
+        parts += [f"Passing, cheapest first{by}: "
+                  f"{', '.join(e.engine for e in answer.passing)}."
                   if answer.passing else
                   f"Nothing passes the whole envelope; closest: {answer.closest}, decided by "
                   f"{', '.join(answer.deciding)}" + _mode_text(answer), ""]
     return "\n".join(parts).rstrip() + "\n"
 
 
-def _grade_cells(engine: Any, worst: str) -> list[str]:
+COUNTED_COLUMNS = ("instr/query ± IQR", "wall ± IQR")
+"""An advice table's cost columns when an engine of it was counted (``--timer instructions``),
+as ``crosscheck advise`` heads them: instructions per query first, the wall clock beside."""
+
+
+def _grade_cells(engine: Any, worst: str, counted: bool = False) -> list[str]:
+    """An engine's cells of an advice table: with ``counted``, its median instructions per
+    query ± their IQR ('-': not counted) before its median wall-clock time ± its IQR."""
     cost = ("-" if engine.median_query_s is None else
             speed.median_iqr(engine.median_query_s, engine.query_iqr_s))
+    instructions = ("-" if engine.median_query_instructions is None else
+                    speed.instructions_iqr(engine.median_query_instructions,
+                                           engine.query_instructions_iqr))
     share = "-" if engine.share_within is None else f"{engine.share_within:.0%}"
-    return [engine.engine, engine.tier, f"{engine.coverage:.0%}", share, cost, worst]
+    return [engine.engine, engine.tier, f"{engine.coverage:.0%}", share,
+            *([instructions] if counted else []), cost, worst]
 
 
 def _mode_text(answer: Any) -> str:

@@ -1,11 +1,14 @@
 """make docs-figures: every file of the contract from a small stored run, each with its
-provenance header, the report's own numbers, the same bytes twice, and clear refusals."""
+provenance header, the report's own numbers, the same bytes twice, and clear refusals; on the
+same run with instruction counts the test writes (no valgrind), the counted cost in the
+headline, the advice and the query times, and on the run without counts none of it."""
 
 from __future__ import annotations
 
 import json
 import math
 import re
+import shutil
 from pathlib import Path
 
 import pytest
@@ -14,6 +17,8 @@ from adapters.reference import ReferenceF64
 from crosscheck.cases.load import load_paths
 from crosscheck.core.options import RunOptions
 from crosscheck.report import render as report
+from crosscheck.results.counts import FILE as COUNTS_FILE
+from crosscheck.results.counts import CountRecord
 from crosscheck.results.store import ResultsStore, read_run
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
@@ -218,3 +223,153 @@ def test_every_include_of_the_pages_is_a_generated_file() -> None:
                                   f"{includes - generated}"
     on_disk = {p.name for p in (docs_figures.GENERATED).glob("*.md")}
     assert includes <= on_disk, f"run make docs-figures: missing {includes - on_disk}"
+
+
+# --- a run with counted instructions ----------------------------------------------------------
+
+INSTRUCTIONS = {"reference": 2_000.0, "fake-right": 50_000.0, "fake-off": 60_000.0}
+"""Instructions per query of each engine's first counted case of a kind (the next ones 2% and
+4% more: the three aabb cases have a median of 1.02 times this and an IQR of 0.02 times)."""
+NOT_COUNTED = ("fake-off", "aabb")
+"""The engine x kind left uncounted: the 2-D detection profile (the run's aabb cases are 2-D)
+is then ranked by the wall clock, the 3-D one (its sphere cases) by counts."""
+CALLS, EMPTY = 10, 700
+
+
+def count_records(run_dir: Path) -> list[CountRecord]:
+    """The counts of every timed pair of the run but :data:`NOT_COUNTED`'s, as ``crosscheck run
+    --timer instructions`` would append them (numbers chosen here, never measured)."""
+    results = read_run(run_dir).results
+    timed = results.dropna(subset=["query_s"]).drop_duplicates(["case_id", "engine"])
+    records = []
+    for (engine, kind), pairs in timed.groupby(["engine", "kind"], sort=True):
+        if (engine, kind) == NOT_COUNTED:
+            continue
+        for k, case in enumerate(sorted(pairs["case_id"])):
+            per_query = INSTRUCTIONS[str(engine)] * (1 + k / 50)
+            records.append(CountRecord(case, str(engine), str(kind), "call", calls=CALLS,
+                                       instructions=round(per_query * CALLS) + EMPTY,
+                                       empty=EMPTY, engine_ir=round(0.5 * per_query * CALLS)))
+    return records
+
+
+@pytest.fixture(scope="module")
+def counted_dir(run_dir: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The small run again, its timed pairs counted but :data:`NOT_COUNTED`'s: counts.jsonl and
+    run.json's ``timing.cost`` written by the test, the report rendered anew."""
+    folder = tmp_path_factory.mktemp("counted") / "counted-run"
+    shutil.copytree(run_dir, folder)
+    records = count_records(folder)
+    (folder / COUNTS_FILE).write_text("".join(r.to_json() + "\n" for r in records),
+                                      encoding="utf-8")
+    info = json.loads((folder / "run.json").read_text(encoding="utf-8"))
+    sampled = int(info["timing"]["sampled"])
+    info["options"]["timer"] = "instructions"
+    info["timing"]["cost"] = {"timer": "instructions", "method": "written by the test",
+                              "sampled": sampled, "counted": len(records),
+                              "failed": sampled - len(records), "failures": {}}
+    (folder / "run.json").write_text(json.dumps(info), encoding="utf-8")
+    report.render(folder)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def counted_files(counted_dir: Path) -> dict[str, str]:
+    return figures(counted_dir, None)
+
+
+def body(text: str) -> str:
+    """A generated file without its provenance header (which names the run folder)."""
+    return text.split("\n", 2)[2]
+
+
+def test_the_counts_are_the_ones_written(counted_dir: Path) -> None:
+    """The test's own arithmetic: per engine x kind, what the figures below must state."""
+    results = read_run(counted_dir).results.drop_duplicates(["case_id", "engine"])
+    counted = results.dropna(subset=["query_instructions"])
+    per = counted.groupby(["engine", "kind"])["query_instructions"]
+    assert per.median().to_dict() == pytest.approx({
+        ("fake-right", "aabb"): 51_000.0, ("fake-right", "sphere"): 50_000.0,
+        ("fake-off", "sphere"): 60_000.0, ("reference", "aabb"): 2_040.0,
+        ("reference", "sphere"): 2_000.0})
+    assert per.size().to_dict() == {("fake-right", "aabb"): 3, ("fake-right", "sphere"): 1,
+                                    ("fake-off", "sphere"): 1, ("reference", "aabb"): 3,
+                                    ("reference", "sphere"): 1}
+
+
+def test_the_headline_ranks_a_counted_profile_by_its_counts(counted_files: dict[str, str],
+                                                            files: dict[str, str]) -> None:
+    text = counted_files["headline.md"]
+    d = run_figures.DASH
+    assert ("| profile (common ground) | rank | engine | score | coverage | instructions per "
+            "query ± IQR | median query ± IQR |") in text
+    assert "(counted under callgrind, `--timer instructions`)" in text
+    # 3-D detection: every ranked engine counted; its one timed (and counted) sphere case
+    assert "| 1 | fake-right | 100% (6 / 6) | 100% | 50 ± 0 k instr, 1 case | " in text
+    assert "| 2 | fake-off | 66.6% (4 / 6) | 100% | 60 ± 0 k instr, 1 case | " in text
+    assert "| baseline | reference | 100% (6 / 6) | 100% | 2 ± 0 k instr, 1 case | " in text
+    # 2-D detection: fake-off's aabb cases not counted, so the wall clock ranks: no count shown
+    assert f"| 1 | fake-right | 100% (9 / 9) | 100% | {d} | " in text
+    assert f"| 2 | fake-off | 66.6% (6 / 9) | 100% | {d} | " in text
+    assert f"| baseline | reference | 100% (9 / 9) | 100% | {d} | " in text
+    # the wall-clock column is the uncounted run's (the same timings), cell for cell
+    def last_cells(page: str) -> list[str]:
+        return [line.split("|")[-2].strip() for line in page.splitlines()
+                if line.startswith("| ") and "µs" in line]
+    assert len(last_cells(files["headline.md"])) == 6
+    assert last_cells(text) == last_cells(files["headline.md"])
+
+
+def test_the_advice_gives_instructions_before_the_wall_clock(
+        counted_files: dict[str, str]) -> None:
+    text = counted_files["advice.md"]
+    assert ("| # | engine | tier | coverage | within | instr/query ± IQR | wall ± IQR | worst "
+            "answer |") in text
+    assert "| 1 | fake-right | passes | 100% | 100% | 50 ± 0 k instr | " in text
+    assert "| 2 | fake-off | fails | 100% | 0% | 60 ± 0 k instr | " in text
+    assert "| baseline | reference | passes | 100% | 100% | 2 ± 0 k instr | " in text
+    assert "Passing, cheapest first by instructions per query: fake-right." in text
+    assert "| median ± IQR |" not in text
+
+
+def test_the_query_times_show_instructions_beside_the_wall_times(
+        counted_files: dict[str, str], files: dict[str, str]) -> None:
+    text = counted_files["query-times.md"]
+    d = run_figures.DASH
+    wall, _, rest = body(text).partition("Beside them, the instructions per query")
+    assert wall == body(files["query-times.md"]).split("Timed cases per engine x kind:")[0]
+    assert "| fake-right | 51 ± 1 k instr | 50 ± 0 k instr |" in rest
+    assert f"| fake-off | {d} | 60 ± 0 k instr |" in rest
+    assert "| reference | 2.04 ± 0.04 k instr | 2 ± 0 k instr |" in rest
+    counted = rest.split("Counted cases per engine x kind:")[1]
+    assert "| fake-right | 3 | 1 |" in counted and "| fake-off | 0 | 1 |" in counted
+    assert "Timed cases per engine x kind:" in rest.split("Counted cases")[0]
+
+
+def test_the_run_time_says_how_many_pairs_were_counted(counted_files: dict[str, str],
+                                                       files: dict[str, str]) -> None:
+    text = counted_files["run-time.md"]
+    assert "; instructions counted under callgrind (--timer instructions) on 9 of 12 pairs, " \
+           "3 failed |" in text
+    assert "instructions" not in files["run-time.md"]
+
+
+def test_the_figures_of_a_run_without_counts_show_no_count(files: dict[str, str]) -> None:
+    """The uncounted run's figures are as before counts existed: one cost column, the wall
+    clock, and not a word of instructions."""
+    for name in ("headline.md", "advice.md", "query-times.md", "run-time.md"):
+        assert "instr" not in files[name], name
+    assert ("| profile (common ground) | rank | engine | score | coverage | median query ± IQR |"
+            in files["headline.md"])
+    assert ("| # | engine | tier | coverage | within | median ± IQR | worst answer |"
+            in files["advice.md"])
+    assert "Passing, cheapest first: fake-right." in files["advice.md"]
+    tables = [line for line in files["query-times.md"].splitlines() if line.endswith(":")]
+    assert tables == [tables[0], "Timed cases per engine x kind:"]
+
+
+def test_counts_change_only_the_cost_figures(counted_files: dict[str, str],
+                                             files: dict[str, str]) -> None:
+    for name in ("suite.md", "status-counts.md", "categories.md", "group-matrix.md",
+                 "conventions.md"):
+        assert body(counted_files[name]) == body(files[name]), name
