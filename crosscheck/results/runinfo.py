@@ -95,9 +95,16 @@ class RunInfo:
     """When the run was resumed, oldest first."""
     timing: dict[str, Any] | None = None
     """The timing phase (format 3; None: no timing phase): ``method`` (in words), ``sampled``
-    (pairs timed), ``pinned``, ``yardstick`` (``start`` and ``end``: per workload, the
-    median, quartiles and samples), ``binding`` (per engine: the cheapest call into its
-    binding, or why there is none)."""
+    (pairs timed), ``pinned``, ``failed`` (pairs that crashed or hung), ``yardstick``
+    (``start`` and ``end``: per workload, the median, quartiles and samples), ``rounds``
+    (format 6: ``count`` of rounds, ``yardstick_s``, each round's yardstick in seconds, None
+    where none was read, and ``drift``, the largest over the smallest of them, None: none),
+    ``binding`` (per engine: the cheapest call into its binding, or why there is none), and
+    ``cost`` (format 6, ``--timer instructions`` only: how the instructions were counted,
+    :func:`crosscheck.run.cost.cost_phase`: ``timer``, ``method``, ``valgrind``, ``calls``,
+    ``warmups``, ``sampled``, ``counted``, ``failed``, ``failures`` (the first, with their
+    reasons), ``parallel`` and ``wall_s``; or ``timer`` and ``none``, why nothing was
+    counted)."""
     repeat_check: dict[str, Any] | None = None
     """The repeat check (format 5; None: not run): ``pairs`` asked again, ``nondeterministic``
     (those whose answer changed), ``seconds`` it took (summed over a resumed run's parts)."""
