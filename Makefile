@@ -1,6 +1,7 @@
 # Two commands on a fresh machine with only python3 and make:
 #   make run    set up .venv from the pinned lock, run the suite, write reports/<run-id>/
-#               (with --repeat-check: disagreeing pairs asked again in a fresh worker)
+#               (with --repeat-check: disagreeing pairs asked again in a fresh worker;
+#               ARGS="--timer instructions" also counts the timed cases' instructions)
 #   make test   set up .venv, then lint, type-check, build the docs and run the tests
 #               (make test-long: all tests)
 # make docs builds the site (docs/, mkdocs.yml) into build/site/; make docs-figures RUN=DIR
@@ -26,7 +27,7 @@ $(BUNDLE): $(STAMP) crosscheck/report/bundle.py
 
 venv: $(STAMP) $(BUNDLE)
 
-run: $(STAMP) $(BUNDLE)
+run: $(STAMP) $(BUNDLE) valgrind
 	$(BIN)/crosscheck run --repeat-check $(ARGS)
 
 lint: $(STAMP) $(BUNDLE)
