@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from crosscheck.report.compare_timing import changes_first
 from crosscheck.results.counts import FILE, read_counts
 from crosscheck.results.store import StoredRun
 
@@ -92,11 +93,7 @@ def cost_changes(a: RunCounts, b: RunCounts, cases: set[str], engines: set[str],
     changes first (largest first), then ``same``, then ``unknown``."""
     keys = sorted(k for k in set(a.counts) | set(b.counts) if k[0] in cases and k[1] in engines)
     frame = pd.DataFrame([_pair(k, a, b, threshold) for k in keys], columns=COLUMNS)
-    rank = frame["verdict"].map({v: i for i, v in enumerate(VERDICTS)})
-    size = -np.abs(np.log(frame["ratio"].to_numpy(dtype=float)))
-    order = pd.DataFrame({"rank": rank, "size": np.nan_to_num(size)}).sort_values(
-        ["rank", "size"], kind="stable").index
-    return frame.loc[order].reset_index(drop=True)
+    return changes_first(frame, VERDICTS)
 
 
 def cost_summary(changes: pd.DataFrame, engines: list[str]) -> pd.DataFrame:

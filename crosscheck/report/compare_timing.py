@@ -350,7 +350,13 @@ def timing_changes(a: RunTimings, b: RunTimings, cases: set[str], engines: set[s
     """
     keys = sorted(k for k in a.timed | b.timed if k[0] in cases and k[1] in engines)
     frame = pd.DataFrame([_pair(k, a, b, scale) for k in keys], columns=COLUMNS)
-    rank = frame["verdict"].map({v: i for i, v in enumerate(VERDICTS)})
+    return changes_first(frame, VERDICTS)
+
+
+def changes_first(frame: pd.DataFrame, verdicts: Sequence[str]) -> pd.DataFrame:
+    """``frame`` ordered by its ``verdict`` in the order of ``verdicts``, and within one
+    verdict by the size of its ``ratio`` either way, largest first."""
+    rank = frame["verdict"].map({v: i for i, v in enumerate(verdicts)})
     size = -np.abs(np.log(frame["ratio"].to_numpy(dtype=float)))
     order = pd.DataFrame({"rank": rank, "size": np.nan_to_num(size)}).sort_values(
         ["rank", "size"], kind="stable").index

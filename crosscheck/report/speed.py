@@ -26,7 +26,7 @@ way with a decimal prefix (:func:`instructions_iqr`): ``93.3 ± 4.1 k instr``.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 import pandas as pd
@@ -88,9 +88,15 @@ def median_iqr(median: float | None, iqr: float | None) -> str:
     >>> median_iqr(None, None), median_iqr(float("nan"), 1.0)
     ('n/a', 'n/a')
     """
+    return _spread_text(median, iqr, _unit)
+
+
+def _spread_text(median: float | None, iqr: float | None,
+                 unit_of: Callable[[float], tuple[float, str]]) -> str:
+    """The median to three significant digits, ``± `` the IQR to two, in the median's unit."""
     if median is None or math.isnan(median):
         return "n/a"
-    scale, unit = _unit(median)
+    scale, unit = unit_of(median)
     if iqr is None or math.isnan(iqr):
         return f"{_digits(median / scale, 3)} {unit}"
     return f"{_digits(median / scale, 3)} ± {_digits(iqr / scale, 2)} {unit}"
@@ -127,12 +133,7 @@ def instructions_iqr(median: float | None, iqr: float | None) -> str:
     >>> instructions_iqr(1.2e6, None), instructions_iqr(None, None)
     ('1.2 M instr', 'n/a')
     """
-    if median is None or math.isnan(median):
-        return "n/a"
-    scale, unit = _count_unit(median)
-    if iqr is None or math.isnan(iqr):
-        return f"{_digits(median / scale, 3)} {unit}"
-    return f"{_digits(median / scale, 3)} ± {_digits(iqr / scale, 2)} {unit}"
+    return _spread_text(median, iqr, _count_unit)
 
 
 def with_iqr(s: Spread) -> str:
