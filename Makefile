@@ -69,7 +69,7 @@ docs-figures: $(STAMP)
 	$(BIN)/python -m tools.docs_figures "$(RUN)" $(if $(BENCH),--bench "$(BENCH)")
 
 test: lint browser valgrind docs
-	$(BIN)/python -m pytest -m "not slow and not wallclock" $(PYTEST_ARGS)
+	$(BIN)/python -m pytest -m "not slow" $(PYTEST_ARGS)
 
 # Nightly-style: everything, including the tests marked slow (a 100,000-case run).
 test-long: lint browser valgrind docs
