@@ -36,7 +36,8 @@ Detection (``aabb``, ``sphere``; ``mujoco-default`` only, see below): ``query`` 
   boxes): the engine gives no direction there.
 
 Responses (``sphere_response``, 2-D and 3-D): stepped by :mod:`adapters.mujoco_response`
-until no contact is active and the spheres no longer approach.
+until no contact is active and the spheres no longer approach.  Scenes (``sphere_scene``,
+2-D and 3-D) are stepped by :mod:`adapters.mujoco_scene` with the variant's ``scene_tuning``.
 
 Conventions (sources in ``SOURCES``: docs of 4.0.0; source files linked at main and read at
 commit a7255075, a 3.12.1 development snapshot, the newest one mirrored here; each rule
@@ -86,6 +87,9 @@ measured on the installed 4.0.0 and pinned in tests/adapters/test_mujoco.py):
   ``known_hang``.  Warnings and errors go to the installed handler, never to
   ``MUJOCO_LOG.TXT`` [simulation.rst, Default handler].
 
+This module is over 400 lines because the detection translation and both variants'
+conventions are one unit; the scene and response parts live in their own modules.
+
 Variants.  The stiff contact is a response setting only: detection is the same engine call
 in both variants, so it is scored under ``mujoco-default`` alone and ``mujoco`` skips it
 with that reason.  Each variant declares its own conventions: ``mujoco`` none of the
@@ -103,6 +107,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from adapters import mujoco_response as response
+from adapters import mujoco_scene, stepping
 from adapters.mujoco_setup import Mass, Pair, compile_pair, engine, guarded, refusal, set_sizes
 from crosscheck.core.contract import (
     Adapter,
@@ -261,6 +266,9 @@ _DETECTION_NOTES = (
     "1e6, while the contact's dist is right: reported as is); normal = the contact frame in "
     "contact, else the fromto segment.  Zero or negative sizes and zero masses: the compiler "
     "refuses them (error rows); NaN/inf positions are read silently (reported undefined).  ")
+_SCENE_NOTES = (
+    "Scenes (adapters/mujoco_scene.py): one compiled model of free spheres per scene; 2-D "
+    "in z = 0, solver noise out of the plane dropped within 2^-40 of the scene's scale.  ")
 _RESPONSE_NOTES = (
     "Responses: free spheres stepped until no contact is active and they no longer approach; "
     "resolved_at = the centres at the start of the first step whose collision pass found an "
@@ -278,19 +286,21 @@ class MujocoDefault(Adapter):
         "sphere, as MuJoCo computes it from a geom's mass); 2-D boxes get z half-width 2x the "
         "largest half-width")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
-        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE, Kind.SPHERE_SCENE)
     conventions: ClassVar[Conventions] = _conventions(
         2.0**-50,
         "no coefficient of restitution: MuJoCo's default soft contact (solref 0.02 1, solimp "
         "0.9 0.95 0.001 0.5 2); the case's e is not read",
         0.002,
-        _DETECTION_NOTES + _RESPONSE_NOTES + (
+        _DETECTION_NOTES + _RESPONSE_NOTES + _SCENE_NOTES + (
             "Default contact: a 1 m/s head-on bounce of equal spheres leaves at about +-0.14 "
-            "whatever e the case asks; friction 1 acts on oblique impacts.  Contacts are "
+            "whatever e the case or scene asks; friction 1 acts on oblique impacts.  Contacts are "
             "sampled at step starts and make force only below the margin (0): a grazing "
             "contact shorter than a step gets none."),
         soft=True, friction=1.0, sampled=True)
     stiff: ClassVar[response.Stiff | None] = None
+    scene_tuning: ClassVar[mujoco_scene.Tuning | None] = None
+    """What scenes are built with (see adapters/mujoco_scene.py); None: MuJoCo's defaults."""
     condim: ClassVar[str] = ""
     """Extra MJCF attributes of the response geoms."""
 
@@ -324,7 +334,8 @@ class MujocoDefault(Adapter):
         return self._pairs[key]
 
     def prepare(self, case: AnyCase) -> Any:
-        assert not isinstance(case, SceneCase), "the mujoco adapters declare no scenes"
+        if isinstance(case, SceneCase):
+            return stepping.prepare(mujoco_scene, case, self.scene_tuning)
         geom = "box" if isinstance(case, AabbCase) else "sphere"
         sizes = sizes_of(case)
         masses = self.masses(case) if isinstance(case, ResponseCase) else None
@@ -352,6 +363,8 @@ class MujocoDefault(Adapter):
     def query(self, prepared: Any) -> Observation:
         if isinstance(prepared, Fixed):
             return prepared.observation
+        if isinstance(prepared, stepping.PreparedScene):
+            return stepping.query(prepared)
         if isinstance(prepared, response.Prepared):
             return response.respond(prepared)
         return detect(prepared)
@@ -367,14 +380,18 @@ class MujocoStiff(MujocoDefault):
         "relative speed / (10 sqrt(P R 2^-52)) capped at 1e9 / speed and zeta giving the "
         "case's e, dt = contact duration / 256, geom margin 2^-1022; inertia = mass (no "
         "rotation takes part)")
-    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE_RESPONSE)
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE_RESPONSE,
+                                                                     Kind.SPHERE_SCENE)
     conventions: ClassVar[Conventions] = _conventions(
         2.0**-50,
         "no coefficient of restitution in MuJoCo: a linear spring-dashpot (direct solref) "
         "whose restitution, force stopped at zero, is the case's e; e = 0 and e outside "
         "[0, 1] skipped",
         None,
-        _RESPONSE_NOTES + (
+        _RESPONSE_NOTES + _SCENE_NOTES + (
+            "Scenes: the stiff frictionless contact with the scene's e lasting one scene step "
+            "in 8 RK4 sub-steps (e = 1 head-on: velocities exchanged within 1e-3, momentum "
+            "to rounding); a touching chain answers as one block.  "
             "Stiff contact fitted per case (adapters/mujoco_response.py), frictionless "
             "(condim 1) with the case's e: no friction, no soft model.  The time step is the "
             "contact's duration / 256, so no single time_step is declared.  response_rtol: "
@@ -384,13 +401,14 @@ class MujocoStiff(MujocoDefault):
             "mujoco-default's and is scored there only."),
         response_rtol=STIFF_RTOL)
     stiff: ClassVar[response.Stiff | None] = response.Stiff()
+    scene_tuning: ClassVar[mujoco_scene.Tuning | None] = mujoco_scene.Tuning()
     condim: ClassVar[str] = ' condim="1"'
 
     def unsupported(self, case: AnyCase) -> str | None:
         if case.kind_enum in DETECTION:
             return ("mujoco (stiff) sets contact dynamics only: detection is the same engine "
                     "call as mujoco-default's and is scored there")
-        if isinstance(case, ResponseCase) and (why := response.restitution_refusal(
+        if isinstance(case, ResponseCase | SceneCase) and (why := response.restitution_refusal(
                 case.restitution)):
             return f"mujoco (stiff): {why}"
         return super().unsupported(case)

@@ -134,6 +134,12 @@ def damping_ratio(e: float) -> float:
     return 0.5 * (lo + hi)
 
 
+def damping_dashpot(e: float) -> tuple[float, float]:
+    """The damping ratio of restitution ``e`` and the contact's duration in units of 1 / w0."""
+    zeta = damping_ratio(e)
+    return zeta, dashpot(zeta)[1]
+
+
 def stiff_contact(case: ResponseCase, stiff: Stiff) -> Contact:
     """The case's spring-dashpot (see the module docstring)."""
     speed = norm(difference(case.a.velocity, case.b.velocity))
@@ -166,10 +172,14 @@ def restitution_refusal(e: float) -> str | None:
 
 def tune_stiff(pair: Pair) -> None:
     """The stiff variant's model-wide settings (see the module docstring)."""
-    mujoco, m = engine(), pair.model
-    m.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
+    tune_stiff_model(pair.model)
+
+
+def tune_stiff_model(m: Any) -> None:
+    """RK4, solver tolerance 1e-15, and every geom's margin and flat solimp (also scenes')."""
+    m.opt.integrator = engine().mjtIntegrator.mjINT_RK4
     m.opt.tolerance = TOLERANCE
-    for g in range(2):
+    for g in range(m.ngeom):
         m.geom_margin[g] = MARGIN
         m.geom_solimp[g] = (MAXIMP, MAXIMP, 0.001, 0.5, 2.0)
 

@@ -35,7 +35,7 @@ from typing import Any
 from crosscheck.core.geometry import Vec3
 
 __all__ = ["MINVAL", "WARNINGS", "Mass", "Pair", "compile_pair", "engine", "guarded", "refusal",
-           "set_masses", "set_sizes"]
+           "scene_mjcf", "set_masses", "set_sizes"]
 
 MINVAL = 1e-15
 """mjMINVAL: the smallest mass and inertia MuJoCo's compiler accepts for a moving body."""
@@ -97,6 +97,23 @@ def pair_mjcf(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass], extra: s
     return MJCF.format(geom=geom, sa=_text(sizes[0][:count]), sb=_text(sizes[1][:count]),
                        ma=repr(float(ma)), mb=repr(float(mb)), ia=_text(ia), ib=_text(ib),
                        extra=extra)
+
+
+SCENE_BODY = """    <body name="s{i}"><freejoint/>
+      <inertial pos="0 0 0" mass="{m}" diaginertia="{i3}"/>
+      <geom name="s{i}" type="sphere" size="{r}"{extra}/></body>
+"""
+"""One sphere of a scene model (:func:`scene_mjcf`): a free body like the pair's."""
+
+
+def scene_mjcf(spheres: Sequence[tuple[float, Mass]], extra: str) -> str:
+    """The model of a scene: :data:`MJCF`'s world with one free sphere per (radius, mass)
+    (bodies ``s0``, ``s1``, ...; their poses go into ``qpos`` after compiling)."""
+    head, tail = MJCF.split("  <worldbody>\n")[0], "  </worldbody>\n</mujoco>"
+    bodies = "".join(SCENE_BODY.format(i=i, m=repr(float(mass)), i3=_text(inertia),
+                                       r=repr(float(radius)), extra=extra)
+                     for i, (radius, (mass, inertia)) in enumerate(spheres))
+    return head.replace("crosscheck-pair", "crosscheck-scene") + "  <worldbody>\n" + bodies + tail
 
 
 def compile_pair(geom: str, extra: str = "") -> Pair:

@@ -462,3 +462,86 @@ def test_registry_and_versions() -> None:
     assert STIFF.version() == DEFAULT.version() == mujoco.__version__ == "4.0.0"
     assert STIFF.engine == DEFAULT.engine == "mujoco"
     assert STIFF.conventions.rtol == DEFAULT.conventions.rtol == 2.0**-50
+
+
+# --- scenes (adapters/mujoco_scene.py) ---
+
+HEAD_ON = [((-2.0, 0.0), 0.5, 1.0, (1.0, 0.0)), ((2.0123456789, 0.0), 0.5, 1.0, (-1.0, 0.0))]
+
+
+def _stepped(bodies: list[Any], dim: int, e: float, tuning: Any, steps: int) -> Any:
+    from adapters import mujoco_scene
+
+    prepared = mujoco_scene.prepare_scene(bodies, dim, e, 1e-3, None, tuning)
+    return mujoco_scene.run_scene(prepared, steps)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_tuned_scene_exchanges_velocities_of_an_elastic_head_on_pair(dim: int) -> None:
+    from adapters import mujoco_scene
+
+    bodies = [(c + (0.0,) * (dim - 2), r, m, v + (0.0,) * (dim - 2)) for c, r, m, v in HEAD_ON]
+    run = _stepped(bodies, dim, 1.0, mujoco_scene.Tuning(), 3000)
+    (va, *rest_a), (vb, *rest_b) = run.velocities
+    assert va == pytest.approx(-1.0, abs=mujoco_scene.TUNED_RTOL)
+    assert vb == pytest.approx(1.0, abs=mujoco_scene.TUNED_RTOL)
+    assert va != -1.0  # a soft contact: not the exact exchange (the test can fail)
+    assert rest_a == rest_b == [0.0] * (dim - 1)
+    assert abs(va + vb) <= 1e-12  # momentum kept: equal and opposite constraint forces
+    assert len(run.positions[0]) == dim and run.steps == 3000
+
+
+def test_tuned_scene_restitution_is_the_scenes_e() -> None:
+    from adapters import mujoco_scene
+
+    run = _stepped(HEAD_ON, 2, 0.5, mujoco_scene.Tuning(substeps=32), 3000)
+    assert run.velocities[0][0] == pytest.approx(-0.5, abs=1e-2)
+    assert run.velocities[1][0] == pytest.approx(0.5, abs=1e-2)
+
+
+def test_default_scene_ignores_restitution_and_keeps_momentum() -> None:
+    elastic = _stepped(HEAD_ON, 2, 1.0, None, 3000)
+    plastic = _stepped(HEAD_ON, 2, 0.25, None, 3000)
+    assert elastic.velocities == plastic.velocities  # e is not read
+    assert 0.0 < elastic.velocities[1][0] < 0.5  # the default soft contact loses most of it
+    assert abs(elastic.velocities[0][0] + elastic.velocities[1][0]) <= 1e-12
+
+
+def test_scene_clock_reads_only_around_the_stepping() -> None:
+    from adapters import mujoco_scene
+
+    readings = iter([10.0, 10.25, 20.0, 20.5])
+    prepared = mujoco_scene.prepare_scene(HEAD_ON, 2, 1.0, 1e-3, None, mujoco_scene.Tuning())
+    assert mujoco_scene.run_scene(prepared, 0, clock=lambda: next(readings)).wall_s == 0.25
+    stepped = mujoco_scene.run_scene(prepared, 5, clock=lambda: next(readings))
+    assert stepped.wall_s == 0.5 and stepped.steps == 5
+    assert stepped.positions[0][0] > -2.0  # it moved: the 5 steps ran between the readings
+
+
+@pytest.mark.parametrize(("bodies", "dim", "e", "dt", "message"), [
+    (HEAD_ON, 3, 1.0, 1e-3, "components"),
+    (HEAD_ON, 2, -1.0, 1e-3, "restitution"),
+    (HEAD_ON, 2, 1.0, 0.0, "dt must be positive"),
+    ([((0.0, 0.0), 0.5, 0.0, (1.0, 0.0))], 2, 1.0, 1e-3, "mass must be positive"),
+    ([((0.0, 0.0), -0.5, 1.0, (1.0, 0.0))], 2, 1.0, 1e-3, "radius must be positive"),
+    ([((math.nan, 0.0), 0.5, 1.0, (1.0, 0.0))], 2, 1.0, 1e-3, "finite"),
+    (HEAD_ON, 2, 0.0, 1e-3, "outside"),  # tuned: no spring-dashpot has e = 0
+])
+def test_scene_refuses_bad_input(bodies: list[Any], dim: int, e: float, dt: float,
+                                 message: str) -> None:
+    from adapters import mujoco_scene
+
+    with pytest.raises(ValueError, match=message):
+        mujoco_scene.prepare_scene(bodies, dim, e, dt, None, mujoco_scene.Tuning())
+    with pytest.raises(ValueError, match="steps must be"):
+        mujoco_scene.run_scene(
+            mujoco_scene.prepare_scene(HEAD_ON, 2, 1.0, 1e-3, None, None), -1)
+
+
+def test_both_variants_declare_scenes_and_the_stiff_one_skips_e_zero() -> None:
+    scene = CASE_ADAPTER.validate_python({
+        "id": "s", "description": "d", "kind": "sphere_scene", "dim": 2, "duration": 1.0,
+        "restitution": 0.0, "bodies": [{"center": [0.0, 0.0], "radius": 0.5, "mass": 1.0,
+                                        "velocity": [1.0, 0.0]}]})
+    assert DEFAULT.unsupported(scene) is None
+    assert "restitution 0" in (STIFF.unsupported(scene) or "")

@@ -1,0 +1,210 @@
+"""MuJoCo 4.0.0 stepping a scene of N spheres, for comparison with an exact event-driven run.
+
+What it is for: the scene runners step a whole scene (N spheres, one restitution, no
+gravity, no ground) with a fixed ``dt`` and return the final state, to be scored against the
+exact reference; :mod:`adapters.mujoco_engine` answers single pair cases instead.  Types and
+input checks are shared with the other scene runners in :mod:`adapters.scene`.
+
+Building (``prepare_scene``, untimed): one model per scene, compiled from MJCF
+(``mujoco_setup.scene_mjcf``: the pair's world, gravity 0, one free body with an explicit
+inertial and one sphere geom per body), its ``MjData`` given the centres (2-D: z = 0) and
+velocities (2-D: vz = 0, no spin).  ``run_scene`` times only ``mj_step`` (``nstep`` = steps x
+substeps in one call) and reads ``qpos`` / ``qvel`` after it; a MuJoCo warning (a bad value
+makes ``mj_step`` reset the state) is raised; ``release_scene`` drops the model.
+
+MuJoCo has no coefficient of restitution (see :mod:`adapters.mujoco_response`): a contact is
+a soft constraint, a spring-damper acting over many steps.
+
+Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None):
+
+- tuned (``mujoco``, :class:`Tuning`): the stiff contact of the response adapter
+  (``mujoco_response.tune_stiff_model``: frictionless ``condim`` 1, RK4, solver tolerance
+  1e-15, ``solimp`` flat at mjMAXIMP, geom margin 2^-1022 so a touching contact is active)
+  with one direct ``solref`` (-w0^2, -2 zeta w0) for every geom: zeta gives the scene's e
+  (``mujoco_response.damping_ratio``; e = 0 and e > 1 have no spring-dashpot and are
+  refused), and ``w0`` makes a contact last exactly one scene step dt, so an impact is over
+  within the step it starts in, as an impulse engine resolves it.  The restitution of a
+  linear spring-dashpot does not depend on speed or masses, so every pair gets e.  MuJoCo's
+  time step is dt / ``substeps`` (:data:`SUBSTEPS` RK4 steps per contact): a scene step is
+  ``substeps`` calls of ``mj_step``, the pattern of MuJoCo users' "control step" (MuJoCo has
+  no sub-step option).  Inertia = mass: no rotation takes part without friction.
+- default (``mujoco-default``, None): only what the scene declares: the time step dt
+  (``opt.timestep``, one ``mj_step`` per scene step), ``opt.iterations`` if given (else
+  MuJoCo's 100), masses (inertia 2/5 m r^2, a solid sphere's), radii, velocities.  The
+  scene's e is not read: MuJoCo's default soft contact (solref 0.02 1, solimp 0.9 0.95 0.001
+  0.5 2), friction 1, condim 3, Euler.
+
+Conventions, measured with this module on 4.0.0 (sources in ``mujoco_engine.SOURCES``):
+
+- 2-D: spheres at z = 0 with vz = 0 on free joints; contact normals between centres in the
+  plane lie in it, but the solver works in all 6 N degrees of freedom and leaves rounding
+  noise in z (measured: -6e-18 in a default 5-ball cradle at dt 1e-3, friction acting; the
+  tuned head-on pair stays exactly at 0).  Noise within ``PLANE`` (2^-40, as
+  ``mujoco_response``) x the scene's scale (largest |coordinate| + radius for positions,
+  largest speed for velocities) is dropped; beyond it ``run_scene`` raises (left the plane).
+- restitution, tuned: the equal-mass head-on pair of the suite (speeds 1) at e = 1 leaves
+  within 5.1e-4 of the exchanged velocities at every dt from 1e-5 to 0.1 (declared
+  :data:`TUNED_RTOL` 1e-3; 16 sub-steps: 2.7e-5, 32: 1.5e-6); at e = 0.5 within 2.8e-2
+  (the contact starts inside a sub-step, so its damping starts late: first order in the
+  sub-step).  Momentum is kept to rounding (equal and opposite constraint forces; 1e-12
+  pinned in tests/adapters/test_mujoco.py).  Default: e is not read; that pair leaves at
+  +-0.1353 (e = 1 and e = 0.25 alike, bit for bit).
+- no restitution threshold (the spring-dashpot acts at any speed), no speed cap (MuJoCo
+  has none), no damping (joint damping, viscosity, density 0 by default), no sleeping:
+  sleeping is the opt-in enable flag ``mjENBL_SLEEP`` (``opt.enableflags`` 0 by default,
+  read on 4.0.0), never set here.
+- touching at the start: tuned, a contact (margin 2^-1022: distance 0 is active); a ball
+  at 1 touching a ball at rest hands over its velocity within the first scene step (left
+  at 1.0e-4 and 0.9999 after it, dt 1e-3), a touching pair moving together at 0.3 stays
+  together (velocities within 5e-13 after 100 steps).  Default: no force at distance 0
+  (margin 0: ``exclude`` = distance >= margin, engine_collision_driver.c): after step 1
+  the velocities are unchanged (1, 0), the push comes once they overlap.
+- simultaneous contacts are solved together: 5-ball cradle (equal masses, e = 1, striker
+  at 1, dt 1e-3, 1 s): tuned, striker -0.5999, the four +0.3998 to +0.4001, one elastic hit
+  on a mass-4 block, as PyBullet's; energy kept to 2.3e-4.  Default: 0.075, 0.209, 0.227,
+  0.240, 0.248 (momentum 1 to rounding, energy 0.22 of it).  Not the textbook cradle.
+- soft contact: a contact lasts one scene step (tuned) or the default solref's 0.02 s time
+  constant (default), so centres lag the exact run by about the closing speed x that time.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from adapters.mujoco_response import damping_dashpot, tune_stiff_model
+from adapters.mujoco_setup import WARNINGS, Mass, engine, scene_mjcf
+from adapters.scene import Body, SceneRun, check_scene, check_steps
+
+__all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
+
+PLANE = 2.0**-40
+"""Largest |z| (|vz|) of a 2-D scene, relative to its scale, taken as rounding noise."""
+
+SUBSTEPS = 8
+"""MuJoCo steps per scene step in the tuned variant (the RK4 steps of one contact)."""
+TUNED_RTOL = 1e-3
+"""The tuned variant's restitution precision on an isolated head-on pair (measured)."""
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """The tuned variant's settings; ``None`` instead of a Tuning: MuJoCo's defaults.
+
+    ``substeps``: MuJoCo steps per scene step (each contact lasts one scene step).
+    """
+
+    substeps: int = SUBSTEPS
+
+
+@dataclass(frozen=True, eq=False)
+class Prepared:
+    """A built scene: its model and data, the MuJoCo steps per scene step, the dimension."""
+
+    model: Any
+    data: Any
+    substeps: int
+    dim: int
+    count: int
+    scales: tuple[float, float]
+    """Position and velocity scales of a 2-D scene's plane check (see the module docstring)."""
+
+
+def stiff_solref(restitution: float, dt: float) -> tuple[float, float]:
+    """Direct solref (-w0^2, -2 zeta w0) of a spring-dashpot with restitution e lasting dt.
+
+    >>> k, b = stiff_solref(1.0, 0.5)  # undamped: half a period is pi / w0 = dt
+    >>> round((-k) ** 0.5 * 0.5 / 3.141592653589793, 12), b
+    (1.0, -0.0)
+    """
+    if not 0.0 < restitution <= 1.0:
+        raise ValueError(f"restitution {restitution!r} outside (0, 1]: MuJoCo's direct solref "
+                         "has no spring-dashpot for it")
+    zeta, duration = damping_dashpot(restitution)
+    w0 = duration / dt
+    return -w0 * w0, -2.0 * zeta * w0
+
+
+def model_of(bodies: Sequence[Body], restitution: float, dt: float, iterations: int | None,
+             tuning: Tuning | None) -> Any:
+    """The scene's compiled model with the variant's settings (see the module docstring)."""
+    def mass(radius: float, m: float) -> Mass:
+        return (m, (m,) * 3) if tuning is not None else (m, (0.4 * m * radius * radius,) * 3)
+
+    extra = ' condim="1"' if tuning is not None else ""
+    spheres = [(radius, mass(radius, m)) for _, radius, m, _ in bodies]
+    try:
+        model = engine().MjModel.from_xml_string(scene_mjcf(spheres, extra))
+    except ValueError as exc:
+        raise ValueError(f"MuJoCo's compiler refuses this scene: {exc}") from None
+    if iterations is not None:
+        model.opt.iterations = iterations
+    model.opt.timestep = dt
+    if tuning is not None:
+        tune_stiff_model(model)
+        model.opt.timestep = dt / tuning.substeps
+        model.geom_solref[:] = stiff_solref(restitution, dt)
+    return model
+
+
+def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
+                  iterations: int | None, tuning: Tuning | None) -> Any:
+    """Build the scene's model and data (untimed).
+
+    ``tuning``: the variant's settings (see :class:`Tuning`), or None for MuJoCo's defaults.
+    """
+    check_scene(bodies, dim, restitution, dt)
+    model = model_of(bodies, restitution, dt, iterations, tuning)
+    data = engine().MjData(model)
+    pad = (0.0,) * (3 - dim)
+    for i, (center, _, _, velocity) in enumerate(bodies):
+        data.qpos[7 * i:7 * i + 7] = (*center, *pad, 1.0, 0.0, 0.0, 0.0)
+        data.qvel[6 * i:6 * i + 6] = (*velocity, *pad, 0.0, 0.0, 0.0)
+    engine().mj_forward(model, data)
+    substeps = tuning.substeps if tuning is not None else 1
+    reach = max((abs(x) + r for c, r, _, _ in bodies for x in c), default=0.0)
+    speed = max((abs(x) for _, _, _, v in bodies for x in v), default=0.0)
+    return Prepared(model, data, substeps, dim, len(bodies), (reach, speed))
+
+
+def in_dim(dim: int, rows: Any, what: str, scale: float) -> tuple[tuple[float, ...], ...]:
+    """Rows of 3 numbers in ``dim`` dimensions; a 2-D scene must have stayed in z = 0 up to
+    ``PLANE`` x ``scale``.
+
+    >>> in_dim(2, [(1.0, 2.0, 1e-20)], "position", 1.0)
+    ((1.0, 2.0),)
+    """
+    if dim == 2:
+        off = [float(r[2]) for r in rows if not abs(r[2]) <= PLANE * scale]  # NaN is off too
+        if off:
+            raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
+    return tuple(tuple(float(x) for x in r[:dim]) for r in rows)
+
+
+def run_scene(prepared: Any, steps: int,
+              clock: Callable[[], float] = time.perf_counter) -> SceneRun:
+    """Step the scene ``steps`` times (only ``mj_step`` is timed, read from ``clock`` just
+    before and just after it) and read its final state."""
+    scene: Prepared = prepared
+    check_steps(steps)
+    mujoco, m, d = engine(), scene.model, scene.data
+    WARNINGS.clear()
+    nstep = steps * scene.substeps
+    start = clock()
+    if nstep:
+        mujoco.mj_step(m, d, nstep)
+    wall = clock() - start
+    if d.warning.number.any():
+        raise RuntimeError(f"MuJoCo warned while stepping, and a bad value resets the state: "
+                           f"{' | '.join(WARNINGS) or 'no message'}")
+    qpos = d.qpos.reshape(scene.count, 7)[:, :3]
+    qvel = d.qvel.reshape(scene.count, 6)[:, :3]
+    reach, speed = scene.scales
+    return SceneRun(in_dim(scene.dim, qpos, "position", reach),
+                    in_dim(scene.dim, qvel, "velocity", speed), wall, steps)
+
+
+def release_scene(prepared: Any) -> None:
+    """Nothing to free: the model and data go with the last reference to them."""

@@ -1,0 +1,119 @@
+"""The engine part of a repro script for a scene (``sphere_scene``) on MuJoCo.
+
+The statements build the scene as ``adapters/mujoco_scene.py`` does: the model compiled from
+the very MJCF text the adapter compiles (``mujoco_setup.scene_mjcf``, embedded), the scene's
+time step and iterations, and for the tuned variant the stiff contact (RK4, solver tolerance,
+margin, flat solimp, the direct solref that gives e over one scene step, the sub-steps); the
+centres and velocities go into ``qpos`` / ``qvel``; one ``mj_step`` call takes every step.
+They leave the final ``positions`` and ``velocities`` and, as the harness computes them
+(``crosscheck.scenes.STATE``), the total ``momentum`` and kinetic ``energy``.
+"""
+
+from __future__ import annotations
+
+from string import Template
+from typing import Any
+
+from adapters import mujoco_response, mujoco_scene, scene
+from adapters.mujoco_engine import MujocoDefault
+from adapters.mujoco_setup import Mass, scene_mjcf
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
+from crosscheck.studies.repro.code import EngineCode, literal, number, raising, vector
+from crosscheck.studies.repro.mujoco import mujoco_code
+from crosscheck.studies.repro.scenes import NOTE, STATE
+
+MUJOCO = Template('''\
+MJCF = """$mjcf"""
+model = mujoco.MjModel.from_xml_string(MJCF)
+if ITERATIONS is not None:
+    model.opt.iterations = ITERATIONS
+$settings
+data = mujoco.MjData(model)
+for i, (center, radius, mass, velocity) in enumerate(BODIES):
+    pad = (0.0,) * (3 - len(center))  # 2-D: the plane z = 0
+    data.qpos[7 * i:7 * i + 7] = (*center, *pad, 1.0, 0.0, 0.0, 0.0)
+    data.qvel[6 * i:6 * i + 6] = (*velocity, *pad, 0.0, 0.0, 0.0)
+mujoco.mj_forward(model, data)
+if STEPS:
+    mujoco.mj_step(model, data, STEPS * $substeps)  # $substeps MuJoCo step(s) per scene step
+if data.warning.number.any():
+    raise RuntimeError("MuJoCo warned while stepping, and a bad value resets the state")
+SCALES = ($reach, $speed)  # a 2-D scene's z noise is dropped within 2**-40 x these
+
+
+def in_dim(rows, what, scale):
+    if $dim == 2:
+        off = [float(r[2]) for r in rows if not abs(r[2]) <= 2.0**-40 * scale]
+        if off:
+            raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
+    return tuple(tuple(float(x) for x in r[:$dim]) for r in rows)
+
+
+positions = in_dim(data.qpos.reshape(len(BODIES), 7)[:, :3], "position", SCALES[0])
+velocities = in_dim(data.qvel.reshape(len(BODIES), 6)[:, :3], "velocity", SCALES[1])
+''')
+
+
+def _settings(case: SceneCase, tuning: mujoco_scene.Tuning | None) -> str:
+    dt = case.dt or DEFAULT_DT
+    if tuning is None:
+        return f"model.opt.timestep = {number(dt)}  # MuJoCo's defaults otherwise"
+    solimp = (mujoco_response.MAXIMP, mujoco_response.MAXIMP, 0.001, 0.5, 2.0)
+    solref = mujoco_scene.stiff_solref(case.restitution, dt)
+    return "\n".join([
+        "# stiff frictionless contact: RK4, tight solver, touching contacts active, flat",
+        "# solimp, direct solref (-k, -b) whose spring-dashpot gives e over one scene step",
+        f"model.opt.timestep = {number(dt)} / {tuning.substeps}",
+        "model.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4",
+        f"model.opt.tolerance = {number(mujoco_response.TOLERANCE)}",
+        f"model.geom_margin[:] = {number(mujoco_response.MARGIN)}",
+        f"model.geom_solimp[:] = {tuple(solimp)!r}",
+        f"model.geom_solref[:] = {vector(solref)}"])
+
+
+def _spheres(case: SceneCase, tuned: bool) -> list[tuple[float, Mass]]:
+    """(radius, (mass, inertia)) per body: inertia = mass (tuned) or a solid sphere's."""
+    return [(b.radius, (b.mass, (b.mass if tuned else 0.4 * b.mass * b.radius ** 2,) * 3))
+            for b in case.bodies]
+
+
+def mujoco_scene_code(adapter: MujocoDefault, case: SceneCase) -> EngineCode:
+    """MuJoCo stepping the scene as ``adapters.mujoco_scene`` does, with the variant's tuning."""
+    tuning = adapter.scene_tuning
+    dt = case.dt or DEFAULT_DT
+    bodies = [(b.center, b.radius, b.mass, b.velocity) for b in case.bodies]
+    reach = max((abs(x) + r for c, r, _, _ in bodies for x in c), default=0.0)
+    speed = max((abs(x) for _, _, _, v in bodies for x in v), default=0.0)
+    try:
+        scene.check_scene(bodies, case.dim, case.restitution, dt)
+        settings = _settings(case, tuning)
+        failure: ValueError | None = None
+    except ValueError as exc:
+        settings, failure = "", exc
+    code = MUJOCO.substitute(
+        mjcf=scene_mjcf(_spheres(case, tuning is not None),
+                        ' condim="1"' if tuning is not None else ""),
+        settings=settings, substeps=tuning.substeps if tuning is not None else 1,
+        reach=literal(reach), speed=literal(speed), dim=case.dim) + STATE
+    if failure is not None:
+        code = raising(failure, "mujoco", code)
+    return EngineCode(("import math", "import mujoco"), code, (NOTE,), inputs=_inputs(case))
+
+
+def mujoco_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
+    """The script writer of both MuJoCo variants (``writers.WRITERS``): scenes and pairs."""
+    if isinstance(case, SceneCase):
+        return mujoco_scene_code(adapter, case)
+    return mujoco_code(adapter, case)
+
+
+def _inputs(case: SceneCase) -> tuple[tuple[str, str, str, str], ...]:
+    bodies = "[\n" + "".join(
+        f"    ({vector(b.center)}, {literal(b.radius)}, {literal(b.mass)},\n"
+        f"     {vector(b.velocity)}),\n" for b in case.bodies) + "]"
+    return (("BODIES", bodies, "bodies (centre, radius, mass, velocity)",
+             f"{len(case.bodies)} bodies"),
+            ("RESTITUTION", literal(case.restitution), "restitution", repr(case.restitution)),
+            ("STEPS", repr(case.step_count), "steps", f"round({case.duration!r} / dt)"),
+            ("ITERATIONS", repr(case.iterations), "iterations",
+             "solver iterations (None: the engine's default)"))
