@@ -3,7 +3,7 @@
 Box2D is a 2-D engine in float32 (``float32`` is C ``float`` throughout): every 3-D case
 is skipped with the reason "2-D engine", and every input is rounded to float32 on its way
 into the engine.  Kinds: ``aabb`` (polygon boxes), ``sphere`` (circles) and
-``sphere_response``; scenes are not adapted.
+``sphere_response``, and ``sphere_scene`` (stepped by :mod:`adapters.box2d_scene`, see below).
 
 Detection (``aabb``, ``sphere``): ``prepare`` builds two shapes (``b2PolygonShape(box=(hx,
 hy))`` or ``b2CircleShape(radius=r)``) and two ``b2Transform`` s at the case's centres
@@ -43,6 +43,11 @@ the step starts from), then solves the touching ones and integrates: ``resolved_
 centres read before that step.  The velocities after it are the answer (position
 correction moves positions only).  Restitution: Box2D mixes the fixtures' values by
 ``max`` (b2MixRestitution), so A's fixture gets the case's ``e`` and B's 0.
+
+Scenes (``sphere_scene``, 2-D) are stepped by :mod:`adapters.box2d_scene` in worlds built by
+:mod:`adapters.box2d_world` (as responses are), with the variant's ``scene_tuning``: ``box2d``
+passes its ``variant`` (dt and iterations from the scene), ``box2d-default`` None (Box2D's
+defaults); the scene conventions, measured, are in that module's docstring.
 
 Variants (sources below):
 
@@ -136,6 +141,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
+from adapters import box2d_scene, stepping
+from adapters.box2d_world import Variant, add_disc, engine, new_world
 from crosscheck.core.contract import Adapter, Capability, Conventions, import_problem
 from crosscheck.core.geometry import Vec
 from crosscheck.core.model import Kind, Observation
@@ -174,28 +181,8 @@ SKIN = 0.02
 """Two boxes' b2_polygonRadius (0.01 each): the default variant's extra margin at boxes."""
 MAX_STEPS = 100_000
 """Step cap of a response query (bodies still approaching without touching)."""
-CAPABILITIES = frozenset({(Kind.AABB, 2), (Kind.SPHERE, 2), (Kind.SPHERE_RESPONSE, 2)})
-
-
-def engine() -> Any:
-    """The ``Box2D`` module (pybox2d), imported on first use."""
-    import Box2D  # type: ignore[import-untyped]
-
-    return Box2D
-
-
-@dataclass(frozen=True, slots=True)
-class Variant:
-    """What a variant sets (None: Box2D's default)."""
-
-    polygon_radius: float | None
-    use_radii: bool
-    dt: float
-    friction: float | None
-    fixed_rotation: bool
-    sleep: bool
-    velocity_iterations: int = 8
-    position_iterations: int = 3
+CAPABILITIES = frozenset({(Kind.AABB, 2), (Kind.SPHERE, 2), (Kind.SPHERE_RESPONSE, 2),
+                          (Kind.SPHERE_SCENE, 2)})
 
 
 @dataclass(frozen=True, slots=True)
@@ -290,19 +277,6 @@ def _vec(v: Any) -> Vec:
     return (float(v[0]), float(v[1]))
 
 
-def _body(world: Any, data: Any, restitution: float, variant: Variant) -> Any:
-    """A dynamic body of the case's centre, velocity and mass, with one circle fixture."""
-    b2 = engine()
-    body = world.CreateDynamicBody(position=_vec(data.center),
-                                   linearVelocity=_vec(data.velocity),
-                                   fixedRotation=variant.fixed_rotation)
-    extra = {} if variant.friction is None else {"friction": variant.friction}
-    body.CreateCircleFixture(radius=data.radius, density=0.0, restitution=restitution, **extra)
-    moment = 0.0 if variant.fixed_rotation else 0.5 * data.mass * data.radius**2
-    body.massData = b2.b2MassData(mass=data.mass, center=(0.0, 0.0), I=moment)
-    return body
-
-
 def _reset(p: Response) -> None:
     """A and B back at the case's start, with no contact (nor its impulses) left over."""
     p.b.active = False  # destroys the contact and the broad-phase proxies
@@ -380,7 +354,8 @@ _NOTES = ("float32 engine (inputs rounded to float32). Detection: b2CollidePolyg
           "(b2_maxTranslation: declared max_speed 2 / dt). The verdict has no b2_epsilon: "
           "only the polygon skins (default) act on it. "
           "Refused (ValueError): negative sizes, mass <= 0 (Box2D reads it as 1), negative "
-          "restitution, non-finite detection inputs and radii. ")
+          "restitution, non-finite detection inputs and radii. Scenes (2-D): every fixture "
+          "gets e; the threshold and the 2 m a step cap act there too, at the scene's dt. ")
 
 
 class Box2dTuned(Adapter):
@@ -396,6 +371,8 @@ class Box2dTuned(Adapter):
         "restitution A = e, B = 0")
     capabilities: ClassVar[frozenset[Capability]] = CAPABILITIES
     conventions: ClassVar[Conventions] = _conventions(variant, settings)
+    scene_tuning: ClassVar[Variant | None] = variant
+    """What scenes are built with (its dt replaced by the scene's; adapters/box2d_scene.py)."""
 
     def version(self) -> str:
         b2 = engine()
@@ -420,7 +397,8 @@ class Box2dTuned(Adapter):
         return super().unsupported(case)
 
     def prepare(self, case: AnyCase) -> Any:
-        assert not isinstance(case, SceneCase), "box2d declares no scene capability"
+        if isinstance(case, SceneCase):
+            return stepping.prepare(box2d_scene, case, self.scene_tuning)
         why = refusal(case)
         if why:
             raise ValueError(why)
@@ -434,16 +412,21 @@ class Box2dTuned(Adapter):
                          manifold=b2.b2Manifold(), world_manifold=b2.b2WorldManifold())
 
     def _world(self, case: ResponseCase) -> Response:
-        world = engine().b2World(gravity=(0.0, 0.0))
-        world.SetAllowSleeping(self.variant.sleep)  # not doSleep=: see the module docstring
-        a = _body(world, case.a, case.restitution, self.variant)
-        b = _body(world, case.b, 0.0, self.variant)
+        world = new_world(self.variant.sleep)  # not doSleep=: see the module docstring
+        a, b = (add_disc(world, body.center, body.velocity, body.radius, body.mass, e,
+                         self.variant) for body, e in ((case.a, case.restitution), (case.b, 0.0)))
         return Response(case, world, a, b, self.variant)
 
     def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, stepping.PreparedScene):
+            return stepping.query(prepared)
         if isinstance(prepared, Response):
             return _respond(prepared)
         return _detect(prepared)
+
+    def release(self, prepared: Any) -> None:
+        if isinstance(prepared, stepping.PreparedScene):
+            stepping.release(prepared)
 
 
 class Box2dDefault(Box2dTuned):
@@ -457,3 +440,4 @@ class Box2dDefault(Box2dTuned):
         "8 velocity / 3 position iterations (pybox2d testbed), friction (0.2), rotation free "
         "(disc moment), sleeping allowed; restitution A = e, B = 0")
     conventions: ClassVar[Conventions] = _conventions(variant, settings)
+    scene_tuning: ClassVar[Variant | None] = None

@@ -24,15 +24,17 @@ Box2D = pytest.importorskip("Box2D")
 
 import adapters  # noqa: E402
 from adapters import box2d_engine as b2e  # noqa: E402
+from adapters import box2d_scene  # noqa: E402
 from adapters.box2d_engine import Box2dDefault, Box2dTuned  # noqa: E402
+from adapters.scene import Body  # noqa: E402
 from crosscheck.core.contract import Adapter  # noqa: E402
 from crosscheck.core.geometry import Vec, norm  # noqa: E402
-from crosscheck.core.model import Category, Observation, Status  # noqa: E402
+from crosscheck.core.model import Category, Kind, Observation, Status  # noqa: E402
 from crosscheck.core.options import RunOptions  # noqa: E402
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase  # noqa: E402
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase, SceneCase  # noqa: E402
 from crosscheck.results.store import ResultsStore, read_results  # noqa: E402
 from crosscheck.run.runner import run  # noqa: E402
-from crosscheck.truth import oracle  # noqa: E402
+from crosscheck.truth import oracle, scenes  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
 from tests.conftest import aabb, response, sphere  # noqa: E402
 
@@ -485,3 +487,135 @@ def test_registry_and_version() -> None:
     assert TUNED.conventions.box_extents.startswith("half")
     assert (TUNED.conventions.zero_mass, TUNED.conventions.negative_extents) == ("", "")
     assert all(s.startswith("https://") for s in TUNED.conventions.sources)
+
+
+# Scenes (sphere_scene, 2-D): adapters/box2d_scene.py in worlds of adapters/box2d_world.py.
+
+def scene_case(bodies: list[dict[str, Any]], restitution: float = 1.0, dt: float = 1e-3,
+               duration: float = 3.0) -> SceneCase:
+    case = CASE_ADAPTER.validate_python({
+        "id": "s", "description": "d", "kind": "sphere_scene", "dim": 2,
+        "duration": duration, "dt": dt, "restitution": restitution, "bodies": bodies})
+    assert isinstance(case, SceneCase)
+    return case
+
+
+def disc_body(x: float, vx: float, mass: float = 1.0) -> dict[str, Any]:
+    return {"center": [x, 0.0], "radius": 0.5, "mass": mass, "velocity": [vx, 0.0]}
+
+
+HEAD_ON = [disc_body(-2.0, 1.0), disc_body(2.0123456789, -1.0)]
+"""cases/scenes.toml's scene-2d-head-on: equal discs meet at t = 1.506..., off the steps."""
+
+
+def stepped(adapter: Adapter, case: SceneCase) -> Observation:
+    prepared = adapter.prepare(case)
+    try:
+        return adapter.query(prepared)
+    finally:
+        adapter.release(prepared)
+
+
+def test_scenes_are_a_2d_capability_of_both_variants() -> None:
+    for adapter in (TUNED, DEFAULT):
+        assert (Kind.SPHERE_SCENE, 2) in adapter.capabilities
+        assert (Kind.SPHERE_SCENE, 3) not in adapter.capabilities
+    assert TUNED.scene_tuning == TUNED.variant and DEFAULT.scene_tuning is None
+
+
+@pytest.mark.parametrize("dt", [1e-3, 1.0 / 60.0, 0.1])
+def test_scene_elastic_head_on_pair_exchanges_velocities_exactly(dt: float) -> None:
+    # Declared (box2d_scene): the exchange is exact, momentum and energy too, at any dt.
+    case = scene_case(HEAD_ON, dt=dt)
+    got = stepped(TUNED, case)
+    want = scenes.truth(case)
+    assert got.velocities == want.velocities == ((-1.0, 0.0), (1.0, 0.0))
+    assert got.momentum == (0.0, 0.0) and got.energy == 1.0
+    assert isinstance(got.positions, tuple) and isinstance(want.positions, tuple)
+    lag = scenes.lag_bound(case, 1) * 0.5  # in metres: mean radius 0.5
+    for mine, exact in zip(got.positions, want.positions, strict=True):
+        assert math.dist(mine, exact) <= lag
+
+
+@BOTH
+def test_scene_restitution_is_the_scenes_on_every_pair(adapter: Adapter) -> None:
+    # max(e, e) = e: masses 1 and 2 at +-1, e = 0.5 -> -1 and 0 by the textbook formula.
+    got = stepped(adapter, scene_case([disc_body(-2.0, 1.0), disc_body(2.0123456789, -1.0, 2.0)],
+                                      restitution=0.5))
+    assert got.velocities == ((-1.0, 0.0), (0.0, 0.0))
+
+
+@BOTH
+def test_scene_approach_at_the_threshold_is_inelastic(adapter: Adapter) -> None:
+    # b2_velocityThreshold (1 m/s, compiled in): no bounce at exactly 1, one above 1 + 2^-23.
+    at = stepped(adapter, scene_case([disc_body(-1.0, 0.5), disc_body(1.0, -0.5)]))
+    assert at.velocities == ((0.0, 0.0), (0.0, 0.0))
+    half = (1.0 + F32_EPS) / 2
+    above = stepped(adapter, scene_case([disc_body(-1.0, half), disc_body(1.0, -half)]))
+    assert above.velocities == ((-half, 0.0), (half, 0.0))
+
+
+def test_scene_speed_cap_is_two_metres_a_step() -> None:
+    case = scene_case([disc_body(0.0, 30.0)], dt=0.1, duration=0.1)
+    got = stepped(TUNED, case)
+    assert got.velocities == ((b2e.MAX_TRANSLATION / 0.1, 0.0),)
+    assert got.positions == ((b2e.MAX_TRANSLATION, 0.0),)
+
+
+class LoggedWorld:
+    """A world whose ``Step`` calls are logged (and passed on to Box2D)."""
+
+    def __init__(self, world: Any, log: list[str]) -> None:
+        self.world, self.log = world, log
+
+    def Step(self, *args: Any) -> None:  # Box2D's name
+        self.log.append("step")
+        self.world.Step(*args)
+
+
+def test_scene_clock_reads_only_around_the_stepping_loop() -> None:
+    # Injected time: the clock's readings and the steps go to one log; no clock is real.
+    log: list[str] = []
+    readings = iter([10.0, 10.5, 20.0, 22.25])
+
+    def clock() -> float:
+        log.append("clock")
+        return next(readings)
+
+    bodies: list[Body] = [((-2.0, 0.0), 0.5, 1.0, (1.0, 0.0)), ((2.0, 0.0), 0.5, 1.0, (-1.0, 0.0))]
+    built = box2d_scene.prepare_scene(bodies, 2, 1.0, 1e-3, None, TUNED.scene_tuning)
+    logged = box2d_scene.Prepared(LoggedWorld(built.world, log), built.variant, built.bodies)
+    try:
+        idle = box2d_scene.run_scene(logged, 0, clock=clock)
+        assert log == ["clock", "clock"]
+        log.clear()
+        ran = box2d_scene.run_scene(logged, 7, clock=clock)
+        assert log == ["clock", *["step"] * 7, "clock"]
+    finally:
+        box2d_scene.release_scene(built)
+    assert (idle.steps, ran.steps) == (0, 7)
+    assert (idle.wall_s, ran.wall_s) == (0.5, 2.25)
+    assert ran.positions[0][0] == pytest.approx(-2.0 + 7e-3, abs=F32_EPS * 4)
+
+
+@pytest.mark.parametrize(("bodies", "dim", "restitution", "match"), [
+    ([((0.0, 0.0), 0.5, 0.0, (1.0, 0.0))], 2, 1.0, "mass"),  # Box2D reads mass 0 as 1
+    ([((0.0, 0.0), 0.5, 1.0, (1.0, 0.0))], 2, -0.5, "restitution"),
+    ([((0.0, 0.0), -0.5, 1.0, (1.0, 0.0))], 2, 1.0, "radius"),
+    ([((0.0, 0.0), 0.5, 1.0, (math.nan, 0.0))], 2, 1.0, "finite"),
+    ([((0.0, 0.0, 0.0), 0.5, 1.0, (1.0, 0.0, 0.0))], 3, 1.0, "2-D"),
+], ids=["zero-mass", "negative-restitution", "negative-radius", "nan-velocity", "3d"])
+def test_scene_bad_input_is_refused_before_box2d_sees_it(bodies: list[Body], dim: int,
+                                                         restitution: float, match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        box2d_scene.prepare_scene(bodies, dim, restitution, 1e-3, None, None)
+
+
+def test_scene_negative_steps_are_refused() -> None:
+    built = box2d_scene.prepare_scene([((0.0, 0.0), 0.5, 1.0, (1.0, 0.0))], 2, 1.0, 1e-3, None,
+                                      None)
+    try:
+        with pytest.raises(ValueError, match="steps"):
+            box2d_scene.run_scene(built, -1)
+    finally:
+        box2d_scene.release_scene(built)

@@ -24,13 +24,13 @@ from adapters.rapier_engine import RapierDefault, RapierTuned
 from adapters.reference import ReferenceF32, ReferenceF64
 from crosscheck.core.contract import Adapter
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.studies.repro.box2d import box2d_code
 from crosscheck.studies.repro.coal import coal_code
 from crosscheck.studies.repro.code import EngineCode
 from crosscheck.studies.repro.engines import fcl_code, pymunk_code, reference_code
 from crosscheck.studies.repro.pybullet import pybullet_code
 from crosscheck.studies.repro.rapier import rapier_code
 from crosscheck.studies.repro.scenes import pybullet_scene_code, pymunk_scene_code
+from crosscheck.studies.repro.scenes_box2d import box2d_writer
 from crosscheck.studies.repro.scenes_mujoco import mujoco_writer
 
 Writer = Callable[[Any, AnyCase, frozenset[str]], EngineCode]
@@ -79,8 +79,8 @@ WRITERS: dict[type[Adapter], Writer] = {
     MujocoDefault: mujoco_writer,
     CoalTuned: _pairs_only(coal_code),
     CoalDefault: _pairs_only(coal_code),
-    Box2dTuned: _pairs_only(box2d_code),
-    Box2dDefault: _pairs_only(box2d_code),
+    Box2dTuned: box2d_writer,
+    Box2dDefault: box2d_writer,
     RapierTuned: _pairs_only(rapier_code),
     RapierDefault: _pairs_only(rapier_code),
 }

@@ -1,0 +1,150 @@
+"""Box2D 2.3.0 (pybox2d 2.3.10) stepping a 2-D scene of N discs, for comparison with an exact run.
+
+What it is for: the scene runners step a whole scene (N discs, one restitution, no gravity,
+no ground) with a fixed ``dt`` and return the final state, to be scored against the exact
+event-driven reference; :mod:`adapters.box2d_engine` answers single pair cases instead.
+Types and input checks are shared with the other runners in :mod:`adapters.scene`; the world
+and its discs are built by :mod:`adapters.box2d_world`, as the pair adapter's responses are.
+Box2D is 2-D: a 3-D scene raises ``ValueError``.
+
+Building (``prepare_scene``, untimed): a new ``b2World`` per scene (gravity 0, sleeping as
+the variant says, with ``SetAllowSleeping``); per disc a dynamic body at its centre with its
+velocity and one circle fixture of restitution e, its mass set exactly through ``massData``
+(``add_disc``); only the declared bodies.  ``run_scene`` times only ``world.Step(dt,
+velocity_iterations, position_iterations)`` in a loop and reads ``body.position`` /
+``body.linearVelocity`` after it (float32 values, widened); ``release_scene`` destroys the
+bodies.  Velocity iterations: the scene's ``iterations`` if given, else the variant's 8;
+position iterations 3 (``Step`` has no defaults: the pybox2d testbed's values).
+
+Variants (``tuning``, passed in by the adapter: a ``box2d_world.Variant`` or None): tuned
+(``box2d``) passes the pair adapter's variant (its dt replaced by the scene's): friction 0,
+``fixedRotation``, sleeping off.  Default (``box2d-default``) passes None: friction (0.2),
+rotation free with the disc's moment, sleeping allowed; only dt, masses, radii, velocities,
+restitution and iterations come from the scene.  Neither sets damping (Box2D's default is
+0) nor bullets (Box2D 2.3.0's continuous collision acts between dynamic and static bodies
+only, unless a body is a bullet; the pair adapter sets none either).  Compiled-in constants
+no variant can change: ``b2_velocityThreshold`` (1 m/s), ``b2_maxTranslation`` (2 m a step),
+``b2_linearSlop`` (0.005 m) and the position solver.
+
+Conventions, measured with this module (sources as cited in ``box2d_engine.SOURCES``):
+
+- restitution: Box2D mixes the fixtures' restitutions by ``max`` [b2Contact.h]; every
+  fixture gets e, so every pair gets e.  Measured: masses 1 and 2 head-on at 1 and -1 with e
+  = 0.5 end at exactly -1 and 0 (the textbook's) in both variants.
+- threshold: an approach at a relative normal speed of at most ``b2_velocityThreshold`` (1
+  m/s, compiled in) is perfectly inelastic [b2ContactSolver.cpp].  Measured: two discs
+  approaching at a relative speed of exactly 1 stop dead (both 0), one float32 unit faster
+  (1 + 2^-23) they bounce; the tuned variant cannot lower it, so slow impacts are inelastic
+  in both variants (the cradle below, and random scenes: one of three 16-disc scenes lost
+  0.5% of its energy).
+- speed cap: a body moving more than ``b2_maxTranslation`` (2 m) in a step has its velocity
+  scaled down to 2 / dt [b2Island.cpp].  Measured: a free disc at 30 m/s with dt 0.1 moves 2
+  m and leaves the step at 20 m/s; at 19 m/s it is untouched.  The suite's speeds stay under
+  the cap at its largest dt.
+- sleeping: off in the tuned variant; in the default one a body slower than 0.01 m/s for 0.5
+  s sleeps with its velocity zeroed (measured: a disc at rest in a default scene was still
+  awake after 1 s and, hit at 2, took the striker's velocity exactly).
+- soft contact / margins: contacts are found at the start of a step (the narrow phase at the
+  positions the step starts from), solved as velocity constraints, then positions are
+  integrated and a position solver pushes overlaps deeper than ``b2_linearSlop`` apart (up
+  to ``b2_maxLinearCorrection`` a step) by moving positions only.  Touching at the start
+  (distance exactly 0) is a contact (``distSqr > radius * radius`` is the only reject,
+  b2CollideCircle.cpp): two touching discs, one moving at 2 into the other, exchange
+  velocities in step 1 (0 and 2 exactly); touching discs moving together at 0.3 get no
+  impulse (100 steps, velocities kept).
+- simultaneous contacts: the solver handles every touching contact of a step together by
+  sequential impulses, so a chain of touching discs is neither the textbook cradle nor a
+  rigid block unless the iterations converge.  5-disc cradle (equal masses, e = 1): at speed
+  1 (exactly the threshold) every contact is inelastic and all five end near 0.2 (with 50
+  velocity iterations exactly 0.2: one block); at speed 2 with 50 iterations the striker
+  ends at -1.2 and the four at 0.8 (an elastic hit on a mass-4 block), with 8 iterations
+  near it (energy 5% low), with 1 iteration the last disc leaves at 3 and the energy more
+  than doubles.  Momentum is kept in all of them.
+- energy at e = 1: a head-on pair exchanges its velocities exactly (1 and -1, momentum and
+  energy exact, at dt 1e-3, 1/60 and 0.1, both variants); 16 random discs over 3 s at dt
+  1e-3 keep momentum to float32 rounding (2e-8 of sum m|v|) and, tuned, energy to 4e-8
+  unless a slow impact falls under the threshold; the default variant loses 4% to 6% there
+  (friction 0.2 on oblique contacts, rotation free, and the threshold).
+- float32 throughout: positions and velocities are float32.  Measured: a free disc at 1 m/s
+  for 1000 steps of 1e-3 ends at 0.99999070 (float32 sums of dt v), so position errors of
+  Box2D are of float32 size or more, far above the float64 tolerance the scenes are scored
+  with.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+from adapters.box2d_world import Variant, add_disc, new_world, xy
+from adapters.scene import Body, SceneRun, check_scene, check_steps
+
+__all__ = ["Body", "SceneRun", "prepare_scene", "release_scene", "run_scene"]
+
+DEFAULTS = Variant(polygon_radius=None, use_radii=True, dt=0.0, friction=None,
+                   fixed_rotation=False, sleep=True)
+"""What a scene of the default variant is built with: Box2D's defaults (dt: the scene's)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Prepared:
+    """A built scene: its world, the variant with the scene's dt and iterations, the bodies."""
+
+    world: Any
+    variant: Variant
+    bodies: tuple[Any, ...]
+
+
+def scene_variant(dt: float, iterations: int | None, tuning: Variant | None) -> Variant:
+    """The variant a scene is stepped with: ``tuning`` (None: Box2D's defaults) with the
+    scene's dt and, if given, its iterations as velocity iterations.
+
+    >>> v = scene_variant(1e-3, 20, None)
+    >>> v.dt, v.velocity_iterations, v.position_iterations, v.sleep, v.friction
+    (0.001, 20, 3, True, None)
+    """
+    base = DEFAULTS if tuning is None else tuning
+    its = base.velocity_iterations if iterations is None else iterations
+    return replace(base, dt=dt, velocity_iterations=its)
+
+
+def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
+                  iterations: int | None, tuning: Variant | None) -> Any:
+    """Build the scene in a new world (untimed).  Box2D is 2-D: ``dim`` 3 raises.
+
+    ``tuning``: the variant's settings, or None for Box2D's defaults.
+    """
+    if dim != 2:
+        raise ValueError(f"box2d is a 2-D engine: no {dim}-D scenes")
+    check_scene(bodies, dim, restitution, dt)  # Box2D reads a mass <= 0 as 1
+    variant = scene_variant(dt, iterations, tuning)
+    world = new_world(variant.sleep)
+    made = tuple(add_disc(world, center, velocity, radius, mass, restitution, variant)
+                 for center, radius, mass, velocity in bodies)
+    return Prepared(world, variant, made)
+
+
+def run_scene(prepared: Any, steps: int,
+              clock: Callable[[], float] = time.perf_counter) -> SceneRun:
+    """Step the scene ``steps`` times (only this loop is timed, read from ``clock``
+    just before and just after it) and read its final state."""
+    scene: Prepared = prepared
+    check_steps(steps)
+    v = scene.variant
+    step, dt, vi, pi = scene.world.Step, v.dt, v.velocity_iterations, v.position_iterations
+    start = clock()
+    for _ in range(steps):
+        step(dt, vi, pi)
+    wall = clock() - start
+    positions = tuple(xy(b.position) for b in scene.bodies)
+    velocities = tuple(xy(b.linearVelocity) for b in scene.bodies)
+    return SceneRun(positions, velocities, wall, steps)
+
+
+def release_scene(prepared: Any) -> None:
+    """Destroy the scene's bodies (their fixtures and contacts go with them)."""
+    scene: Prepared = prepared
+    for body in scene.bodies:
+        scene.world.DestroyBody(body)

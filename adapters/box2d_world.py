@@ -1,0 +1,64 @@
+"""Building Box2D (pybox2d 2.3.10) worlds of discs, shared by the response and the scene runner.
+
+What it is for: :mod:`adapters.box2d_engine` (``sphere_response``: two discs) and
+:mod:`adapters.box2d_scene` (``sphere_scene``: N discs) build their worlds the same way, with
+the same variant settings (:class:`Variant`): a ``b2World`` with gravity 0 and sleeping set
+with ``SetAllowSleeping`` (pybox2d's ``b2World(doSleep=...)`` only sets a Python attribute),
+and per disc a dynamic body with one circle fixture of density 0 whose mass is then set
+exactly through ``massData`` (centre 0; moment ``m r^2 / 2`` when rotation is free, what a
+density would give, else 0 with ``fixedRotation``).  The reasons for each setting are in
+:mod:`adapters.box2d_engine`'s docstring.  Box2D is imported on first use (``engine``), so a
+missing engine shows as unavailable.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+
+def engine() -> Any:
+    """The ``Box2D`` module (pybox2d), imported on first use."""
+    import Box2D  # type: ignore[import-untyped]
+
+    return Box2D
+
+
+@dataclass(frozen=True, slots=True)
+class Variant:
+    """What a variant sets (None: Box2D's default)."""
+
+    polygon_radius: float | None
+    use_radii: bool
+    dt: float
+    friction: float | None
+    fixed_rotation: bool
+    sleep: bool
+    velocity_iterations: int = 8
+    position_iterations: int = 3
+
+
+def new_world(sleep: bool) -> Any:
+    """A ``b2World`` with no gravity; sleeping on or off in Box2D itself."""
+    world = engine().b2World(gravity=(0.0, 0.0))
+    world.SetAllowSleeping(sleep)  # not doSleep=: it only sets a Python attribute
+    return world
+
+
+def xy(v: Sequence[float]) -> tuple[float, float]:
+    """The first two components of ``v`` as floats (a ``b2Vec2`` or a tuple)."""
+    return (float(v[0]), float(v[1]))
+
+
+def add_disc(world: Any, center: Sequence[float], velocity: Sequence[float], radius: float,
+             mass: float, restitution: float, variant: Variant) -> Any:
+    """A dynamic body at ``center`` with ``velocity`` and ``mass``, with one circle fixture."""
+    b2 = engine()
+    body = world.CreateDynamicBody(position=xy(center), linearVelocity=xy(velocity),
+                                   fixedRotation=variant.fixed_rotation)
+    extra = {} if variant.friction is None else {"friction": variant.friction}
+    body.CreateCircleFixture(radius=radius, density=0.0, restitution=restitution, **extra)
+    moment = 0.0 if variant.fixed_rotation else 0.5 * mass * radius**2
+    body.massData = b2.b2MassData(mass=mass, center=(0.0, 0.0), I=moment)
+    return body
