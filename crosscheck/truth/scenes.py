@@ -147,6 +147,14 @@ def damping_bound(case: SceneCase, conventions: Conventions) -> float:
     return -math.expm1(-conventions.damping * (1.0 + top) * float(simulated_time(case)))
 
 
+PRECISION_FACTOR = 2.0
+"""How far, in units of the engine's declared relative precision ``rtol`` (its ``Real``:
+``2**-21`` for a float32 engine), the scene's velocities, momentum and energy may be off
+from the precision alone: each velocity component held to ``rtol`` of its size is at most
+``sqrt(3) rtol`` of a speed off, and so of sum m|v| for the momentum; the kinetic energy,
+a square, ``2 rtol + rtol**2``."""
+
+
 def _category(case: SceneCase, conventions: Conventions, quantity: str, err: float,
               impacts: int | None, positions_err: float) -> tuple[str, str]:
     steps = f"{case.step_count} steps of dt = {case.dt or DEFAULT_DT:.3g} s"
@@ -168,6 +176,12 @@ def _category(case: SceneCase, conventions: Conventions, quantity: str, err: flo
             return Category.CONVENTION, (
                 f"{quantity} off by {err:.3g} {_UNITS[quantity]}, within the step lag {lag:.3g} "
                 f"plus the declared damping ({conventions.damping:g} per s: up to {damp:.3g})")
+    precision = PRECISION_FACTOR * conventions.rtol
+    if quantity in ("velocities", "momentum", "energy") and err <= precision:
+        return Category.TOLERANCE, (
+            f"{quantity} off by {err:.3g} {_UNITS[quantity]}, within the engine's declared "
+            f"precision: {PRECISION_FACTOR:g} x rtol {conventions.rtol:.3g} = {precision:.3g} "
+            f"(velocities held at that relative precision) ({steps})")
     return Category.ERROR, (f"{quantity} off by {err:.3g} {_UNITS[quantity]} after {steps}; "
                             "neither the step lag nor a declared convention explains it")
 

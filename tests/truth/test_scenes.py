@@ -54,3 +54,21 @@ def test_scenes_get_categories_from_the_step_and_declared_damping() -> None:
     damped = judge(case, Conventions(damping=0.04), "energy", drained.energy, truth, drained)
     assert damped.category == Category.CONVENTION and "damps" in damped.reason
     assert judge(case, Conventions(), "energy", drained.energy, truth, drained).category == "error"
+
+
+def test_a_scene_within_the_declared_precision_is_tolerance_beyond_it_error() -> None:
+    case = _scene(0.01)
+    truth = scenes.truth(case)
+    f32 = Conventions(rtol=2.0**-21)
+    bound = scenes.PRECISION_FACTOR * f32.rtol
+    assert truth.energy is not None
+    within = replace(truth, energy=float(truth.energy) * (1.0 + 0.5 * bound))
+    verdict = judge(case, f32, "energy", within.energy, truth, within)
+    assert verdict.category == Category.TOLERANCE and "declared precision" in verdict.reason
+    # the same error on an engine that declares no precision, or twice the bound: error
+    assert judge(case, Conventions(), "energy", within.energy, truth, within).category == "error"
+    beyond = replace(truth, energy=float(truth.energy) * (1.0 + 2.0 * bound))
+    assert judge(case, f32, "energy", beyond.energy, truth, beyond).category == "error"
+    # positions are never excused by the precision of velocities
+    moved = _shifted(truth, 0.5 * bound, 0.0)
+    assert judge(case, f32, "positions", moved.positions, truth, moved).category != "tolerance"
