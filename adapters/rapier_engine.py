@@ -5,7 +5,9 @@ rapier3d 0.36.1 is the PyO3 build of Rapier 0.36.1 (3-D, ``Real`` = f32) with pa
 Kinds: ``aabb``, ``sphere``, ``sphere_response`` in 3-D, and in 2-D run in the plane z = 0
 (as fcl does): a disc is a ball at z = 0, a 2-D box a cuboid with the z half-width of
 :func:`crosscheck.core.geometry.z_half` (z is never the axis of least overlap nor a gap), a
-2-D response locks z translation; answers come back as 2-tuples.  No scenes.
+2-D response locks z translation; answers come back as 2-tuples.  Scenes (``sphere_scene``,
+2-D and 3-D) are stepped by :mod:`adapters.rapier_scene` with the variant's ``scene_tuning``
+(its conventions are measured and declared there).
 
 Detection.  The bindings expose no pairwise parry query (no ``contact``/``distance`` of two
 shapes at two poses): the narrow phase is the pairwise query they have.  ``prepare`` builds
@@ -108,7 +110,18 @@ from dataclasses import dataclass, replace
 from importlib import metadata
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from adapters.rapier_response import APPROACH_RTOL, Response, respond
+from adapters import rapier_scene, stepping
+from adapters.rapier_response import (
+    APPROACH_RTOL,
+    Response,
+    default_body,
+    default_collider,
+    in_plane,
+    respond,
+    tuned_body,
+    tuned_collider,
+)
+from adapters.rapier_scene import Tuning
 from crosscheck.core import contract, geometry
 from crosscheck.core.contract import FEATURES, Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.geometry import Vec3, to3
@@ -144,8 +157,6 @@ DEFAULT_DT = 0.01666666753590107
 """``IntegrationParameters().dt``: 1/60 as float32."""
 TUNED_DT = 1.0 / 60.0
 """The tuned step, set explicitly: rapier's default (why not smaller: adapters.rapier_response)."""
-SOFT_CCD = 1e30
-"""Tuned bodies' ``soft_ccd_prediction``: no bound on the predictive reach of a step."""
 
 
 # --- inputs rapier cannot take ----------------------------------------------------------------
@@ -310,7 +321,7 @@ class RapierTuned(Adapter):
         "f32::MAX, soft_ccd_prediction 1e30, rotations locked, no sleeping, damping 0, "
         "friction 0, restitution rule Multiply with A = e, B = 1; 2-D: z = 0, z locked")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
-        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE, Kind.SPHERE_SCENE)
     conventions: ClassVar[Conventions] = TUNED
     prediction: ClassVar[float] = 0.0
     """Detection: the verdict's prediction distance (``normalized_prediction_distance``)."""
@@ -318,6 +329,9 @@ class RapierTuned(Adapter):
         ("dt", TUNED_DT), ("normalized_prediction_distance", 0.0),
         ("normalized_max_linear_velocity", F32_MAX))
     """Responses: the ``IntegrationParameters`` the world gets."""
+    scene_tuning: ClassVar[Tuning | None] = Tuning(parameters[1:])
+    """What scenes are built with (adapters/rapier_scene.py; its dt is the scene's); None:
+    rapier's defaults."""
 
     def version(self) -> str:
         return metadata.version("rapier3d")
@@ -334,7 +348,8 @@ class RapierTuned(Adapter):
         return rp.Vec3.zeros
 
     def prepare(self, case: AnyCase) -> Any:
-        assert not isinstance(case, SceneCase), "rapier declares no scene capability"
+        if isinstance(case, SceneCase):
+            return stepping.prepare(rapier_scene, case, self.scene_tuning)
         check_inputs(case)
         if isinstance(case, ResponseCase):
             return self._response(case)
@@ -349,34 +364,31 @@ class RapierTuned(Adapter):
     def _response(self, case: ResponseCase) -> Response:
         bodies, colliders = [], []
         for body, e in ((case.a, case.restitution), (case.b, 1.0)):
-            builder = self._body(to3(body.center), to3(body.velocity))
-            if case.dim == 2:  # the plane z = 0 is the case's plane: no motion out of it
-                builder = builder.enabled_translations((True, True, False))
-            bodies.append(builder)
+            # the plane z = 0 is a 2-D case's plane: no motion out of it
+            bodies.append(in_plane(self._body(to3(body.center), to3(body.velocity)), case.dim))
             colliders.append(self._collider(body.radius, body.mass, case.restitution, e))
         speeds = [abs(x) for x in (*case.a.velocity, *case.b.velocity)]
         return Response((bodies[0], bodies[1]), (colliders[0], colliders[1]), self.parameters,
                         case.dim, APPROACH_RTOL * max(speeds, default=0.0))
 
     def _body(self, centre: Vec3, velocity: Vec3) -> rapier3d.RigidBodyBuilder:
-        import rapier3d as rp
-
-        return (rp.RigidBody.dynamic().translation(centre).linvel(velocity).can_sleep(False)
-                .soft_ccd_prediction(SOFT_CCD).locked_axes(rp.LockedAxes.ROTATION_LOCKED)
-                .linear_damping(0.0).angular_damping(0.0))
+        return tuned_body(centre, velocity)
 
     def _collider(self, radius: float, mass: float, e: float,
                   own: float) -> rapier3d.ColliderBuilder:
         """Tuned: friction 0; restitution ``own`` (A: e, B: 1) combined by product (= e)."""
-        import rapier3d as rp
-
-        return (rp.Collider.ball(radius).mass(mass).friction(0.0).restitution(own)
-                .restitution_combine_rule(rp.CoefficientCombineRule.MULTIPLY))
+        return tuned_collider(radius, mass, own, "MULTIPLY")
 
     def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, stepping.PreparedScene):
+            return stepping.query(prepared)
         if isinstance(prepared, Response):
             return respond(prepared)
         return detect(prepared)
+
+    def release(self, prepared: Any) -> None:
+        if isinstance(prepared, stepping.PreparedScene):
+            stepping.release(prepared)
 
 
 class RapierDefault(RapierTuned):
@@ -391,15 +403,12 @@ class RapierDefault(RapierTuned):
     conventions: ClassVar[Conventions] = DEFAULT
     prediction: ClassVar[float] = DEFAULT_PREDICTION
     parameters: ClassVar[tuple[tuple[str, float], ...]] = ()
+    scene_tuning: ClassVar[Tuning | None] = None
 
     def _body(self, centre: Vec3, velocity: Vec3) -> rapier3d.RigidBodyBuilder:
-        import rapier3d as rp
-
-        return rp.RigidBody.dynamic().translation(centre).linvel(velocity)
+        return default_body(centre, velocity)
 
     def _collider(self, radius: float, mass: float, e: float,
                   own: float) -> rapier3d.ColliderBuilder:
         """Default: both colliders get e; the default rule averages them (= e)."""
-        import rapier3d as rp
-
-        return rp.Collider.ball(radius).mass(mass).restitution(e)
+        return default_collider(radius, mass, e)

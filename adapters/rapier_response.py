@@ -26,6 +26,10 @@ A body whose state became non-finite is neutralised by rapier (``PhysicsWorld.qu
 :func:`respond` raises then (measured for an infinite velocity or restitution).  A 2-D case
 runs at z = 0 with z translation locked; a result with vz != 0 raises.  Conventions and
 sources: :mod:`adapters.rapier_engine`.
+
+The builders of the variants' bodies and colliders (:func:`tuned_body`, :func:`default_body`,
+:func:`tuned_collider`, :func:`default_collider`, :func:`in_plane`) and :func:`new_world` are
+shared with the scene runner :mod:`adapters.rapier_scene`.
 """
 
 from __future__ import annotations
@@ -39,6 +43,8 @@ from crosscheck.core.model import Observation
 if TYPE_CHECKING:
     import rapier3d
 
+SOFT_CCD = 1e30
+"""Tuned bodies' ``soft_ccd_prediction``: no bound on the predictive reach of a step."""
 MAX_STEPS = 100_000
 APPROACH_RTOL = 2.0**-20
 """A response stops once the approach speed is below this x the case's largest speed."""
@@ -55,6 +61,55 @@ class Response:
     tol: float
 
 
+def tuned_body(centre: Vec3, velocity: Vec3) -> rapier3d.RigidBodyBuilder:
+    """The tuned variant's body: no sleeping, soft CCD, rotations locked, no damping."""
+    import rapier3d as rp
+
+    return (rp.RigidBody.dynamic().translation(centre).linvel(velocity).can_sleep(False)
+            .soft_ccd_prediction(SOFT_CCD).locked_axes(rp.LockedAxes.ROTATION_LOCKED)
+            .linear_damping(0.0).angular_damping(0.0))
+
+
+def default_body(centre: Vec3, velocity: Vec3) -> rapier3d.RigidBodyBuilder:
+    """The default variant's body: only its centre and velocity."""
+    import rapier3d as rp
+
+    return rp.RigidBody.dynamic().translation(centre).linvel(velocity)
+
+
+def in_plane(builder: rapier3d.RigidBodyBuilder, dim: int) -> rapier3d.RigidBodyBuilder:
+    """A 2-D body keeps to the plane z = 0 (z translation locked); a 3-D one is unchanged."""
+    return builder.enabled_translations((True, True, False)) if dim == 2 else builder
+
+
+def tuned_collider(radius: float, mass: float, restitution: float,
+                   rule: str = "MULTIPLY") -> rapier3d.ColliderBuilder:
+    """The tuned variant's ball: friction 0, ``restitution`` combined by ``rule`` (the name
+    of a ``CoefficientCombineRule``)."""
+    import rapier3d as rp
+
+    return (rp.Collider.ball(radius).mass(mass).friction(0.0).restitution(restitution)
+            .restitution_combine_rule(getattr(rp.CoefficientCombineRule, rule)))
+
+
+def default_collider(radius: float, mass: float, restitution: float) -> rapier3d.ColliderBuilder:
+    """The default variant's ball: its mass and restitution, the rest rapier's defaults."""
+    import rapier3d as rp
+
+    return rp.Collider.ball(radius).mass(mass).restitution(restitution)
+
+
+def new_world(parameters: tuple[tuple[str, float], ...]) -> rapier3d.PhysicsWorld:
+    """A ``PhysicsWorld`` with gravity 0 and these ``IntegrationParameters`` overrides."""
+    import rapier3d as rp
+
+    world = rp.PhysicsWorld(gravity=(0.0, 0.0, 0.0))
+    params = world.integration_parameters
+    for key, value in parameters:
+        setattr(params, key, value)
+    return world
+
+
 def pushed(world: rapier3d.PhysicsWorld) -> bool:
     """Whether the last step's solver put a normal impulse on the contact between A and B."""
     return any(pair.total_impulse_magnitude() > 0.0 for pair in world.narrow_phase.contact_pairs())
@@ -63,12 +118,7 @@ def pushed(world: rapier3d.PhysicsWorld) -> bool:
 def respond(p: Response) -> Observation:
     """Step a new world up to the first step whose solver pushed A and B apart, or until they
     no longer approach without having touched (or ``MAX_STEPS``)."""
-    import rapier3d as rp
-
-    world = rp.PhysicsWorld(gravity=(0.0, 0.0, 0.0))
-    params = world.integration_parameters
-    for key, value in p.parameters:
-        setattr(params, key, value)
+    world = new_world(p.parameters)
     handles = [world.add_body(body, [collider])
                for body, collider in zip(p.bodies, p.colliders, strict=True)]
     a, b = (world.rigid_bodies[h] for h in handles)

@@ -247,7 +247,7 @@ def test_engines_without_a_script_are_refused(repro_run: Path) -> None:
     with pytest.raises(ReproError, match="did not run"):
         scripts(stored, "aabb-3d-corner-touch-mixed-signs", "pymunk")  # 2-D engine, 3-D case
     with pytest.raises(ReproError, match="did not run"):
-        scripts(stored, "scene-2d-head-on.dt=0.1", "rapier")  # no scenes
+        scripts(stored, "scene-2d-head-on.dt=0.1", "coal")  # no scenes
     with pytest.raises(ReproError, match="no case"):
         scripts(stored, "no-such-case")
     defaults = [s.engine for s in scripts(stored, "resp-2d-separating-head-on")]

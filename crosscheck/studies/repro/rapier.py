@@ -109,7 +109,7 @@ TUNED_BODY = ("rp.RigidBody.dynamic().translation({c}).linvel({v}).can_sleep(Fal
               "        .linear_damping(0.0).angular_damping(0.0){z}")
 DEFAULT_BODY = "rp.RigidBody.dynamic().translation({c}).linvel({v}){z}"
 TUNED_COLLIDER = ("rp.Collider.ball({r}).mass({m}).friction(0.0).restitution({own})\n"
-                  "        .restitution_combine_rule(rp.CoefficientCombineRule.MULTIPLY)")
+                  "        .restitution_combine_rule(rp.CoefficientCombineRule.{rule})")
 DEFAULT_COLLIDER = "rp.Collider.ball({r}).mass({m}).restitution(RESTITUTION)"
 
 
@@ -153,9 +153,9 @@ def _response(adapter: RapierTuned, case: ResponseCase) -> str:
     velocity = "({0}_VELOCITY[0], {0}_VELOCITY[1], 0.0)" if case.dim == 2 else "{0}_VELOCITY"
     bodies = ",\n".join(
         "    (" + body.format(c=_centre(w, case.dim), v=velocity.format(w),
-                              ccd=number(rapier_engine.SOFT_CCD), z=z) + ")" for w in "AB")
+                              ccd=number(rapier_response.SOFT_CCD), z=z) + ")" for w in "AB")
     colliders = ",\n".join(
-        "    (" + collider.format(r=f"{w}_RADIUS", m=f"{w}_MASS", own=own) + ")"
+        "    (" + collider.format(r=f"{w}_RADIUS", m=f"{w}_MASS", own=own, rule="MULTIPLY") + ")"
         for w, own in (("A", "RESTITUTION"), ("B", "1.0")))
     return RESPONSE.substitute(
         max_steps=rapier_response.MAX_STEPS, parameters=repr(adapter.parameters),

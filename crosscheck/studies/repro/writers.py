@@ -28,10 +28,10 @@ from crosscheck.studies.repro.coal import coal_code
 from crosscheck.studies.repro.code import EngineCode
 from crosscheck.studies.repro.engines import fcl_code, pymunk_code, reference_code
 from crosscheck.studies.repro.pybullet import pybullet_code
-from crosscheck.studies.repro.rapier import rapier_code
 from crosscheck.studies.repro.scenes import pybullet_scene_code, pymunk_scene_code
 from crosscheck.studies.repro.scenes_box2d import box2d_writer
 from crosscheck.studies.repro.scenes_mujoco import mujoco_writer
+from crosscheck.studies.repro.scenes_rapier import rapier_writer
 
 Writer = Callable[[Any, AnyCase, frozenset[str]], EngineCode]
 """A script writer: (adapter, case, quantities the run recorded as a declared hang)."""
@@ -81,8 +81,8 @@ WRITERS: dict[type[Adapter], Writer] = {
     CoalDefault: _pairs_only(coal_code),
     Box2dTuned: box2d_writer,
     Box2dDefault: box2d_writer,
-    RapierTuned: _pairs_only(rapier_code),
-    RapierDefault: _pairs_only(rapier_code),
+    RapierTuned: rapier_writer,
+    RapierDefault: rapier_writer,
 }
 """The script writer of each adapter class (exact classes: a subclass may call otherwise)."""
 
