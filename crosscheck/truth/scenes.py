@@ -183,7 +183,8 @@ def _category(case: SceneCase, conventions: Conventions, quantity: str, err: flo
             f"precision: {PRECISION_FACTOR:g} x rtol {conventions.rtol:.3g} = {precision:.3g} "
             f"(velocities held at that relative precision) ({steps})")
     return Category.ERROR, (f"{quantity} off by {err:.3g} {_UNITS[quantity]} after {steps}; "
-                            "neither the step lag nor a declared convention explains it")
+                            "not explained by the step lag, nor by the declared damping or "
+                            "precision (the scene conventions the scoring reads)")
 
 
 def aligned(case: SceneCase, impacts: Sequence[float]) -> list[float]:

@@ -2,10 +2,10 @@
 
 Every built-in variant has one (all 15: the textbook formula in float64 and float32, FCL,
 PyBullet, pymunk, MuJoCo, coal, Box2D and Rapier, tuned and default), for every kind it
-runs, scenes included (PyBullet and pymunk step them).  The table is keyed by the exact
-class: a subclass (a plug-in's) may make other calls, so it has no writer until it is given
-one here.  A writer takes the adapter, the case and the quantities the run recorded as a
-declared hang (FCL's signed distance), and returns an
+runs, scenes included (PyBullet, pymunk, MuJoCo, Box2D and Rapier step them).  The table
+is keyed by the exact class: a subclass (a plug-in's) may make other calls, so it has no
+writer until it is given one here.  A writer takes the adapter, the case and the quantities
+the run recorded as a declared hang (FCL's signed distance), and returns an
 :class:`~crosscheck.studies.repro.code.EngineCode`.
 """
 
