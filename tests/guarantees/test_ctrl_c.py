@@ -1,9 +1,11 @@
 """Ctrl-C stops an isolated run cleanly: the finished rows are kept, no worker's death is
-taken for a crash, the resume hint is printed and ``--resume`` finishes the run.  (In-process
+taken for a crash, the resume hint is printed and ``--resume`` finishes the run; also while
+instructions are counted (the counts so far kept, no counting worker left behind).  (In-process
 runs: tests/guarantees/test_inprocess_hangs.py.)"""
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -14,7 +16,10 @@ import pytest
 
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
+from crosscheck.results.counts import FILE as COUNTS
+from crosscheck.results.counts import read_counts
 from crosscheck.results.store import read_results
+from crosscheck.run import callgrind
 from tests.conftest import ROOT, wait_for_rows
 
 pytestmark = pytest.mark.engine
@@ -88,3 +93,39 @@ def test_ctrl_c_after_the_last_row_exits_130_and_a_resume_renders_the_report(
     assert main(["run", "--resume", str(out)]) == 0
     assert len(read_results(out)) == rows
     assert (out / "report.html").exists()
+
+
+def counting_workers(group: int) -> list[str]:
+    """The command lines of the processes of process group ``group`` running valgrind."""
+    found = []
+    for proc in Path("/proc").iterdir():
+        try:
+            if proc.name.isdigit() and os.getpgid(int(proc.name)) == group:
+                line = (proc / "cmdline").read_bytes().replace(b"\0", b" ").decode()
+                found += [line] if "valgrind" in line or "cost_worker" in line else []
+        except (OSError, ProcessLookupError):
+            continue  # gone meanwhile
+    return found
+
+
+@pytest.mark.skipif(callgrind.missing() is not None, reason=str(callgrind.missing()))
+def test_ctrl_c_while_counting_keeps_the_counts_stops_valgrind_and_resume_counts_the_rest(
+        tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    args = [*CLI, "run", str(ROOT / "cases" / "sphere.toml"), "--engine", "reference",
+            "--engine", "pymunk", "--samples", "3", "--min-sample", "0.001",
+            "--timing-cases", "3", "--timer", "instructions", "--out", str(out)]
+    process = subprocess.Popen(args, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True, start_new_session=True)
+    wait_for_rows(out / COUNTS, rows=1)
+    os.killpg(process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole group
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 130, stderr
+    assert not counting_workers(process.pid), "a counting worker outlived the run"
+    kept = len(read_counts(out))
+    assert kept >= 1
+    resumed = subprocess.run([*CLI, "run", "--resume", str(out)], env=ENV,
+                             capture_output=True, text=True, timeout=300)
+    assert resumed.returncode == 0, resumed.stderr
+    cost = json.loads((out / "run.json").read_text())["timing"]["cost"]
+    assert cost["failed"] == 0 and len(read_counts(out)) == cost["sampled"] > kept
