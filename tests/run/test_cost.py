@@ -192,19 +192,24 @@ def counted(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     root = tmp_path_factory.mktemp("counted")
     stores = {name: verdicts_and_wall_times(root / name, engine)
               for name, engine in RUNS.items()}
-    dying = ResultsStore(root / "dying")
+    dying, hanging = ResultsStore(root / "dying"), ResultsStore(root / "hanging")
     library = cost.LibraryCounter(dying, OPTIONS, threading.Lock(), None, threading.Event())
+    stuck = cost.LibraryCounter(hanging, replace(OPTIONS, timeout_s=0.05), threading.Lock(),
+                                None, threading.Event())  # 0.05 s x SLOWDOWN: 5 s
     boom = sphere(0.0, 2.0, id="boom")
-    with ThreadPoolExecutor(max_workers=4) as pool:
+    with ThreadPoolExecutor(max_workers=5) as pool:
         sections = {name: pool.submit(cost.cost_phase, store, CASES, [RUNS[name]], OPTIONS)
                     for name, store in stores.items()}
         died = pool.submit(library.count, [(boom, fakes.CrashesOnSpheresAt()),
                                            (CASES[0], fakes.BusyLoop())])
+        hung = pool.submit(stuck.count, [(CASES[1], fakes.SleepsForever()),
+                                         (CASES[0], fakes.BusyLoop())])
         out = {name: future.result() for name, future in sections.items()}
         died.result()
-    for store in [*stores.values(), dying]:
+        hung.result()
+    for store in [*stores.values(), dying, hanging]:
         store.close()
-    return {"root": root, "sections": out, "failed": library.failed}
+    return {"root": root, "sections": out, "failed": library.failed, "hung": stuck.failed}
 
 
 @needs_valgrind
@@ -232,3 +237,11 @@ def test_a_counting_worker_that_dies_costs_one_pair_and_the_next_is_counted(
     assert list(counted["failed"]) == ["boom x fake-boom"]
     assert "died" in counted["failed"]["boom x fake-boom"]
     assert set(read_counts(counted["root"] / "dying")["case_id"]) == {"s0"}
+
+
+@needs_valgrind
+def test_a_counting_worker_that_does_not_answer_is_stopped_and_the_next_pair_is_counted(
+        counted: dict[str, Any]) -> None:
+    assert list(counted["hung"]) == ["s1 x fake-hangs"]
+    assert counted["hung"]["s1 x fake-hangs"].startswith("no answer within 5 s under callgrind")
+    assert set(read_counts(counted["root"] / "hanging")["case_id"]) == {"s0"}
