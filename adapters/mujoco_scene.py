@@ -76,7 +76,7 @@ from typing import Any
 
 from adapters.mujoco_response import damping_dashpot, tune_stiff_model
 from adapters.mujoco_setup import WARNINGS, Mass, engine, scene_mjcf
-from adapters.scene import Body, SceneRun, check_scene, check_steps
+from adapters.scene import Body, SceneRun, check_scene, check_steps, in_scene_dim
 
 __all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
 
@@ -169,20 +169,6 @@ def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: floa
     return Prepared(model, data, substeps, dim, len(bodies), (reach, speed))
 
 
-def in_dim(dim: int, rows: Any, what: str, scale: float) -> tuple[tuple[float, ...], ...]:
-    """Rows of 3 numbers in ``dim`` dimensions; a 2-D scene must have stayed in z = 0 up to
-    ``PLANE`` x ``scale``.
-
-    >>> in_dim(2, [(1.0, 2.0, 1e-20)], "position", 1.0)
-    ((1.0, 2.0),)
-    """
-    if dim == 2:
-        off = [float(r[2]) for r in rows if not abs(r[2]) <= PLANE * scale]  # NaN is off too
-        if off:
-            raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
-    return tuple(tuple(float(x) for x in r[:dim]) for r in rows)
-
-
 def run_scene(prepared: Any, steps: int,
               clock: Callable[[], float] = time.perf_counter) -> SceneRun:
     """Step the scene ``steps`` times (only ``mj_step`` is timed, read from ``clock`` just
@@ -202,8 +188,8 @@ def run_scene(prepared: Any, steps: int,
     qpos = d.qpos.reshape(scene.count, 7)[:, :3]
     qvel = d.qvel.reshape(scene.count, 6)[:, :3]
     reach, speed = scene.scales
-    return SceneRun(in_dim(scene.dim, qpos, "position", reach),
-                    in_dim(scene.dim, qvel, "velocity", speed), wall, steps)
+    return SceneRun(in_scene_dim(scene.dim, qpos, "position", PLANE * reach),
+                    in_scene_dim(scene.dim, qvel, "velocity", PLANE * speed), wall, steps)
 
 
 def release_scene(prepared: Any) -> None:

@@ -83,8 +83,8 @@ from adapters.rapier_response import (
     tuned_body,
     tuned_collider,
 )
-from adapters.scene import Body, SceneRun, check_scene, check_steps
-from crosscheck.core.geometry import Vec3, to3
+from adapters.scene import Body, SceneRun, check_scene, check_steps, in_scene_dim
+from crosscheck.core.geometry import to3
 
 __all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
 
@@ -169,20 +169,6 @@ def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: floa
     return Prepared(world, dim, handles)
 
 
-def in_dim(dim: int, vectors: Sequence[Vec3], what: str) -> tuple[tuple[float, ...], ...]:
-    """``vectors`` in ``dim`` dimensions; a 2-D scene must have stayed in z = 0 exactly.
-
-    >>> in_dim(2, [(1.0, 2.0, 0.0)], "position")
-    ((1.0, 2.0),)
-    """
-    if dim == 3:
-        return tuple((float(v[0]), float(v[1]), float(v[2])) for v in vectors)
-    off = [v[2] for v in vectors if v[2] != 0.0]  # NaN is off the plane too
-    if off:
-        raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
-    return tuple((float(v[0]), float(v[1])) for v in vectors)
-
-
 def run_scene(prepared: Any, steps: int,
               clock: Callable[[], float] = time.perf_counter) -> SceneRun:
     """Step the scene ``steps`` times (only this loop is timed, read from ``clock``
@@ -200,8 +186,8 @@ def run_scene(prepared: Any, steps: int,
     bodies = [scene.world.rigid_bodies[h] for h in scene.handles]
     positions = [b.translation.to_tuple() for b in bodies]
     velocities = [b.linvel.to_tuple() for b in bodies]
-    return SceneRun(in_dim(scene.dim, positions, "position"),
-                    in_dim(scene.dim, velocities, "velocity"), wall, steps)
+    return SceneRun(in_scene_dim(scene.dim, positions, "position"),
+                    in_scene_dim(scene.dim, velocities, "velocity"), wall, steps)
 
 
 def release_scene(prepared: Any) -> None:

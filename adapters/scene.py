@@ -12,7 +12,7 @@ pybullet makes a mass-0 body static and raises ``pybullet.error`` on a radius <=
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 Body = tuple[tuple[float, ...], float, float, tuple[float, ...]]
@@ -57,6 +57,28 @@ def check_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float)
             raise ValueError(f"body {i}: radius must be positive and finite, got {radius}")
         if not (0.0 < mass < math.inf):
             raise ValueError(f"body {i}: mass must be positive and finite, got {mass}")
+
+
+def in_scene_dim(dim: int, vectors: Iterable[Sequence[float]], what: str,
+                 tolerance: float = 0.0) -> tuple[tuple[float, ...], ...]:
+    """Vectors of a 3-D engine in the scene's ``dim`` dimensions: a 2-D scene must have kept
+    to the plane z = 0, up to ``tolerance`` (NaN is off the plane).
+
+    >>> in_scene_dim(2, [(1.0, 2.0, 0.0)], "position")
+    ((1.0, 2.0),)
+    >>> in_scene_dim(2, [(1.0, 2.0, 1e-20)], "velocity", tolerance=1e-12)
+    ((1.0, 2.0),)
+    >>> in_scene_dim(2, [(1.0, 2.0, 1e-20)], "velocity")
+    Traceback (most recent call last):
+    ...
+    RuntimeError: 2-D scene left the plane z = 0: velocity z = 1e-20
+    """
+    rows = [tuple(float(x) for x in v) for v in vectors]
+    if dim == 2:
+        off = [v[2] for v in rows if not abs(v[2]) <= tolerance]
+        if off:
+            raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
+    return tuple(v[:dim] for v in rows)
 
 
 def check_steps(steps: int) -> None:

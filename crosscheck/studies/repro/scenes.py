@@ -48,6 +48,26 @@ for _ in range(STEPS):
 positions = tuple((float(d.position.x), float(d.position.y)) for d in discs)
 velocities = tuple((float(d.velocity.x), float(d.velocity.y)) for d in discs)
 """)
+
+IN_PLANE = """\
+
+
+def in_dim(vectors, what):
+    # the scene's dimension; a 2-D scene must have stayed in the plane z = 0 exactly
+    if $dim == 3:
+        return tuple((float(v[0]), float(v[1]), float(v[2])) for v in vectors)
+    off = [v[2] for v in vectors if v[2] != 0.0]
+    if off:
+        raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
+    return tuple((float(v[0]), float(v[1])) for v in vectors)
+
+
+positions = in_dim(positions, "position")
+velocities = in_dim(velocities, "velocity")
+"""
+"""The end of a script whose engine works in 3-D: its final state in the scene's dimension,
+as ``adapters.scene.in_scene_dim`` reads it (a template: ``$dim``)."""
+
 PYBULLET = Template("""\
 cid = pybullet.connect(pybullet.DIRECT)  # no GUI
 pybullet.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
@@ -71,39 +91,28 @@ for _ in range(STEPS):
     pybullet.stepSimulation(physicsClientId=cid)
 positions = [pybullet.getBasePositionAndOrientation(u, physicsClientId=cid)[0] for u in ids]
 velocities = [pybullet.getBaseVelocity(u, physicsClientId=cid)[0] for u in ids]
-
-
-def in_dim(vectors, what):
-    # the scene's dimension; a 2-D scene must have stayed in the plane z = 0 exactly
-    if $dim == 3:
-        return tuple((float(v[0]), float(v[1]), float(v[2])) for v in vectors)
-    off = [v[2] for v in vectors if v[2] != 0.0]
-    if off:
-        raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
-    return tuple((float(v[0]), float(v[1])) for v in vectors)
-
-
-positions = in_dim(positions, "position")
-velocities = in_dim(velocities, "velocity")
-""")
+""" + IN_PLANE)
 
 
 NOTE = ("A scene is built as the adapter's scene runner builds it: the scene's time step and "
         "iterations apply, and of the settings above only the variant's scene tuning.")
 
 
-def _inputs(case: SceneCase) -> tuple[tuple[str, str, str, str], ...]:
+def scene_inputs(case: SceneCase, *, dt: bool = True,
+                 iterations: bool = True) -> tuple[tuple[str, str, str, str], ...]:
+    """A scene script's inputs: its bodies, restitution, step count and (unless the engine's
+    settings already hold them) its time step and solver iterations."""
     bodies = "[\n" + "".join(
         f"    ({vector(b.center)}, {literal(b.radius)}, {literal(b.mass)},\n"
         f"     {vector(b.velocity)}),\n" for b in case.bodies) + "]"
-    dt = case.dt or DEFAULT_DT
+    step = case.dt or DEFAULT_DT
     return (("BODIES", bodies, "bodies (centre, radius, mass, velocity)",
              f"{len(case.bodies)} bodies"),
             ("RESTITUTION", literal(case.restitution), "restitution", repr(case.restitution)),
-            ("DT", literal(dt), "dt", repr(dt)),
+            *((("DT", literal(step), "dt", repr(step)),) if dt else ()),
             ("STEPS", repr(case.step_count), "steps", f"round({case.duration!r} / dt)"),
-            ("ITERATIONS", repr(case.iterations), "iterations",
-             "solver iterations (None: the engine's default)"))
+            *((("ITERATIONS", repr(case.iterations), "iterations",
+                "solver iterations (None: the engine's default)"),) if iterations else ()))
 
 
 def _guarded(case: SceneCase, engine: str, code: str) -> str:
@@ -130,7 +139,7 @@ def pymunk_scene_code(adapter: PymunkTuned, case: SceneCase) -> EngineCode:
         code = raising(ValueError(f"pymunk is a 2-D engine: no {case.dim}-D scenes"),
                        "pymunk", code)
     return EngineCode(("import math", "import pymunk"), _guarded(case, "pymunk", code),
-                      (NOTE,), inputs=_inputs(case))
+                      (NOTE,), inputs=scene_inputs(case))
 
 
 def pybullet_scene_code(adapter: PyBulletTuned, case: SceneCase) -> EngineCode:
@@ -141,4 +150,4 @@ def pybullet_scene_code(adapter: PyBulletTuned, case: SceneCase) -> EngineCode:
     body = dict(tuning.body) if tuning is not None else {}
     code = PYBULLET.substitute(settings=repr(settings), body=repr(body), dim=case.dim) + STATE
     return EngineCode(("import math", "import pybullet"), _guarded(case, "pybullet", code),
-                      (NOTE,), inputs=_inputs(case))
+                      (NOTE,), inputs=scene_inputs(case))

@@ -20,8 +20,8 @@ from adapters import box2d_scene, scene
 from adapters.box2d_engine import Box2dTuned
 from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.studies.repro.box2d import box2d_code
-from crosscheck.studies.repro.code import EngineCode, literal, number, raising, vector
-from crosscheck.studies.repro.scenes import NOTE, STATE
+from crosscheck.studies.repro.code import EngineCode, number, raising
+from crosscheck.studies.repro.scenes import NOTE, STATE, scene_inputs
 
 BOX2D = Template("""\
 VELOCITY_ITERATIONS = ITERATIONS if ITERATIONS is not None else $velocity_iterations
@@ -43,21 +43,6 @@ for _ in range(STEPS):
 positions = tuple((float(d.position[0]), float(d.position[1])) for d in discs)
 velocities = tuple((float(d.linearVelocity[0]), float(d.linearVelocity[1])) for d in discs)
 """)
-
-
-def scene_inputs(case: SceneCase) -> tuple[tuple[str, str, str, str], ...]:
-    """The script's inputs of a scene: bodies, restitution, dt, steps and iterations."""
-    bodies = "[\n" + "".join(
-        f"    ({vector(b.center)}, {literal(b.radius)}, {literal(b.mass)},\n"
-        f"     {vector(b.velocity)}),\n" for b in case.bodies) + "]"
-    dt = case.dt or DEFAULT_DT
-    return (("BODIES", bodies, "bodies (centre, radius, mass, velocity)",
-             f"{len(case.bodies)} bodies"),
-            ("RESTITUTION", literal(case.restitution), "restitution", repr(case.restitution)),
-            ("DT", literal(dt), "dt", repr(dt)),
-            ("STEPS", repr(case.step_count), "steps", f"round({case.duration!r} / dt)"),
-            ("ITERATIONS", repr(case.iterations), "iterations",
-             "solver iterations (None: the engine's default)"))
 
 
 def box2d_scene_code(adapter: Box2dTuned, case: SceneCase) -> EngineCode:

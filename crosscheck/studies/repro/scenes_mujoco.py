@@ -20,7 +20,7 @@ from adapters.mujoco_setup import Mass, scene_mjcf
 from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.studies.repro.code import EngineCode, literal, number, raising, vector
 from crosscheck.studies.repro.mujoco import mujoco_code
-from crosscheck.studies.repro.scenes import NOTE, STATE
+from crosscheck.studies.repro.scenes import NOTE, STATE, scene_inputs
 
 MUJOCO = Template('''\
 MJCF = """$mjcf"""
@@ -97,7 +97,8 @@ def mujoco_scene_code(adapter: MujocoDefault, case: SceneCase) -> EngineCode:
         reach=literal(reach), speed=literal(speed), dim=case.dim) + STATE
     if failure is not None:
         code = raising(failure, "mujoco", code)
-    return EngineCode(("import math", "import mujoco"), code, (NOTE,), inputs=_inputs(case))
+    return EngineCode(("import math", "import mujoco"), code, (NOTE,),
+                      inputs=scene_inputs(case, dt=False))
 
 
 def mujoco_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
@@ -106,14 +107,3 @@ def mujoco_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCo
         return mujoco_scene_code(adapter, case)
     return mujoco_code(adapter, case)
 
-
-def _inputs(case: SceneCase) -> tuple[tuple[str, str, str, str], ...]:
-    bodies = "[\n" + "".join(
-        f"    ({vector(b.center)}, {literal(b.radius)}, {literal(b.mass)},\n"
-        f"     {vector(b.velocity)}),\n" for b in case.bodies) + "]"
-    return (("BODIES", bodies, "bodies (centre, radius, mass, velocity)",
-             f"{len(case.bodies)} bodies"),
-            ("RESTITUTION", literal(case.restitution), "restitution", repr(case.restitution)),
-            ("STEPS", repr(case.step_count), "steps", f"round({case.duration!r} / dt)"),
-            ("ITERATIONS", repr(case.iterations), "iterations",
-             "solver iterations (None: the engine's default)"))

@@ -20,7 +20,7 @@ from typing import Any
 from adapters import rapier_response, rapier_scene, scene
 from adapters.rapier_engine import RapierTuned
 from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
-from crosscheck.studies.repro.code import EngineCode, literal, number, raising, vector
+from crosscheck.studies.repro.code import EngineCode, number, raising
 from crosscheck.studies.repro.rapier import (
     DEFAULT_BODY,
     DEFAULT_COLLIDER,
@@ -29,7 +29,7 @@ from crosscheck.studies.repro.rapier import (
     TUNED_COLLIDER,
     rapier_code,
 )
-from crosscheck.studies.repro.scenes import NOTE, STATE
+from crosscheck.studies.repro.scenes import IN_PLANE, NOTE, STATE, scene_inputs
 
 SCENE = Template("""\
 world = rp.PhysicsWorld(gravity=(0.0, 0.0, 0.0))
@@ -52,34 +52,7 @@ if not world.quarantine.is_empty():
                              f"({world.quarantine})")
 positions = [world.rigid_bodies[h].translation.to_tuple() for h in handles]
 velocities = [world.rigid_bodies[h].linvel.to_tuple() for h in handles]
-
-
-def in_dim(vectors, what):
-    # the scene's dimension; a 2-D scene must have stayed in the plane z = 0 exactly
-    if $dim == 3:
-        return tuple((float(v[0]), float(v[1]), float(v[2])) for v in vectors)
-    off = [v[2] for v in vectors if v[2] != 0.0]
-    if off:
-        raise RuntimeError(f"2-D scene left the plane z = 0: {what} z = {off[0]!r}")
-    return tuple((float(v[0]), float(v[1])) for v in vectors)
-
-
-positions = in_dim(positions, "position")
-velocities = in_dim(velocities, "velocity")
-""")
-
-
-def scene_inputs(case: SceneCase) -> tuple[tuple[str, str, str, str], ...]:
-    """The script's inputs: bodies, restitution, dt and step count."""
-    bodies = "[\n" + "".join(
-        f"    ({vector(b.center)}, {literal(b.radius)}, {literal(b.mass)},\n"
-        f"     {vector(b.velocity)}),\n" for b in case.bodies) + "]"
-    dt = case.dt or DEFAULT_DT
-    return (("BODIES", bodies, "bodies (centre, radius, mass, velocity)",
-             f"{len(case.bodies)} bodies"),
-            ("RESTITUTION", literal(case.restitution), "restitution", repr(case.restitution)),
-            ("DT", literal(dt), "dt", repr(dt)),
-            ("STEPS", repr(case.step_count), "steps", f"round({case.duration!r} / dt)"))
+""" + IN_PLANE)
 
 
 def refusal(case: SceneCase) -> Exception | None:
@@ -112,7 +85,7 @@ def rapier_scene_code(adapter: RapierTuned, case: SceneCase) -> EngineCode:
     if refused is not None:
         code = raising(refused, "rapier", code)
     return EngineCode(("import math", "import rapier3d as rp"), code, (*NOTES, NOTE),
-                      inputs=scene_inputs(case))
+                      inputs=scene_inputs(case, iterations=False))
 
 
 def rapier_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
