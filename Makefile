@@ -35,22 +35,21 @@ lint: $(STAMP) $(BUNDLE)
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
-# The report's browser test drives Debian's chromium; install it when it is missing and we can.
-browser:
-	@command -v chromium >/dev/null 2>&1 || { \
+# $(call debian,PACKAGE,WHAT FOR,WITHOUT IT): install a Debian package when its command is
+# missing and we can (as root, with apt-get); else say what is skipped without it.
+debian = @command -v $(1) >/dev/null 2>&1 || { \
 	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
-	    echo "installing Debian's chromium for the browser test"; \
-	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null; \
-	  else echo "chromium not found: the browser test will be skipped (install Debian's chromium)"; fi; }
+	    echo "installing Debian's $(1) for $(2)"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $(1) >/dev/null; \
+	  else echo "$(1) not found: $(3) (install Debian's $(1))"; fi; }
 
-# The instruction timer (crosscheck run --timer instructions) and its tests count under Debian's
-# valgrind; install it when it is missing and we can.
+# The report's browser test drives Debian's chromium.
+browser:
+	$(call debian,chromium,the browser test,the browser test will be skipped)
+
+# The instruction timer (crosscheck run --timer instructions) and its tests count under valgrind.
 valgrind:
-	@command -v valgrind >/dev/null 2>&1 || { \
-	  if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
-	    echo "installing Debian's valgrind for the instruction timer"; \
-	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq valgrind >/dev/null; \
-	  else echo "valgrind not found: --timer instructions is refused and its tests are skipped (install Debian's valgrind)"; fi; }
+	$(call debian,valgrind,the instruction timer,--timer instructions is refused and its tests are skipped)
 
 # The site: the CLI page checked against the parser (make cli-page rewrites it), then a strict
 # build (a broken link, a missing page or snippet fails it).  NO_MKDOCS_2_WARNING: Material's notice about its end of

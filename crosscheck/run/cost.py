@@ -237,6 +237,7 @@ def cost_phase(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[
     failed = {k: v for lib in libraries for k, v in lib.failed.items()}
     return {"timer": "instructions", "method": method(), "valgrind": callgrind.version(),
             "calls": CALLS, "warmups": WARMUPS, "sampled": len(sample),
-            "counted": len(sample) - len(failed), "failed": len(failed),
+            "counted": sum((c.id, a.name) in store.counted for c, a in sample),
+            "failed": len(failed),
             "failures": dict(list(failed.items())[:20]), "parallel": workers,
             "wall_s": round(time.monotonic() - began, 3)}

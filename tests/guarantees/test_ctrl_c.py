@@ -129,3 +129,4 @@ def test_ctrl_c_while_counting_keeps_the_counts_stops_valgrind_and_resume_counts
     assert resumed.returncode == 0, resumed.stderr
     cost = json.loads((out / "run.json").read_text())["timing"]["cost"]
     assert cost["failed"] == 0 and len(read_counts(out)) == cost["sampled"] > kept
+    assert cost["counted"] == len(read_counts(out))  # this run's and the stopped one's
