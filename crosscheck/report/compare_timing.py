@@ -14,9 +14,10 @@ three hold:
 **Runs timed in rounds** (each sample stored with its round's machine yardstick,
 :mod:`crosscheck.run.rounds`): a pair is judged twice, on its samples divided by
 their rounds' yardsticks (*normalised*) and on its raw samples.  When both tests
-agree the pair is that (``slower``, ``faster`` or ``same``); when they do not, the
-machine's drift could explain the change, and the pair is ``unknown``, its reason
-giving the raw and normalised ratios against the largest drift either run measured
+agree the pair is that (``slower``, ``faster`` or ``same``); when they do not, the pair
+is ``unknown``, its reason giving the ratio that changed (raw or normalised, and the
+other when it changed the other way) and whether it lies within or beyond the largest
+drift either run measured
 (:func:`machine_drift`: the spread of A's or of B's round yardsticks, or the ratio
 of the two runs' yardsticks), e.g. ``x1.31 slower raw, within the machine's drift
 x1.45 measured by B's round yardsticks``.
@@ -293,6 +294,12 @@ def _direction(verdict: dict[str, Any]) -> str:
     return f"x{max(ratio, 1 / ratio):.2f} {'slower' if ratio > 1 else 'faster'}"
 
 
+def _within(verdict: dict[str, Any], drift: Drift) -> bool:
+    """Whether a judged ratio, either way, is no larger than ``drift`` (to rounding)."""
+    ratio = float(verdict["ratio"])
+    return max(ratio, 1 / ratio) <= drift.size * (1 + 1e-9)
+
+
 def per_round(a: Sequence[float], b: Sequence[float], norm_a: Sequence[float],
               norm_b: Sequence[float], drift: Drift) -> dict[str, Any]:
     """The judgement of a pair timed in rounds in both runs: on its normalised samples and on its
@@ -305,18 +312,19 @@ def per_round(a: Sequence[float], b: Sequence[float], norm_a: Sequence[float],
     if normal["verdict"] == raw["verdict"]:
         return found | {"reason": f"normalised: {normal['reason']}; raw x{raw['ratio']:.2f}"}
     if raw["verdict"] in CHANGES:
-        size = max(raw["ratio"], 1 / raw["ratio"])
-        why = (f"{_direction(raw)} raw, within {drift}" if size <= drift.size else
+        why = (f"{_direction(raw)} raw, within {drift}" if _within(raw, drift) else
                f"{_direction(raw)} raw, beyond {drift}, but not normalised "
                f"({normal['reason']})")
+        if normal["verdict"] in CHANGES:  # the two ways: slower on one, faster on the other
+            why += f"; {_direction(normal)} normalised"
     else:
-        why = (f"{_direction(normal)} normalised, but not raw ({raw['reason']}), within "
-               f"{drift}")
+        why = (f"{_direction(normal)} normalised, but not raw ({raw['reason']}), "
+               f"{'within' if _within(normal, drift) else 'beyond'} {drift}")
     return found | {"verdict": "unknown", "reason": why}
 
 
-def _pair(key: tuple[str, str], a: RunTimings, b: RunTimings,
-          scale: float | None) -> dict[str, Any]:
+def _pair(key: tuple[str, str], a: RunTimings, b: RunTimings, scale: float | None,
+          drift: Drift | None) -> dict[str, Any]:
     sa, sb = a.samples.get(key), b.samples.get(key)
     row: dict[str, Any] = {
         "case_id": key[0], "engine": key[1], "n_a": len(sa[1]) if sa else 0,
@@ -332,7 +340,6 @@ def _pair(key: tuple[str, str], a: RunTimings, b: RunTimings,
         return row | {"reason": f"fewer than {MIN_SAMPLES} samples"}
     if sa[0] != sb[0]:
         return row | {"reason": f"units differ ({sa[0]} vs {sb[0]})"}
-    drift = machine_drift(a, b)
     if drift is not None and key in a.normalised and key in b.normalised:
         return row | per_round(sa[1], sb[1], a.normalised[key], b.normalised[key], drift)
     raw_ratio = row["median_b_s"] / row["median_a_s"] if row["median_a_s"] > 0 else math.nan
@@ -349,7 +356,8 @@ def timing_changes(a: RunTimings, b: RunTimings, cases: set[str], engines: set[s
     Ordered changes first (largest first), then ``same``, then ``unknown``.
     """
     keys = sorted(k for k in a.timed | b.timed if k[0] in cases and k[1] in engines)
-    frame = pd.DataFrame([_pair(k, a, b, scale) for k in keys], columns=COLUMNS)
+    drift = machine_drift(a, b)  # once for every pair: it reads every round of both runs
+    frame = pd.DataFrame([_pair(k, a, b, scale, drift) for k in keys], columns=COLUMNS)
     return changes_first(frame, VERDICTS)
 
 
