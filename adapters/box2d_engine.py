@@ -142,7 +142,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from adapters import box2d_scene, stepping
-from adapters.box2d_world import Variant, add_disc, engine, new_world
+from adapters.box2d_world import Variant, add_disc, engine, new_world, xy
 from crosscheck.core.contract import Adapter, Capability, Conventions, import_problem
 from crosscheck.core.geometry import Vec
 from crosscheck.core.model import Kind, Observation
@@ -273,18 +273,14 @@ def _detect(p: Detection) -> Observation:
                        normal=_direction(out.pointA, out.pointB))
 
 
-def _vec(v: Any) -> Vec:
-    return (float(v[0]), float(v[1]))
-
-
 def _reset(p: Response) -> None:
     """A and B back at the case's start, with no contact (nor its impulses) left over."""
     p.b.active = False  # destroys the contact and the broad-phase proxies
     p.a.active = False
     for body, data in ((p.a, p.case.a), (p.b, p.case.b)):
         body.active = True
-        body.transform = (_vec(data.center), 0.0)  # also finds the new contact
-        body.linearVelocity = _vec(data.velocity)
+        body.transform = (xy(data.center), 0.0)  # also finds the new contact
+        body.linearVelocity = xy(data.velocity)
         body.angularVelocity = 0.0
         body.awake = True
 
@@ -304,14 +300,14 @@ def _respond(p: Response) -> Observation:
     v = p.variant
     resolved: tuple[Vec, Vec] | None = None
     for _ in range(MAX_STEPS):
-        start = (_vec(p.a.position), _vec(p.b.position))
+        start = (xy(p.a.position), xy(p.b.position))
         p.world.Step(v.dt, v.velocity_iterations, v.position_iterations)
         if _touching(p.a):
             resolved = start
             break
         if not _approaching(p.a, p.b):
             break
-    return Observation(v1=_vec(p.a.linearVelocity), v2=_vec(p.b.linearVelocity),
+    return Observation(v1=xy(p.a.linearVelocity), v2=xy(p.b.linearVelocity),
                        resolved_at=resolved)
 
 

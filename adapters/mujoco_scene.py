@@ -74,14 +74,12 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from adapters.mujoco_response import damping_dashpot, tune_stiff_model
+from adapters.mujoco_response import PLANE, damping_dashpot, tune_stiff_model
 from adapters.mujoco_setup import WARNINGS, Mass, engine, scene_mjcf
 from adapters.scene import Body, SceneRun, check_scene, check_steps, in_scene_dim
 
 __all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
 
-PLANE = 2.0**-40
-"""Largest |z| (|vz|) of a 2-D scene, relative to its scale, taken as rounding noise."""
 
 SUBSTEPS = 8
 """MuJoCo steps per scene step in the tuned variant (the RK4 steps of one contact)."""

@@ -329,7 +329,7 @@ class RapierTuned(Adapter):
         ("dt", TUNED_DT), ("normalized_prediction_distance", 0.0),
         ("normalized_max_linear_velocity", F32_MAX))
     """Responses: the ``IntegrationParameters`` the world gets."""
-    scene_tuning: ClassVar[Tuning | None] = Tuning(parameters[1:])
+    scene_tuning: ClassVar[Tuning | None] = Tuning(parameters)
     """What scenes are built with (adapters/rapier_scene.py; its dt is the scene's); None:
     rapier's defaults."""
 

@@ -33,9 +33,9 @@ import pandas as pd
 from crosscheck.report.speed import instructions_iqr, median_iqr
 from crosscheck.results.timings import Spread, spread
 
-COUNTED = "median instructions per query (counted under callgrind)"
+COUNTED_TITLE = "median instructions per query (counted under callgrind)"
 """What the cost of a group ranked by counts is, in words (an axis title, a caption)."""
-WALL = "median wall-clock time per query (s)"
+WALL_TITLE = "median wall-clock time per query (s)"
 """What the cost of a group ranked by the wall clock is, in words."""
 UNMEASURED = spread([])
 """The spread of no case (``n == 0``, NaN figures)."""

@@ -163,7 +163,7 @@ class SpeedChart:
     @property
     def x_title(self) -> str:
         """What x is, in words: the speed axis's title."""
-        return query_cost.COUNTED if self.by_counts else query_cost.WALL
+        return query_cost.COUNTED_TITLE if self.by_counts else query_cost.WALL_TITLE
 
     def x(self, p: Point) -> Spread:
         """The per-case spread ``p`` is drawn at along x (counted, or wall clock)."""

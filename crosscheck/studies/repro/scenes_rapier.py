@@ -85,7 +85,7 @@ def rapier_scene_code(adapter: RapierTuned, case: SceneCase) -> EngineCode:
     if refused is not None:
         code = raising(refused, "rapier", code)
     return EngineCode(("import math", "import rapier3d as rp"), code, (*NOTES, NOTE),
-                      inputs=scene_inputs(case, iterations=False))
+                      inputs=scene_inputs(case, dt=False, iterations=False))
 
 
 def rapier_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
