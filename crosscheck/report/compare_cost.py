@@ -21,12 +21,12 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
 import pandas as pd
 
 from crosscheck.report.compare_timing import changes_first
 from crosscheck.results.counts import FILE, read_counts
 from crosscheck.results.store import StoredRun
+from crosscheck.results.timings import geomean
 
 THRESHOLD = 0.01
 """A pair whose instructions per query move by more than this share either way has changed."""
@@ -107,6 +107,5 @@ def cost_summary(changes: pd.DataFrame, engines: list[str]) -> pd.DataFrame:
         counts = group["verdict"].value_counts()
         rows.append({"engine": engine, "pairs": len(group),
                      **{v: int(counts.get(v, 0)) for v in VERDICTS},
-                     "geomean_ratio": float(np.exp(np.log(ratios).mean())) if len(ratios)
-                     else math.nan})
+                     "geomean_ratio": geomean(ratios.tolist())})
     return pd.DataFrame(rows, columns=["engine", "pairs", *VERDICTS, "geomean_ratio"])

@@ -68,7 +68,7 @@ import pandas as pd
 from scipy.stats import mannwhitneyu
 
 from crosscheck.results.store import StoredRun
-from crosscheck.results.timings import FILE, MIN_SAMPLES, UNSTABLE_SPREAD, read_timings
+from crosscheck.results.timings import FILE, MIN_SAMPLES, UNSTABLE_SPREAD, geomean, read_timings
 from crosscheck.results.timings import normalised as timings_normalised
 
 ALPHA = 0.001
@@ -176,7 +176,7 @@ def yardstick_ratio(a: dict[str, float], b: dict[str, float]) -> float | None:
     shared = [w for w in a if w in b]
     if not shared:
         return None
-    return float(np.exp(np.mean([math.log(b[w] / a[w]) for w in shared])))
+    return geomean([b[w] / a[w] for w in shared])
 
 
 @dataclass(frozen=True)
@@ -383,12 +383,8 @@ def engine_summary(changes: pd.DataFrame, engines: Sequence[str]) -> pd.DataFram
         counts = group["verdict"].value_counts()
         rows.append({"engine": engine, "pairs": len(group),
                      **{v: int(counts.get(v, 0)) for v in VERDICTS},
-                     "geomean_ratio": _geomean(judged_pairs["ratio"]),
-                     "geomean_raw": _geomean(judged_pairs["raw_ratio"])})
+                     "geomean_ratio": geomean(judged_pairs["ratio"].astype(float).tolist()),
+                     "geomean_raw": geomean(judged_pairs["raw_ratio"].astype(float).tolist())})
     return pd.DataFrame(rows, columns=["engine", "pairs", *VERDICTS, "geomean_ratio",
                                        "geomean_raw"])
 
-
-def _geomean(ratios: pd.Series) -> float:
-    values = ratios.astype(float)
-    return float(np.exp(np.log(values).mean())) if len(values) else math.nan

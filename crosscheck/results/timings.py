@@ -74,6 +74,17 @@ def spread(values: Sequence[float]) -> Spread:
     return Spread(median, q1, q3, len(values))
 
 
+def geomean(values: Sequence[float]) -> float:
+    """The geometric mean of the finite positive ``values`` (NaN: none): how ratios and the
+    yardstick's workloads are averaged.
+
+    >>> geomean([1.0, 4.0]), geomean([2.0, math.nan]), geomean([])
+    (2.0, 2.0, nan)
+    """
+    known = [v for v in values if v > 0 and math.isfinite(v)]
+    return float(np.exp(np.mean(np.log(known)))) if known else math.nan
+
+
 @dataclass(frozen=True, slots=True)
 class TimingRecord:
     """Every kept timing sample of one case x engine."""

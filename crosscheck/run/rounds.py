@@ -42,13 +42,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
-import numpy as np
-
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.results.store import ResultsStore
-from crosscheck.results.timings import TimingRecord, spread
+from crosscheck.results.timings import TimingRecord, geomean, spread
 from crosscheck.run.execute import Outcome
 from crosscheck.run.timing import Timing
 
@@ -99,16 +97,6 @@ def mark(found: dict[str, Timing] | str) -> float:
     """
     medians = [] if isinstance(found, str) else [t.median_s for t in found.values()]
     return geomean(medians) if medians and all(m > 0 for m in medians) else math.nan
-
-
-def geomean(values: Sequence[float]) -> float:
-    """The geometric mean of the finite positive ``values`` (NaN: none).
-
-    >>> geomean([1.0, 4.0]), geomean([2.0, math.nan]), geomean([])
-    (2.0, 2.0, nan)
-    """
-    known = [v for v in values if v > 0 and math.isfinite(v)]
-    return float(np.exp(np.mean(np.log(known)))) if known else math.nan
 
 
 def summary(found: dict[str, Timing] | str) -> dict[str, Any]:
