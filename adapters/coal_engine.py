@@ -118,7 +118,7 @@ from crosscheck.core.contract import (
 )
 from crosscheck.core.geometry import Vec, to3
 from crosscheck.core.model import Kind, Observation, Undefined, quantities_of
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, ToiCase
 
 COAL = "https://github.com/coal-library/coal/blob/v3.0.0/"
 SOURCES = (
@@ -309,7 +309,8 @@ class CoalTuned(Adapter):
         return tuned_tolerance(case) if self.tuned else None
 
     def prepare(self, case: AnyCase) -> Any:
-        assert not isinstance(case, ResponseCase | SceneCase), "coal declares detection only"
+        assert not isinstance(case, ResponseCase | SceneCase | ToiCase), (
+            "coal declares detection only")
         bad = non_finite(case)
         if bad is not None:
             return Refused(f"coal answers non-finite input wrongly without complaint: {bad}",

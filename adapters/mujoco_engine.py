@@ -118,7 +118,7 @@ from crosscheck.core.contract import (
 )
 from crosscheck.core.geometry import Vec, Vec3, to3, z_half
 from crosscheck.core.model import Kind, Observation, quantities_of
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, ToiCase
 
 MJ = "https://github.com/google-deepmind/mujoco/blob/main/"
 DOCS = "https://mujoco.readthedocs.io/en/4.0.0/"
@@ -336,6 +336,7 @@ class MujocoDefault(Adapter):
     def prepare(self, case: AnyCase) -> Any:
         if isinstance(case, SceneCase):
             return stepping.prepare(mujoco_scene, case, self.scene_tuning)
+        assert not isinstance(case, ToiCase), "MuJoCo declares no time of impact"
         geom = "box" if isinstance(case, AabbCase) else "sphere"
         sizes = sizes_of(case)
         masses = self.masses(case) if isinstance(case, ResponseCase) else None

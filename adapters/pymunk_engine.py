@@ -114,7 +114,7 @@ from adapters.pymunk_scene import Tuning
 from crosscheck.core.contract import Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.geometry import Vec
 from crosscheck.core.model import Kind, Observation
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, ToiCase
 
 MUNK2D = "https://github.com/viblo/Munk2D/blob/master/src/"
 PYMUNK = "https://github.com/viblo/pymunk/blob/master/pymunk/"
@@ -319,6 +319,7 @@ class PymunkTuned(Adapter):
             prepared.space.add(*bodies, *shapes)
             _watch(prepared)
             return prepared
+        assert not isinstance(case, ToiCase), "pymunk declares no time of impact"
         return _Detection(_static_shape(case, "a"), _static_shape(case, "b"))
 
     def _space(self) -> Any:

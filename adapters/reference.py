@@ -9,6 +9,9 @@ Conventions (sources: the two textbook blog posts of :data:`TEXTBOOK` and
 :mod:`reference_impl.formulas`): half-widths; normal from A to B; AABB
 touching overlaps, spheres touching do not collide; no margin; the relative
 tolerance is the rounding of a handful of operations in the declared precision.
+For a time of impact (``sphere_toi``) they are the discrete baseline: the textbook's
+sphere test at the interval's start and end only, as a simulation stepping over the
+interval sees the pair (``sampled_contacts``; :func:`crosscheck.truth.oracle.sampled_impact`).
 The formula has no time step or damping (``time_step`` None, ``damping`` 0), takes a
 zero mass as the number 0 (``zero_mass`` "") and a negative radius or half-width as the
 number it is (``negative_extents`` "": the textbook's literal reading, which is the
@@ -46,7 +49,7 @@ class ReferenceF64(Adapter):
     settings: ClassVar[str] = "textbook formula, float64"
     precision: ClassVar[oracle.Precision] = "f64"
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
-        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE, Kind.SPHERE_TOI)
     conventions: ClassVar[Conventions] = Conventions(
         rtol=2.0**-50,
         restitution="case value (textbook generalised with e)",
@@ -55,8 +58,10 @@ class ReferenceF64(Adapter):
         zero_mass="",
         negative_extents="",
         no_value=("float64-textbook",),
+        sampled_contacts=True,
         notes="Faithful textbook code; float64 throughout; no normal (nor response) where the "
-              "computed centres coincide or the box axes tie.",
+              "computed centres coincide or the box axes tie. A time of impact is the discrete "
+              "test sampled at the interval's two ends (sampled_contacts).",
         sources=TEXTBOOK,
     )
 
@@ -84,7 +89,9 @@ class ReferenceF32(ReferenceF64):
         zero_mass="",
         negative_extents="",
         no_value=("float32-textbook",),
+        sampled_contacts=True,
         notes="Inputs rounded to float32, every operation in float32; no normal (nor "
-              "response) where the rounded centres coincide or the box axes tie.",
+              "response) where the rounded centres coincide or the box axes tie. A time of "
+              "impact is the discrete test sampled at the interval's two ends.",
         sources=TEXTBOOK,
     )

@@ -40,14 +40,21 @@ from pathlib import Path
 import pydantic
 
 import crosscheck
-from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase, SphereCase
+from crosscheck.core.schema import (
+    AabbCase,
+    AnyCase,
+    ResponseCase,
+    SceneCase,
+    SphereCase,
+    ToiCase,
+)
 
 FORMAT = 1
 """The layout of an entry; bump it when :class:`Entry` changes."""
 PACKAGES = ("crosscheck/cases", "crosscheck/core", "crosscheck/truth", "reference_impl")
 """The source folders whose code decides what a case file loads to."""
 ROOT = Path(__file__).resolve().parents[2]
-CASE_TYPES = (AabbCase, SphereCase, ResponseCase, SceneCase)
+CASE_TYPES = (AabbCase, SphereCase, ResponseCase, SceneCase, ToiCase)
 LIMIT = 2000
 """Most entries kept (a hit refreshes nothing: an entry's age is its write time)."""
 

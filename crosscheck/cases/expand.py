@@ -44,20 +44,27 @@ from typing import Any
 import numpy as np
 
 from crosscheck.core.schema import (
+    DEFAULT_DT,
     TWIN_SUFFIX,
     AabbCase,
     AnyCase,
     LinSpace,
     LogSpace,
-    PairCase,
     Plane,
     ResponseCase,
     SceneCase,
+    ToiCase,
+    TwoBodyCase,
     Values,
 )
+from crosscheck.truth.scenes import step_travel
+from reference_impl.toi import time_of_impact
 
 PARAMETERS = ("scale", "gap", "overlap", "offset", "mass_ratio", "speed")
-RESPONSE_ONLY = ("mass_ratio", "speed")
+MOVING_ONLY = {"mass_ratio": ("sphere_response",), "speed": ("sphere_response", "sphere_toi")}
+"""Sweep parameters that apply to some kinds only, and the kinds they apply to."""
+SCENE_PARAMETERS = ("step_travel", "phase")
+"""The sweep parameters of two-body scenes (see :func:`fast_scene`)."""
 PLANES: dict[Plane, int] = {"xy": 2, "xz": 1, "yz": 0}
 """The axis (0 x, 1 y, 2 z) each plane of ``twin_2d`` drops."""
 AXIS_NAMES = "xyz"
@@ -105,6 +112,75 @@ def expand_steps(case: SceneCase) -> Iterator[SceneCase]:
             "origin": case.id, "coords": coords})
 
 
+def _scene_swept(case: SceneCase) -> list[SceneCase]:
+    """A scene case at one ``dt``: itself, or one fast-body case per ``step_travel`` x
+    ``phase`` of its sweep (:func:`fast_scene`)."""
+    if case.sweep is None:
+        return [case]
+    others = [name for name in PARAMETERS if getattr(case.sweep, name) is not None]
+    if others or case.sweep.direction is not None:
+        field = others[0] if others else "direction"
+        raise SweepError(f"sweep.{field}", "scenes are swept over `steps` (dt, iterations) "
+                                           "and step_travel or phase, not " + field)
+    travels = values_of(case.sweep.step_travel) if case.sweep.step_travel else [None]
+    phases = values_of(case.sweep.phase) if case.sweep.phase else [None]
+    out = []
+    for travel, phase in itertools.product(travels, phases):
+        params = {k: v for k, v in (("step_travel", travel), ("phase", phase)) if v is not None}
+        labels = ",".join(_label(name, value) for name, value in params.items())
+        point = fast_scene(case, travel, 0.5 if phase is None else phase)
+        out.append(point.model_copy(update={
+            "id": f"{case.id}.{labels}", "description": f"{case.description} [{labels}]",
+            "tags": (*case.tags, "fast-body"), "sweep": None,
+            "coords": {**case.coords, **params}}))
+    return out
+
+
+def fast_scene(case: SceneCase, travel: float | None, phase: float) -> SceneCase:
+    """The two-body scene ``case`` at one ``dt``, made fast: velocities scaled to the per-step
+    ``travel`` (:func:`step_travel`; None keeps them), bodies moved back along them so that
+    they first touch at ``(approach_steps + phase) dt``, run for twice that time.
+
+    The contact configuration (where the declared bodies first touch) is kept, so every
+    point of a sweep collides at the same place and angle; ``phase`` (strictly between 0
+    and 1) keeps the impact off the step grid.
+
+    >>> from crosscheck.core.schema import CASE_ADAPTER
+    >>> block = CASE_ADAPTER.validate_python({"id": "f", "description": "d",
+    ...     "kind": "sphere_scene", "dim": 2, "dt": 0.01, "bodies": [
+    ...     {"center": [-1, 0], "radius": 0.05, "mass": 1, "velocity": [1, 0]},
+    ...     {"center": [1, 0], "radius": 0.05, "mass": 1, "velocity": [-1, 0]}]})
+    >>> fast = fast_scene(block, 2.0, 0.5)
+    >>> fast.bodies[0].velocity, round(step_travel(fast), 12), fast.step_count
+    ((20.0, 0.0), 2.0, 9)
+    """
+    if len(case.bodies) != 2:
+        raise SweepError("sweep.step_travel", f"step_travel and phase sweep two-body scenes; "
+                                              f"this one has {len(case.bodies)} bodies")
+    if not 0.0 < phase < 1.0:
+        raise SweepError("sweep.phase", f"phase must be strictly between 0 and 1 (an impact "
+                                        f"off the step grid), got {phase!r}")
+    a, b = case.bodies
+    meet = time_of_impact(a.center, a.velocity, a.radius, b.center, b.velocity, b.radius,
+                          1e300)
+    if not meet.hit or meet.toi is None or meet.toi == 0.0:
+        raise SweepError("bodies", "step_travel and phase need two bodies apart at the start "
+                                   "and on a collision course")
+    dt = case.dt or DEFAULT_DT
+    scale = 1.0 if travel is None else travel / step_travel(case)
+    if not (math.isfinite(scale) and scale > 0):
+        raise SweepError("sweep.step_travel", f"step_travel must be > 0, got {travel!r}")
+    hit_at = (case.approach_steps + phase) * dt
+    bodies = []
+    for body in case.bodies:
+        velocity = tuple(v * scale for v in body.velocity)
+        contact = tuple(c + v * meet.toi for c, v in zip(body.center, body.velocity,
+                                                         strict=True))
+        centre = tuple(p - v * hit_at for p, v in zip(contact, velocity, strict=True))
+        bodies.append(body.model_copy(update={"center": centre, "velocity": velocity}))
+    return case.model_copy(update={"bodies": tuple(bodies), "duration": 2.0 * hit_at})
+
+
 def _label(name: str, value: float) -> str:
     return f"{name}={value:.6g}"
 
@@ -113,11 +189,9 @@ def expand(case: AnyCase) -> list[AnyCase]:
     """The cases a block stands for: itself, or one per sweep combination; then as many
     2-D twins if it has ``twin_2d`` (each naming its 3-D case in ``from_3d``)."""
     if isinstance(case, SceneCase):
-        if case.sweep is not None:
-            raise SweepError("sweep", "scenes are swept over `steps` (dt, iterations), not sweep")
         if case.twin_2d is not None:
             raise TwinError("scenes have no 2-D twin: write the 2-D scene as a block of its own")
-        return list(expand_steps(case))
+        return [point for stepped in expand_steps(case) for point in _scene_swept(stepped)]
     points = _swept(case)
     if case.twin_2d is None:
         return list(points)
@@ -126,7 +200,7 @@ def expand(case: AnyCase) -> list[AnyCase]:
                        for point, twin in zip(points, twins, strict=True))]
 
 
-def _swept(case: PairCase) -> list[PairCase]:
+def _swept(case: TwoBodyCase) -> list[TwoBodyCase]:
     """The block itself, or one case per combination of its sweep parameters."""
     if case.sweep is None:
         return [case]
@@ -134,14 +208,19 @@ def _swept(case: PairCase) -> list[PairCase]:
             if (spec := getattr(case.sweep, name)) is not None]
     if not grid:
         raise SweepError("sweep", "a sweep needs at least one parameter")
+    for name in SCENE_PARAMETERS:
+        if getattr(case.sweep, name) is not None:
+            raise SweepError(f"sweep.{name}", f"{name} applies to sphere_scene cases only")
     for name, _ in grid:
-        if name in RESPONSE_ONLY and not isinstance(case, ResponseCase):
-            raise SweepError(f"sweep.{name}", f"{name} applies to sphere_response cases only")
+        kinds = MOVING_ONLY.get(name)
+        if kinds is not None and case.kind not in kinds:
+            raise SweepError(f"sweep.{name}",
+                             f"{name} applies to {' and '.join(kinds)} cases only")
     return [_point(case, dict(zip([n for n, _ in grid], combo, strict=True)))
             for combo in itertools.product(*(values for _, values in grid))]
 
 
-def _point(case: PairCase, params: dict[str, float]) -> PairCase:
+def _point(case: TwoBodyCase, params: dict[str, float]) -> TwoBodyCase:
     out = case
     for name in PARAMETERS:
         if name in params:
@@ -153,21 +232,25 @@ def _point(case: PairCase, params: dict[str, float]) -> PairCase:
         "tags": (*case.tags, "sweep"), "sweep": None, "origin": case.id, "coords": params})
 
 
-def _bodies(case: PairCase, **changes: dict[str, Any]) -> PairCase:
+def _bodies(case: TwoBodyCase, **changes: dict[str, Any]) -> TwoBodyCase:
     a = case.a.model_copy(update=changes.get("a", {}))
     b = case.b.model_copy(update=changes.get("b", {}))
     return case.model_copy(update={"a": a, "b": b})
 
 
-def _scale(case: PairCase, s: float) -> PairCase:
+def _scale(case: TwoBodyCase, s: float) -> TwoBodyCase:
+    """Every centre and size times ``s``; for a time of impact the velocities too, so that
+    the time of impact does not change."""
     def sized(body: Any) -> dict[str, Any]:
         size = ({"half": tuple(h * s for h in body.half)} if isinstance(case, AabbCase)
                 else {"radius": body.radius * s})
-        return {"center": tuple(c * s for c in body.center), **size}
+        moving = ({"velocity": tuple(v * s for v in body.velocity)}
+                  if isinstance(case, ToiCase) else {})
+        return {"center": tuple(c * s for c in body.center), **size, **moving}
     return _bodies(case, a=sized(case.a), b=sized(case.b))
 
 
-def _unit(case: PairCase) -> tuple[float, ...]:
+def _unit(case: TwoBodyCase) -> tuple[float, ...]:
     d = case.sweep.direction if case.sweep and case.sweep.direction else tuple(
         y - x for x, y in zip(case.a.center, case.b.center, strict=True))
     if len(d) != case.dim:
@@ -178,7 +261,7 @@ def _unit(case: PairCase) -> tuple[float, ...]:
     return tuple(x / length for x in d)
 
 
-def _touch_distance(case: PairCase, u: tuple[float, ...]) -> float:
+def _touch_distance(case: TwoBodyCase, u: tuple[float, ...]) -> float:
     if not isinstance(case, AabbCase):
         return case.a.radius + case.b.radius
     axes = [i for i, x in enumerate(u) if x != 0]
@@ -187,25 +270,25 @@ def _touch_distance(case: PairCase, u: tuple[float, ...]) -> float:
     return case.a.half[axes[0]] + case.b.half[axes[0]]
 
 
-def _gap(case: PairCase, g: float) -> PairCase:
+def _gap(case: TwoBodyCase, g: float) -> TwoBodyCase:
     u = _unit(case)
     step = _touch_distance(case, u) * (1.0 + g)
     centre = tuple(c + x * step for c, x in zip(case.a.center, u, strict=True))
     return _bodies(case, b={"center": centre})
 
 
-def _offset(case: PairCase, t: float) -> PairCase:
+def _offset(case: TwoBodyCase, t: float) -> TwoBodyCase:
     return _bodies(case, a={"center": tuple(c + t for c in case.a.center)},
                    b={"center": tuple(c + t for c in case.b.center)})
 
 
-def _mass_ratio(case: PairCase, r: float) -> PairCase:
+def _mass_ratio(case: TwoBodyCase, r: float) -> TwoBodyCase:
     assert isinstance(case, ResponseCase)
     return _bodies(case, b={"mass": case.a.mass * r})
 
 
-def _speed(case: PairCase, k: float) -> PairCase:
-    assert isinstance(case, ResponseCase)
+def _speed(case: TwoBodyCase, k: float) -> TwoBodyCase:
+    assert isinstance(case, ResponseCase | ToiCase)
     return _bodies(case, a={"velocity": tuple(v * k for v in case.a.velocity)},
                    b={"velocity": tuple(v * k for v in case.b.velocity)})
 
@@ -214,7 +297,7 @@ _APPLY = {"scale": _scale, "gap": _gap, "overlap": lambda c, o: _gap(c, -o),
           "offset": _offset, "mass_ratio": _mass_ratio, "speed": _speed}
 
 
-def swapped(case: PairCase) -> PairCase:
+def swapped(case: TwoBodyCase) -> TwoBodyCase:
     """The same case with A and B exchanged (its answers mirror the original's)."""
     return case.model_copy(update={
         "id": swapped_id(case.id), "description": f"{case.description} (A and B swapped)",
@@ -230,7 +313,7 @@ def swapped_id(case_id: str) -> str:
 # --- 2-D twins ---------------------------------------------------------------------------------
 
 
-def flattened(case: PairCase, plane: Plane) -> PairCase:
+def flattened(case: TwoBodyCase, plane: Plane) -> TwoBodyCase:
     """The 2-D twin of a 3-D block: its bodies in ``plane``, the third axis dropped.
 
     Its id is ``<id>.2d``.  Only a case that lies in a plane parallel to ``plane``
@@ -252,7 +335,7 @@ def flattened(case: PairCase, plane: Plane) -> PairCase:
         "tags": (*case.tags, TWIN_TAG)})
 
 
-def _flattening_problems(case: PairCase, axis: int) -> Iterator[tuple[str, str]]:
+def _flattening_problems(case: TwoBodyCase, axis: int) -> Iterator[tuple[str, str]]:
     """What keeps ``case`` from lying in a plane across ``axis``: (field, reason) pairs."""
     name = AXIS_NAMES[axis]
     if case.dim != 3:
@@ -262,7 +345,8 @@ def _flattening_problems(case: PairCase, axis: int) -> Iterator[tuple[str, str]]
         yield f"a.center[{axis}]", (f"= {case.a.center[axis]!r} and b.center[{axis}] = "
                                     f"{case.b.center[axis]!r} differ (the centres must share "
                                     f"their {name})")
-    moving = (("a", case.a), ("b", case.b)) if isinstance(case, ResponseCase) else ()
+    moving = ((("a", case.a), ("b", case.b)) if isinstance(case, ResponseCase | ToiCase)
+              else ())
     for side, body in moving:
         if body.velocity[axis] != 0:
             yield f"{side}.velocity[{axis}]", f"is {body.velocity[axis]!r}, not 0"

@@ -57,6 +57,8 @@ from crosscheck.core.schema import (
     SceneCase,
     SphereBody,
     SphereCase,
+    SweptSphere,
+    ToiCase,
 )
 from crosscheck.truth import oracle
 
@@ -330,7 +332,7 @@ def _vectors(case: AnyCase) -> Iterator[tuple[str, Sequence[float]]]:
         yield f"{side}.center", body.center
         if isinstance(body, AabbBody):
             yield f"{side}.half", body.half
-        if isinstance(body, MovingSphere):
+        if isinstance(body, MovingSphere | SweptSphere):
             yield f"{side}.velocity", body.velocity
 
 
@@ -344,9 +346,11 @@ def _scalars(case: AnyCase) -> Iterator[tuple[str, float]]:
     for where, vec in _vectors(case):
         for i, x in enumerate(vec):
             yield f"{where}[{i}]", x
-    if isinstance(case, SphereCase | ResponseCase):
+    if isinstance(case, SphereCase | ResponseCase | ToiCase):
         yield "a.radius", case.a.radius
         yield "b.radius", case.b.radius
+    if isinstance(case, ToiCase):
+        yield "duration", case.duration
     if isinstance(case, ResponseCase):
         yield "a.mass", case.a.mass
         yield "b.mass", case.b.mass
@@ -356,7 +360,8 @@ def _scalars(case: AnyCase) -> Iterator[tuple[str, float]]:
             yield f"bodies[{i}].radius", body.radius
             yield f"bodies[{i}].mass", body.mass
         yield "restitution", case.restitution
-        yield "duration", case.duration
+        if case.duration is not None:
+            yield "duration", case.duration
         if case.dt is not None:
             yield "dt", case.dt
 
@@ -387,6 +392,13 @@ MAX_STEPS = 10_000_000
 
 def _scene_problems(case: SceneCase) -> Iterator[tuple[str, str]]:
     """Scene rules beyond the schema: two bodies or more, radii > 0, no overlap at the start."""
+    fast = case.sweep is not None and (case.sweep.step_travel or case.sweep.phase)
+    if case.duration is None and not fast:
+        yield "duration", ("missing: this field is required (unless the block sweeps "
+                           "step_travel or phase)")
+    if fast and case.duration is not None and not case.origin:
+        yield "duration", ("the block sweeps step_travel or phase: each case runs twice its "
+                           "time to impact, so leave duration out")
     if len(case.bodies) < 2:
         yield "bodies", "a scene needs at least two bodies (list them or give a generator)"
     for i, body in enumerate(case.bodies):

@@ -18,14 +18,16 @@ from typing import Any
 from pydantic import BaseModel
 
 from crosscheck.core import schema
+from crosscheck.core.model import Kind
 
-KINDS = ("aabb", "sphere", "sphere_response", "sphere_scene")
+KINDS = tuple(kind.value for kind in Kind)
 
 
 def _field_names() -> set[str]:
     models: list[type[BaseModel]] = [
         schema.AabbCase, schema.SphereCase, schema.ResponseCase, schema.SceneCase,
-        schema.AabbBody, schema.SphereBody, schema.MovingSphere, schema.Tolerance, schema.Expect,
+        schema.ToiCase, schema.AabbBody, schema.SphereBody, schema.MovingSphere,
+        schema.SweptSphere, schema.Tolerance, schema.Expect,
         schema.Sweep, schema.Steps, schema.SceneGenerator]
     return {name for model in models for name in model.model_fields} - set(schema.LOADER_FIELDS)
 

@@ -38,7 +38,8 @@ class NewCaseError(ValueError):
 
 
 def default_bodies(kind: Kind, dim: int) -> tuple[Body, Body]:
-    """Two unit bodies just touching along +x (approaching, for responses)."""
+    """Two unit bodies just touching along +x (approaching, for responses; for a time of
+    impact, one diameter apart and closing so that they touch at t = 0.5)."""
     pad = [0.0] * (dim - 1)
     a: Body = {"center": [0.0, *pad]}
     b: Body = {"center": [1.0, *pad]}
@@ -49,13 +50,22 @@ def default_bodies(kind: Kind, dim: int) -> tuple[Body, Body]:
     if kind is Kind.SPHERE_RESPONSE:
         a |= {"mass": 1.0, "velocity": [1.0, *pad]}
         b |= {"mass": 1.0, "velocity": [-1.0, *pad]}
+    if kind is Kind.SPHERE_TOI:  # apart by one diameter, meeting half-way through [0, 1]
+        b["center"] = [2.0, *pad]
+        a |= {"velocity": [1.0, *pad]}
+        b |= {"velocity": [-1.0, *pad]}
     return a, b
 
 
 def new_block(kind: str, dim: int, case_id: str, *, description: str | None = None,
               tags: Sequence[str] | None = None, a: Mapping[str, Any] | None = None,
-              b: Mapping[str, Any] | None = None, restitution: float | None = None) -> str:
-    """A ``[[case]]`` block; bodies default to :func:`default_bodies`, overridden key by key."""
+              b: Mapping[str, Any] | None = None, restitution: float | None = None,
+              duration: float | None = None) -> str:
+    """A ``[[case]]`` block; bodies default to :func:`default_bodies`, overridden key by key.
+
+    >>> print(new_block("sphere_toi", 2, "t").splitlines()[6])
+    duration = 1.0
+    """
     base_a, base_b = default_bodies(Kind(kind), dim)
     fields: dict[str, Any] = {
         "id": case_id, "description": description or "TODO: say what this case probes",
@@ -63,6 +73,9 @@ def new_block(kind: str, dim: int, case_id: str, *, description: str | None = No
         "a": base_a | dict(a or {}), "b": base_b | dict(b or {})}
     if Kind(kind) is Kind.SPHERE_RESPONSE:
         fields["restitution"] = 1.0 if restitution is None else restitution
+    if Kind(kind) is Kind.SPHERE_TOI:
+        fields = {**dict(list(fields.items())[:5]), "duration": 1.0 if duration is None
+                  else duration, **dict(list(fields.items())[5:])}
     return "\n".join(["[[case]]", *(f"{k} = {literal(v)}" for k, v in fields.items())]) + "\n"
 
 
@@ -78,7 +91,8 @@ def _problems(text: str) -> list[str]:
 BODY_KEYS: dict[Kind, frozenset[str]] = {
     Kind.AABB: frozenset({"center", "half"}),
     Kind.SPHERE: frozenset({"center", "radius"}),
-    Kind.SPHERE_RESPONSE: frozenset({"center", "radius", "mass", "velocity"})}
+    Kind.SPHERE_RESPONSE: frozenset({"center", "radius", "mass", "velocity"}),
+    Kind.SPHERE_TOI: frozenset({"center", "radius", "velocity"})}
 """The body fields each kind of new case takes (``--a-<field>``, ``--b-<field>``)."""
 
 VECTORS = frozenset({"center", "half", "velocity"})
@@ -86,14 +100,15 @@ VECTORS = frozenset({"center", "half", "velocity"})
 
 
 def _option_problems(kind: str, dim: int, case_id: str, a: Mapping[str, Any],
-                     b: Mapping[str, Any], restitution: float | None) -> list[str]:
+                     b: Mapping[str, Any], restitution: float | None,
+                     duration: float | None = None) -> list[str]:
     """Each option that is malformed or does not apply to the kind, named as on the command line.
 
     >>> for problem in _option_problems("aabb", 2, "x", {"radius": 1.0, "center": [1.0]},
     ...                                 {}, 0.5):
     ...     print(problem)
     --a-center needs 2 numbers (--dim 2), got 1
-    --a-radius applies to sphere, sphere_response cases only, not aabb
+    --a-radius applies to sphere, sphere_response, sphere_toi cases only, not aabb
     --restitution applies to sphere_response cases only, not aabb
     """
     problems = [] if re.fullmatch(ID_PATTERN, case_id) else [
@@ -108,27 +123,29 @@ def _option_problems(kind: str, dim: int, case_id: str, a: Mapping[str, Any],
                 problems.append(f"{option} needs {dim} numbers (--dim {dim}), got {len(value)}")
     if restitution is not None and Kind(kind) is not Kind.SPHERE_RESPONSE:
         problems.append(f"--restitution applies to sphere_response cases only, not {kind}")
+    if duration is not None and Kind(kind) is not Kind.SPHERE_TOI:
+        problems.append(f"--duration applies to sphere_toi cases only, not {kind}")
     return sorted(problems)
 
 
 def append_case(path: Path, kind: str, dim: int, case_id: str, *,
                 description: str | None = None, tags: Sequence[str] | None = None,
                 a: Mapping[str, Any] | None = None, b: Mapping[str, Any] | None = None,
-                restitution: float | None = None) -> str:
+                restitution: float | None = None, duration: float | None = None) -> str:
     """Check the new case, then append it to ``path`` (created with the schema line); its text.
 
     Raises :class:`NewCaseError` (nothing written) for a bad id, an id already
     used under ``cases/`` or in ``path``, an option that does not apply to the
     kind, or a block that would not validate.
     """
-    problems = _option_problems(kind, dim, case_id, a or {}, b or {}, restitution)
+    problems = _option_problems(kind, dim, case_id, a or {}, b or {}, restitution, duration)
     if problems:
         raise NewCaseError(problems)
     existing = load_paths([p for p in (Path("cases"), path) if p.exists()])
     if any(case.id == case_id for case in existing.cases):
         raise NewCaseError([f"id {case_id!r} is already used"])
     text = new_block(kind, dim, case_id, description=description, tags=tags, a=a, b=b,
-                     restitution=restitution)
+                     restitution=restitution, duration=duration)
     problems = _problems(text)
     if problems:
         raise NewCaseError(problems)

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from crosscheck.cli.console import err, fail, report_case_errors, say
-from crosscheck.core.model import PAIR_KINDS
+from crosscheck.core.model import NEW_CASE_KINDS
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
@@ -55,7 +55,7 @@ def cmd_new_case(args: argparse.Namespace) -> int:
     try:
         append_case(args.file, args.kind, args.dim, args.id, description=args.description,
                     tags=args.tag, a=_body(args, "a"), b=_body(args, "b"),
-                    restitution=args.restitution)
+                    restitution=args.restitution, duration=args.duration)
     except NewCaseError as exc:
         for problem in exc.problems:
             fail(problem)
@@ -87,7 +87,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="case files or folders (default: cases/)")
     p.set_defaults(func=cmd_validate)
     p = sub.add_parser("new-case", help="append a valid template case to a file")
-    p.add_argument("--kind", required=True, choices=PAIR_KINDS, help="the kind of query")
+    p.add_argument("--kind", required=True, choices=NEW_CASE_KINDS,
+                   help="the kind of query")
     p.add_argument("--dim", required=True, type=int, choices=[2, 3], help="2 or 3 dimensions")
     p.add_argument("--id", required=True, help="the new case's id, unique in the suite")
     p.add_argument("--file", type=Path, default=Path("cases/user.toml"),
@@ -96,6 +97,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--description", help="what the case probes")
     p.add_argument("--tag", action="append", help="a tag (repeatable)")
     p.add_argument("--restitution", type=float, help="sphere_response only (default 1)")
+    p.add_argument("--duration", type=float,
+                   help="sphere_toi only: the interval [0, duration] in s (default 1)")
     for side in ("a", "b"):
         for key, help_text in (("center", "x,y[,z]"), ("half", "half-widths hx,hy[,hz]"),
                                ("velocity", "vx,vy[,vz]")):

@@ -83,6 +83,11 @@ class Conventions:
     that looks for contacts only at the start of each step and pushes only
     bodies that overlap there (no continuous or predictive contact): a contact
     shorter than a step can fall between two steps.
+
+    Times of impact (:mod:`crosscheck.truth.toi`): ``toi_target`` is the separation of
+    the surfaces at which the engine's time-of-impact query stops (negative: an
+    overlap; 0: touching, as the exact first contact), ``toi_tolerance`` how far from it
+    the query may stop (its declared termination tolerance, a length).
     """
 
     box_extents: str = "half"
@@ -105,6 +110,8 @@ class Conventions:
     max_speed: float | None = None
     max_speed_at: str = ""
     sampled_contacts: bool = False
+    toi_target: float = 0.0
+    toi_tolerance: float = 0.0
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
 

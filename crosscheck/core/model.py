@@ -36,12 +36,14 @@ __all__ = [
 
 
 class Kind(StrEnum):
-    """What a case asks: box overlap, sphere detection, sphere response or a stepped scene."""
+    """What a case asks: box overlap, sphere detection, sphere response, a stepped scene, or
+    the first contact time of two spheres in linear motion (time of impact)."""
 
     AABB = "aabb"
     SPHERE = "sphere"
     SPHERE_RESPONSE = "sphere_response"
     SPHERE_SCENE = "sphere_scene"
+    SPHERE_TOI = "sphere_toi"
 
 
 class Status(StrEnum):
@@ -139,13 +141,16 @@ class Category(StrEnum):
 
 
 PAIR_KINDS = ("aabb", "sphere", "sphere_response")
-"""The two-body kinds (every kind but scenes): what fuzz and new-case make."""
+"""The two-body kinds at one instant: what fuzz makes."""
+NEW_CASE_KINDS = (*PAIR_KINDS, "sphere_toi")
+"""The kinds ``crosscheck new-case`` writes: every two-body kind (scenes are written by hand)."""
 
 _QUANTITIES: dict[Kind, tuple[str, ...]] = {
     Kind.AABB: ("hit", "distance", "normal"),
     Kind.SPHERE: ("hit", "distance", "normal"),
     Kind.SPHERE_RESPONSE: ("v1", "v2"),
     Kind.SPHERE_SCENE: ("positions", "velocities", "momentum", "energy"),
+    Kind.SPHERE_TOI: ("hit", "toi", "normal"),
 }
 
 
@@ -168,8 +173,12 @@ class Observation:
     """
 
     hit: bool | Undefined | None = None
+    """Detection: the bodies collide; time of impact: they touch within the interval."""
     distance: float | Undefined | None = None
     normal: Vec | Undefined | None = None
+    """Unit vector from A to B (time of impact: from A's centre to B's at the contact time)."""
+    toi: float | Undefined | None = None
+    """Time of impact: the first contact time in the case's interval (seconds from its start)."""
     v1: Vec | Undefined | None = None
     v2: Vec | Undefined | None = None
     resolved_at: tuple[Vec, Vec] | None = None

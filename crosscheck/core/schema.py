@@ -72,12 +72,19 @@ class MovingSphere(SphereBody):
     velocity: Vector
 
 
+class SweptSphere(SphereBody):
+    """A sphere in linear motion, for time-of-impact cases: centre at the start, velocity."""
+
+    velocity: Vector
+
+
 class Tolerance(_Frozen):
     """Absolute tolerances overriding the harness defaults for this case."""
 
     distance: Num | None = None
     normal: Num | None = Field(None, description="Angle in radians.")
     velocity: Num | None = None
+    toi: Num | None = Field(None, description="Time of impact, in seconds.")
 
 
 class Expect(_Frozen):
@@ -132,6 +139,12 @@ class Sweep(_Frozen):
     offset: Values | None = Field(None, description="Add to every centre coordinate of both.")
     mass_ratio: Values | None = Field(None, description="B's mass = A's mass x ratio.")
     speed: Values | None = Field(None, description="Multiply both velocities.")
+    step_travel: Values | None = Field(None, description=(
+        "Scenes of two bodies: per-step travel, the closing speed x dt over the overlap "
+        "window 2 (ra + rb); sets the speeds for each dt."))
+    phase: Values | None = Field(None, description=(
+        "Scenes of two bodies: where in its step the impact falls (0 < phase < 1), "
+        "after `approach_steps` whole steps."))
     direction: Vector | None = Field(None, description=(
         "Direction of gap/overlap (default: from A's centre to B's); an axis for boxes."))
 
@@ -201,6 +214,16 @@ class ResponseCase(_CaseBase):
     restitution: Num = 1.0
 
 
+class ToiCase(_CaseBase):
+    """When do two spheres in linear motion first touch in ``[0, duration]`` (touching counts)?"""
+
+    kind: Literal["sphere_toi"]
+    a: SweptSphere
+    b: SweptSphere
+    duration: Num = Field(description="The interval's length in seconds: the query covers "
+                                      "[0, duration].")
+
+
 class Steps(_Frozen):
     """How engines step a scene: one run per time step x solver iteration count."""
 
@@ -230,11 +253,15 @@ class SceneCase(_CaseBase):
     bodies: tuple[MovingSphere, ...] = ()
     generator: SceneGenerator | None = None
     restitution: Num = 1.0
-    duration: Num = Field(description="Simulated seconds; engines step round(duration / dt).")
+    duration: Num | None = Field(None, description=(
+        "Simulated seconds; engines step round(duration / dt).  Required, unless the block "
+        "sweeps `step_travel` or `phase`: then each case runs twice its time to impact."))
     steps: Steps | None = None
     dt: Num | None = Field(None, description="Set by expanding `steps`: one time step.")
     iterations: Annotated[int, Strict(), Field(ge=1)] | None = None
     swap: Annotated[bool, Strict()] = Field(False, description="Scenes are never swapped.")
+    approach_steps: Annotated[int, Strict(), Field(ge=1, le=1000)] = Field(4, description=(
+        "Swept over `step_travel` or `phase`: whole steps before the first impact."))
 
     @model_validator(mode="before")
     @classmethod
@@ -246,19 +273,22 @@ class SceneCase(_CaseBase):
     @property
     def step_count(self) -> int:
         """Steps an engine takes: ``round(duration / dt)`` (at least 1)."""
-        return max(1, round(self.duration / (self.dt or DEFAULT_DT)))
+        return max(1, round((self.duration or 0.0) / (self.dt or DEFAULT_DT)))
 
 
 DEFAULT_DT = 1.0 / 240.0
 """Time step of a scene case with no ``steps`` (PyBullet's default)."""
 
 PairCase = AabbCase | SphereCase | ResponseCase
-"""A two-body case (every kind but scenes)."""
+"""A two-body case at one instant (every kind but scenes and times of impact)."""
+TwoBodyCase = AabbCase | SphereCase | ResponseCase | ToiCase
+"""A case of two bodies A and B (every kind but scenes): swept, swapped and flattened alike."""
 
-Case = Annotated[AabbCase | SphereCase | ResponseCase | SceneCase, Field(discriminator="kind")]
+Case = Annotated[AabbCase | SphereCase | ResponseCase | SceneCase | ToiCase,
+                 Field(discriminator="kind")]
 """One validated case of any kind."""
 
-AnyCase = AabbCase | SphereCase | ResponseCase | SceneCase
+AnyCase = AabbCase | SphereCase | ResponseCase | SceneCase | ToiCase
 CASE_ADAPTER: TypeAdapter[AnyCase] = TypeAdapter(Case)
 
 

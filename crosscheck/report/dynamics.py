@@ -59,7 +59,7 @@ def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
 def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> dict[str, Any]:
     pos, energy = by_q["positions"], by_q.get("energy")
     dt = float(case.dt or DEFAULT_DT)
-    steps = max(1, round(float(case.duration) / dt))
+    steps = case.step_count
     wall = float(pos.query_s)
     iterations = case.iterations
     return {

@@ -73,6 +73,7 @@ PROFILES = (
     Profile("3-D detection", ("aabb", "sphere"), (3,)),
     Profile("2-D detection", ("aabb", "sphere"), (2,)),
     Profile("responses", ("sphere_response",)),
+    Profile("times of impact", ("sphere_toi",)),
     Profile("scenes", ("sphere_scene",)),
 )
 

@@ -60,8 +60,10 @@ DETECTION = Measure(("distance", "normal"), ("hit",), "wrong hit verdicts")
 MEASURES: dict[str, Measure] = {
     "aabb": DETECTION, "sphere": DETECTION,
     "sphere_response": Measure(("v1", "v2"), ("v1", "v2"),
-                               "cases with a velocity beyond tolerance")}
+                               "cases with a velocity beyond tolerance"),
+    "sphere_toi": Measure(("toi", "normal"), ("hit",), "wrong contact verdicts")}
 QUANTITY_LABELS = {"distance": "signed distance", "normal": "normal (angle)",
+                   "toi": "time of impact",
                    "v1": "velocity v1", "v2": "velocity v2"}
 
 

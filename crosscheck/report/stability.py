@@ -37,10 +37,12 @@ from crosscheck.truth.categories import length_scale, velocity_scale
 
 _GAP = "gap or overlap relative to size"
 AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale", "gap": _GAP,
-                        "overlap": _GAP, "mass_ratio": "mass ratio", "speed": "approach speed"}
+                        "overlap": _GAP, "mass_ratio": "mass ratio", "speed": "approach speed",
+                        "step_travel": "per-step travel (fast bodies)"}
 """Sweep parameter -> the axis of difficulty it probes."""
 
-HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2"}
+HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2", "sphere_toi": "toi",
+            "sphere_scene": "velocities"}
 """The quantity the threshold table shows for each kind."""
 FALLBACK = {"aabb": "hit", "sphere": "hit"}
 """What the table shows for an engine whose headline quantity has no verdict on a walk."""
@@ -60,6 +62,7 @@ class Direction:
 _UP, _DOWN = Direction("larger", True), Direction("smaller", False)
 DIRECTIONS: dict[str, tuple[Direction, ...]] = {
     "offset": (_UP,), "gap": (_DOWN,), "overlap": (_DOWN,), "mass_ratio": (_UP,), "speed": (_DOWN,),
+    "step_travel": (_UP,),
     "scale": (Direction("tiny", False, high=1.0), Direction("huge", True, low=1.0))}
 POINT_COLUMNS = ["sweep", "family", "axis", "param", "value", "direction", "kind", "dim", "engine",
                  "quantity", "status", "category", "error", "rel_error", "rel_tolerance",
@@ -92,19 +95,34 @@ def relative_error(quantity: str, error: float, scales: tuple[float, float]) -> 
     return error / scale if scale > 0 else math.nan
 
 
-def _single_parameter(coords: str) -> tuple[str, float] | None:
-    """``(param, value)`` of a one-parameter sweep point's coordinates, else None.
+SCENE_CONTEXT = ("dt", "iterations", "phase")
+"""Coordinates of a fast-body scene point that are not its difficulty: each time step (and
+iteration count) is a sweep of its own; the impact phases of one travel are walked together,
+so the travel breaks where any phase breaks."""
+
+
+def _single_parameter(coords: str) -> tuple[str, float, str] | None:
+    """``(param, value, context)`` of a one-parameter sweep point's coordinates, else None.
+
+    A fast-body scene point (``step_travel``, with its ``dt`` and ``phase``) is a point of
+    the ``step_travel`` sweep at its ``dt`` (the context, which names the sweep).
 
     >>> _single_parameter('{"gap": 1e-09}'), _single_parameter(""), _single_parameter('{"dt": 0.1}')
-    (('gap', 1e-09), None, None)
+    (('gap', 1e-09, ''), None, None)
+    >>> _single_parameter('{"dt": 0.0166667, "step_travel": 2.0, "phase": 0.5}')
+    ('step_travel', 2.0, 'dt=0.0166667')
     """
     if not coords:
         return None
     point = json.loads(coords)
+    context = ""
+    if "step_travel" in point and set(point) <= {"step_travel", *SCENE_CONTEXT}:
+        context = ",".join(f"{k}={point[k]:.6g}" for k in ("dt", "iterations") if k in point)
+        point = {"step_travel": point["step_travel"]}
     if len(point) != 1:
         return None
     ((param, value),) = point.items()
-    return (param, float(value)) if param in DIRECTIONS else None
+    return (param, float(value), context) if param in DIRECTIONS else None
 
 
 def _family(case_id: str, origin: str, cases: Mapping[str, AnyCase]) -> str:
@@ -133,10 +151,11 @@ def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
         return pd.DataFrame(columns=POINT_COLUMNS)
     chosen = [f for f, k in zip(found, keep, strict=True) if k and f is not None]
     rows = frame[keep].drop(columns=["value"]).assign(
-        param=[p for p, _ in chosen], value=[v for _, v in chosen])
-    rows["sweep"] = rows["origin"]
-    rows["family"] = [_family(str(c), str(o), cases)
-                      for c, o in zip(rows["case_id"], rows["origin"], strict=True)]
+        param=[p for p, _, _ in chosen], value=[v for _, v, _ in chosen])
+    rows["sweep"] = [f"{origin} ({context})" if context else origin
+                     for origin, (_, _, context) in zip(rows["origin"], chosen, strict=True)]
+    rows["family"] = [_family(str(c), str(s), cases)
+                      for c, s in zip(rows["case_id"], rows["sweep"], strict=True)]
     rows["axis"] = rows["param"].map(AXES)
     scales = _scales(cases, set(rows["case_id"]))
     for column, of in (("rel_error", "error"), ("rel_tolerance", "tolerance")):

@@ -31,14 +31,18 @@ from crosscheck.report.stability import DIRECTIONS, HEADLINE, with_category
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 
 CHARTED = {"aabb": ("distance", "normal"), "sphere": ("distance", "normal"),
-           "sphere_response": ("v2",)}
+           "sphere_response": ("v2",), "sphere_toi": ("toi", "normal"),
+           "sphere_scene": ("velocities",)}
 """The quantities charted for each kind, the headline one first."""
 DASHES = ("solid", "dot", "dash", "longdash", "dashdot")
 X_LABEL = {"offset": "offset added to every coordinate", "scale": "factor on every length",
            "gap": "gap / touching distance", "overlap": "overlap / touching distance",
-           "mass_ratio": "mass ratio m_B / m_A", "speed": "factor on both velocities"}
+           "mass_ratio": "mass ratio m_B / m_A", "speed": "factor on both velocities",
+           "step_travel": "per-step travel |vb - va| dt / 2(ra + rb)"}
 Y_LABEL = {"distance": "|distance error| / length scale", "normal": "normal error (radians)",
-           "v1": "|v1 error| / velocity scale", "v2": "|v2 error| / velocity scale"}
+           "v1": "|v1 error| / velocity scale", "v2": "|v2 error| / velocity scale",
+           "toi": "|time of impact error| (s)",
+           "velocities": "velocity error / largest initial speed"}
 NAMED = 3
 """A headline names at most this many engines, then says how many more."""
 

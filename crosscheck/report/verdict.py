@@ -31,7 +31,7 @@ from crosscheck.report.query_cost import column
 from crosscheck.report.tables import share_colour
 from crosscheck.results.store import REPRO_DIR, repro_name
 
-KINDS = ("aabb", "sphere", "sphere_response", "sphere_scene")
+KINDS = ("aabb", "sphere", "sphere_response", "sphere_toi", "sphere_scene")
 """The kinds in their column order; a run's other kinds follow, in run order."""
 SHOWN = 3
 """Failure modes shown per engine in the block (all of them are in the list below it)."""

@@ -32,7 +32,7 @@ from typing import Any
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
 from crosscheck.core.model import Observation, Record, Status, quantities_of
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import AnyCase, PairCase, SceneCase
+from crosscheck.core.schema import AnyCase, PairCase, SceneCase, ToiCase
 from crosscheck.core.values import encode
 from crosscheck.results.rows import ColumnLines, line
 from crosscheck.results.store import ResultsStore
@@ -323,7 +323,7 @@ def score_lines(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence[O
     (:func:`~crosscheck.truth.columnar.judge_batch`), the rest record by record."""
     plain = [k for k, (case, outcome) in enumerate(zip(cases, outcomes, strict=True))
              if outcome.observation is not None and not outcome.hung
-             and not isinstance(case, SceneCase)]
+             and not isinstance(case, SceneCase | ToiCase)]
     columns = judge_batch([_pair(cases[k]) for k in plain], adapter.conventions,
                           [_observed(outcomes[k]) for k in plain], [truths[k] for k in plain])
     rows = ColumnLines(columns)
@@ -344,7 +344,7 @@ def score_records(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence
     :func:`score_lines` (for a caller that keeps records rather than writing lines)."""
     plain = [k for k, (case, outcome) in enumerate(zip(cases, outcomes, strict=True))
              if outcome.observation is not None and not outcome.hung
-             and not isinstance(case, SceneCase)]
+             and not isinstance(case, SceneCase | ToiCase)]
     columns = judge_batch([_pair(cases[k]) for k in plain], adapter.conventions,
                           [_observed(outcomes[k]) for k in plain], [truths[k] for k in plain])
     marked, row, records = set(plain), 0, []
@@ -361,7 +361,7 @@ def score_records(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence
 
 
 def _pair(case: AnyCase) -> PairCase:
-    assert not isinstance(case, SceneCase)
+    assert not isinstance(case, SceneCase | ToiCase)
     return case
 
 

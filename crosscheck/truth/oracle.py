@@ -25,8 +25,9 @@ from crosscheck.core.schema import (
     ResponseCase,
     SceneCase,
     SphereCase,
+    ToiCase,
 )
-from crosscheck.truth import scenes
+from crosscheck.truth import scenes, toi
 from reference_impl import exact, formulas
 from reference_impl.batch_response import response_values
 from reference_impl.batch_values import sphere_values
@@ -39,6 +40,8 @@ def truth(case: AnyCase) -> Observation:
     """The exact answer for ``case``; quantities are Undefined where they have no value."""
     if isinstance(case, SceneCase):
         return scenes.truth(case)
+    if isinstance(case, ToiCase):
+        return toi.truth(case)
     if isinstance(case, AabbCase):
         return _contact(exact.aabb_contact(case.a.center, case.a.half,
                                            case.b.center, case.b.half), case.kind_enum)
@@ -50,8 +53,14 @@ def truth(case: AnyCase) -> Observation:
                                          case.b.center, case.b.radius), case.kind_enum)
 
 
-def textbook(case: PairCase, precision: Precision = "f64") -> Observation:
-    """The textbook formula evaluated in ``precision`` floating point."""
+def textbook(case: PairCase | ToiCase, precision: Precision = "f64") -> Observation:
+    """The textbook formula evaluated in ``precision`` floating point.
+
+    A time of impact is the textbook's discrete test sampled at the interval's two ends
+    (:func:`sampled_impact`), as a simulation that steps over the interval sees it.
+    """
+    if isinstance(case, ToiCase):
+        return sampled_impact(case, precision)
     if isinstance(case, AabbCase):
         return _contact(formulas.aabb_contact(case.a.center, case.a.half, case.b.center,
                                               case.b.half, precision=precision), case.kind_enum)
@@ -62,6 +71,32 @@ def textbook(case: PairCase, precision: Precision = "f64") -> Observation:
                                                   precision=precision))
     return _contact(formulas.sphere_contact(case.a.center, case.a.radius, case.b.center,
                                             case.b.radius, precision=precision), case.kind_enum)
+
+
+def sampled_impact(case: ToiCase, precision: Precision = "f64") -> Observation:
+    """The textbook's discrete sphere test (strict ``<``) at ``t = 0`` and at the interval's
+    end ``T`` (centres ``c + v T`` in float64): a contact at the first sample that has one,
+    with the textbook's normal there; no contact if neither has.
+
+    >>> from crosscheck.core.schema import CASE_ADAPTER
+    >>> crossing = CASE_ADAPTER.validate_python({"id": "t", "description": "d",
+    ...     "kind": "sphere_toi", "dim": 2, "duration": 1.0,
+    ...     "a": {"center": [-1, 0], "radius": 0.1, "velocity": [2, 0]},
+    ...     "b": {"center": [1, 0], "radius": 0.1, "velocity": [-2, 0]}})
+    >>> sampled_impact(crossing).hit  # at t = 1 they have passed through each other
+    False
+    """
+    a, b = case.a, case.b
+    for t in (0.0, case.duration):
+        ca = tuple(c + v * t for c, v in zip(a.center, a.velocity, strict=True))
+        cb = tuple(c + v * t for c, v in zip(b.center, b.velocity, strict=True))
+        c = formulas.sphere_contact(ca, a.radius, cb, b.radius, precision=precision)
+        if isinstance(c, Undefined):
+            return Observation.undefined(quantities_of(Kind.SPHERE_TOI), c.reason)
+        if c.hit:
+            return Observation(hit=True, toi=t, normal=c.normal)
+    none = Undefined("no contact at either sample")
+    return Observation(hit=False, toi=none, normal=none)
 
 
 def _contact(c: Contact | Undefined, kind: Kind) -> Observation:

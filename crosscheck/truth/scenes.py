@@ -155,6 +155,134 @@ from the precision alone: each velocity component held to ``rtol`` of its size i
 a square, ``2 rtol + rtol**2``."""
 
 
+def step_travel(case: SceneCase) -> float:
+    """Per-step travel of a scene's first two bodies: ``|vb - va| dt / (2 (ra + rb))``.
+
+    The fraction of the overlap window (the ``2 (ra + rb)`` along the line of centres in
+    which two spheres closing head-on overlap) that they cross in one step: beyond 1 a
+    head-on pair can cross it between two steps, and an engine that only looks for
+    contacts at the steps never sees them touch.
+    """
+    a, b = case.bodies[0], case.bodies[1]
+    closing = norm([x - y for x, y in zip(a.velocity, b.velocity, strict=True)])
+    return closing * (case.dt or DEFAULT_DT) / (2.0 * (a.radius + b.radius))
+
+
+def _free_flight(case: SceneCase) -> tuple[Vec, ...]:
+    """Every body's initial velocity: what an engine that resolved no impact ends with."""
+    return tuple(tuple(b.velocity) for b in case.bodies)
+
+
+def _overlap_steps(case: SceneCase) -> tuple[list[int], list[int]]:
+    """The step starts ``k dt`` at which the first two bodies, in free flight, overlap while
+    still approaching (a contact a discrete step can resolve), and those at which they
+    overlap with their centres already past the closest point (receding: a contact normal
+    taken there says they are moving apart, and the step lets them go)."""
+    a, b = case.bodies[0], case.bodies[1]
+    dt, reach = case.dt or DEFAULT_DT, a.radius + b.radius
+    dv = [w - v for v, w in zip(a.velocity, b.velocity, strict=True)]
+    approaching: list[int] = []
+    receding: list[int] = []
+    for k in range(case.step_count + 1):
+        d = [(q + w * k * dt) - (p + v * k * dt)
+             for p, v, q, w in zip(a.center, a.velocity, b.center, b.velocity, strict=True)]
+        if norm(d) < reach:
+            closing = math.fsum(x * y for x, y in zip(d, dv, strict=True)) < 0
+            (approaching if closing else receding).append(k)
+    return approaching, receding
+
+
+def _passed_through(case: SceneCase, conventions: Conventions, quantity: str, err: float,
+                    observed: Observation, impacts: int | None) -> tuple[str, str] | None:
+    """A missed impact: the engine's velocities are still the initial ones (no impact
+    resolved) where the exact run has impacts.  Named, with the travel, never a small
+    position error."""
+    velocities = observed.velocities
+    if (not impacts or len(case.bodies) < 2 or not isinstance(velocities, tuple)
+            or quantity not in QUANTITIES):
+        return None
+    unchanged = relative_error(case, "velocities", velocities, _free_flight(case))
+    if unchanged > max(PRECISION_FACTOR * conventions.rtol, DEFAULT_TOL_FLOOR,
+                       damping_bound(case, conventions)):
+        return None
+    travel = step_travel(case)
+    head = (f"{quantity} off by {err:.3g} {_UNITS[quantity]}: the bodies passed through each "
+            f"other at step travel {travel:.3g} (|vb - va| dt / 2(ra + rb), dt = "
+            f"{case.dt or DEFAULT_DT:.3g} s): the engine resolved none of the {impacts} "
+            f"impact(s) of the exact run (final velocities the initial ones, to {unchanged:.2g})")
+    seen, past = _overlap_steps(case)
+    sampled = ("no step start finds the two overlapping while approaching"
+               + (f" (at the start of step {past[0]} they overlap, but with their centres "
+                  "already past each other: moving apart along the line of centres)"
+                  if past else ""))
+    if conventions.sampled_contacts and not seen:
+        return Category.TIMESTEP, (
+            f"{head}; the engine looks for contacts only at step starts (declared "
+            f"sampled_contacts), and {sampled}")
+    where = (f"they overlap, approaching, at the start of step {seen[0]}" if seen
+             else sampled)
+    declared = ("" if conventions.sampled_contacts
+                else "; the engine does not declare sampled contacts")
+    return Category.ERROR, f"{head}; {where}{declared}"
+
+
+DEFAULT_TOL_FLOOR = 1e-9
+"""The least relative change of velocity that counts as an impact resolved (below the
+default scene tolerance, :data:`~crosscheck.truth.score.DEFAULT_RTOL`)."""
+
+
+def scene_speed_cap(case: SceneCase, conventions: Conventions) -> float | None:
+    """The declared cap that acts at every step, at the scene's ``dt`` (None: none).
+
+    Such a cap is a translation per step (Box2D's ``b2_maxTranslation``): declared as
+    ``max_speed`` at the engine's ``time_step``, it is ``max_speed x time_step / dt`` at
+    the scene's step.
+    """
+    if conventions.max_speed is None or conventions.max_speed_at != "step":
+        return None
+    per_step = conventions.max_speed * (conventions.time_step or (case.dt or DEFAULT_DT))
+    return per_step / (case.dt or DEFAULT_DT)
+
+
+def capped(case: SceneCase, conventions: Conventions) -> SceneCase | None:
+    """``case`` with every initial speed clipped to a declared cap that acts at every step
+    (None: no such cap, or no body over it).  Box2D clips the velocity it integrates with
+    and keeps it, so starting capped is the same motion."""
+    cap = scene_speed_cap(case, conventions)
+    if cap is None:
+        return None
+    over = [norm(b.velocity) > cap for b in case.bodies]
+    if not any(over):
+        return None
+    bodies = tuple(b.model_copy(update={"velocity": tuple(v * cap / norm(b.velocity)
+                                                          for v in b.velocity)}) if o else b
+                   for b, o in zip(case.bodies, over, strict=True))
+    return case.model_copy(update={"bodies": bodies})
+
+
+def _speed_cap(case: SceneCase, conventions: Conventions, quantity: str, err: float,
+               value: Value, tol: float, impacts: int | None) -> tuple[str, str] | None:
+    """The error explained by the declared speed cap: right (within the tolerance or the
+    step lag) for the scene with its initial speeds capped."""
+    slow = capped(case, conventions)
+    if slow is None:
+        return None
+    want = truth(slow).get(quantity)
+    if want is None or isinstance(want, Undefined):
+        return None
+    there = relative_error(case, quantity, value, want)
+    lag = lag_bound(case, impacts or 0) if quantity == "positions" else 0.0
+    if there > max(tol, lag, PRECISION_FACTOR * conventions.rtol):
+        return None
+    top = max(norm(b.velocity) for b in case.bodies)
+    return Category.CONVENTION, (
+        f"{quantity} off by {err:.3g} {_UNITS[quantity]}: the engine caps speeds at "
+        f"{scene_speed_cap(case, conventions):.4g} m/s at dt = {case.dt or DEFAULT_DT:.3g} s "
+        f"(declared max_speed x time_step per step), and the top "
+        f"initial speed is {top:.4g}; against the exact run with the capped speeds the error "
+        f"is {there:.3g}")
+
+
 def _category(case: SceneCase, conventions: Conventions, quantity: str, err: float,
               impacts: int | None, positions_err: float) -> tuple[str, str]:
     steps = f"{case.step_count} steps of dt = {case.dt or DEFAULT_DT:.3g} s"
@@ -232,6 +360,8 @@ def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value
     moved = (relative_error(case, "positions", positions, truth.positions)
              if isinstance(positions, tuple) and isinstance(truth.positions, tuple) else math.inf)
     impacts = truth.impacts
-    category, reason = _category(case, conventions, quantity, err,
-                                 None if impacts is None else len(impacts), moved)
+    count = None if impacts is None else len(impacts)
+    named = (_speed_cap(case, conventions, quantity, err, value, tol, count)
+             or _passed_through(case, conventions, quantity, err, observed, count))
+    category, reason = named or _category(case, conventions, quantity, err, count, moved)
     return Status.DISAGREE, err, tol, category, reason + _aligned(case, impacts)

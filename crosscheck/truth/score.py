@@ -30,8 +30,8 @@ from typing import cast
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
-from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.truth import scenes
+from crosscheck.core.schema import AnyCase, SceneCase, ToiCase
+from crosscheck.truth import scenes, toi
 from crosscheck.truth.bounds import bound, error_of
 from crosscheck.truth.categories import categorize
 from crosscheck.truth.no_value import failed
@@ -78,6 +78,10 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
         status, err, tol, category, reason = scenes.judge(
             case, conventions, quantity, value, want, truth,
             observation or Observation(), DEFAULT_RTOL)
+        return Verdict(status, err, tol, category, reason)
+    if isinstance(case, ToiCase):
+        status, err, tol, category, reason = toi.judge(case, conventions, quantity, value, truth,
+                                                       observation or Observation())
         return Verdict(status, err, tol, category, reason)
     tol = bound(case, quantity, _gap(truth))
     if (quantity == "normal" and isinstance(value, tuple) and not failed(value)

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 from crosscheck.cases.load import load_paths
+from crosscheck.core.model import Kind
 from crosscheck.core.schema import json_schema_text
 from tests.conftest import ROOT
 
@@ -62,9 +63,7 @@ def test_shipped_suite_is_valid() -> None:
 
 def test_shipped_suite_covers_every_kind_and_dim() -> None:
     covered = {(c.kind, c.dim) for c in load_paths([ROOT / "cases"]).cases}
-    kinds = ("aabb", "sphere", "sphere_response")
-    scenes = {("sphere_scene", 2), ("sphere_scene", 3)}
-    assert covered == {(k, d) for k in kinds for d in (2, 3)} | scenes
+    assert covered == {(str(k), d) for k in Kind for d in (2, 3)}
 
 
 def test_good_case_loads(write_toml: Write) -> None:
@@ -221,7 +220,8 @@ def test_messages_give_the_line_and_a_did_you_mean(write_toml: Write) -> None:
     assert f".toml:{line}: case 's1': field a" in message
     assert "did you mean 'radius'?" in message
     wrong_kind = only_error(write_toml(sphere_text().replace('kind = "sphere"', 'kind = "spere"')))
-    assert "kind must be one of aabb, sphere, sphere_response, sphere_scene, not 'spere' " \
+    assert "kind must be one of aabb, sphere, sphere_response, sphere_scene, sphere_toi, " \
+           "not 'spere' " \
            "(did you mean 'sphere'?)" in wrong_kind
 
 

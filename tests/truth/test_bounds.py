@@ -11,7 +11,7 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Category, Kind, Status, quantities_of
-from crosscheck.core.schema import AabbCase, PairCase, SceneCase
+from crosscheck.core.schema import AabbCase, PairCase, SceneCase, ToiCase
 from crosscheck.studies.fuzz.generator import generate
 from crosscheck.truth import oracle
 from crosscheck.truth.bounds import U, bound
@@ -19,7 +19,7 @@ from crosscheck.truth.score import judge
 from tests.conftest import ROOT, aabb, sphere
 
 SUITE = [c for c in load_paths([ROOT / "cases"]).cases
-         if not isinstance(c, SceneCase) and not c.bad_input]
+         if not isinstance(c, SceneCase | ToiCase) and not c.bad_input]
 TEXTBOOK = Conventions()
 FUZZED = [g.case for kind in (Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE)
           for g in generate(kind, 1500, 7)]

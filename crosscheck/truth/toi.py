@@ -1,0 +1,253 @@
+"""Times of impact (kind ``sphere_toi``): the exact truth, the agree bounds and the categories.
+
+Two spheres move with constant velocities over ``[0, T]`` (``T`` the case's
+``duration``).  The truth is :func:`reference_impl.toi.time_of_impact`: whether they
+touch in the closed interval (``hit``), the first contact time correctly rounded
+(``toi``) and the unit normal from A's centre to B's then (``normal``).  Without a
+hit, ``toi`` and ``normal`` have no value (``undefined`` rows).
+
+**Agree bounds** (what float64 allows).  A float64 solver rounds ``dp = cb - ca``
+and ``dv = vb - va`` and the coefficients of ``f(t) = |dp + dv t|**2 - R**2``; each
+coefficient is off by a few ``u`` of the magnitudes it combines, so ``f`` near the
+root by ``u S`` with ``S = (|dv| t + |dp|)**2 + R**2``.  The root moves by that over
+the slope ``|f'(t)| = 2 sqrt(disc)``; at a graze (``disc`` near 0) by at most
+``sqrt(u S / a)`` (``a = |dv|**2``).  So ``toi`` agrees within
+``K_TOI u (t + min(S / (2 sqrt(disc)), sqrt(S / (K_TOI u a))))``, and the normal within
+``K_ANGLE u`` plus the tilt that time error gives it, ``|dv| dt / R`` (and ``u`` of the
+lengths it divides).  ``hit`` is right or wrong.
+
+**Categories**, from declared conventions only:
+
+- ``convention``: the engine declares a target separation for its time of impact
+  (``toi_target``: Box2D stops at an overlap of ``3 linearSlop``), and at the time it
+  reported the exact surfaces are within ``toi_tolerance`` of it; or it reports no
+  contact for a pair that never reaches that overlap;
+- ``tolerance``: the same with no target (``toi_target`` 0), within the declared
+  ``toi_tolerance`` or the engine's precision ``rtol`` on the case's numbers;
+- ``timestep``: an engine that samples contacts (``sampled_contacts``), at the
+  interval's two ends, reported the later sample, or saw no contact because it fell
+  between them;
+- ``error``: none of these.  A normal gets the category of its time when it is right
+  for the time the engine reported.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from crosscheck.core.contract import Conventions
+from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.model import Category, Observation, Status, Undefined, Value
+from crosscheck.core.schema import ToiCase
+from crosscheck.truth.bounds import K_ANGLE, TINY, U, error_of
+from reference_impl.toi import time_of_impact
+
+K_TOI = 16
+"""Operation-count factor of the time bound (a dozen roundings of ``f``, with room)."""
+QUANTITIES = ("hit", "toi", "normal")
+NO_CONTACT = "no contact in the interval"
+
+
+def truth(case: ToiCase) -> Observation:
+    """The exact first contact of ``case`` in ``[0, duration]``."""
+    a, b = case.a, case.b
+    try:
+        impact = time_of_impact(a.center, a.velocity, a.radius, b.center, b.velocity,
+                                b.radius, case.duration)
+    except ValueError as exc:
+        return Observation.undefined(QUANTITIES, str(exc))
+    if not impact.hit:
+        return Observation(hit=False, toi=Undefined(NO_CONTACT), normal=Undefined(NO_CONTACT))
+    normal = (Undefined("the centres coincide at contact") if impact.normal is None
+              else impact.normal)
+    return Observation(hit=True, toi=impact.toi, normal=normal)
+
+
+@dataclass(frozen=True, slots=True)
+class Motion:
+    """The relative motion of B seen from A, in float64: ``d(t) = dp + dv t``, ``R``."""
+
+    dp: Vec
+    dv: Vec
+    radius: float
+
+    @classmethod
+    def of(cls, case: ToiCase) -> Motion:
+        dp = tuple(y - x for x, y in zip(case.a.center, case.b.center, strict=True))
+        dv = tuple(y - x for x, y in zip(case.a.velocity, case.b.velocity, strict=True))
+        return cls(dp, dv, case.a.radius + case.b.radius)
+
+    def at(self, t: float) -> Vec:
+        return tuple(p + v * t for p, v in zip(self.dp, self.dv, strict=True))
+
+    def gap(self, t: float) -> float:
+        """The distance between the surfaces at ``t`` (negative: overlapping)."""
+        return norm(self.at(t)) - self.radius
+
+    def closest(self, end: float) -> float:
+        """The time in ``[0, end]`` at which the centres are closest."""
+        a = math.fsum(v * v for v in self.dv)
+        if a == 0:
+            return 0.0
+        return min(end, max(0.0, -math.fsum(p * v for p, v in zip(self.dp, self.dv,
+                                                                    strict=True)) / a))
+
+    def time_bound(self, t: float, unit: float) -> float:
+        """How far rounding at relative ``unit`` moves the first root ``t`` (module docstring)."""
+        a = math.fsum(v * v for v in self.dv)
+        if a == 0 or t == 0:
+            return K_TOI * TINY
+        b = math.fsum(p * v for p, v in zip(self.dp, self.dv, strict=True))
+        c = math.fsum(p * p for p in self.dp) - self.radius**2
+        disc = max(0.0, b * b - a * c)
+        size = (math.sqrt(a) * t + norm(self.dp)) ** 2 + self.radius**2
+        graze = math.sqrt(size / (K_TOI * unit * a))
+        slope = size / (2.0 * math.sqrt(disc)) if disc > 0 else math.inf
+        return K_TOI * unit * (t + min(slope, graze)) + K_TOI * TINY
+
+
+def bound(case: ToiCase, quantity: str, want: Observation, unit: float = U) -> float:
+    """The agree tolerance of ``quantity``: the case's own, or the bound at relative ``unit``."""
+    own = case.tolerance
+    if quantity == "hit":
+        return 0.0
+    motion = Motion.of(case)
+    t = want.toi if isinstance(want.toi, float) else 0.0
+    dt = motion.time_bound(t, unit)
+    if quantity == "toi":
+        return own.toi if own and own.toi is not None else dt
+    if own and own.normal is not None:
+        return own.normal
+    if motion.radius <= 0:
+        return math.pi
+    lengths = norm(motion.dp) + norm(motion.dv) * t
+    return K_ANGLE * unit + (norm(motion.dv) * dt + K_ANGLE * unit * lengths) / motion.radius
+
+
+def judge(case: ToiCase, conv: Conventions, quantity: str, value: Value, truth: Observation,
+          observed: Observation) -> tuple[Status, float, float, str, str]:
+    """Status, error, tolerance, category and reason of one quantity (the truth is defined)."""
+    want = truth.get(quantity)
+    assert want is not None and not isinstance(want, Undefined)
+    tol = bound(case, quantity, truth)
+    err = math.inf if isinstance(value, Undefined) else error_of(quantity, value, want)
+    if err <= tol and _finite(value):
+        return Status.AGREE, err, tol, "", ""
+    category, reason = explain(case, conv, quantity, value, truth, observed, err)
+    return Status.DISAGREE, err, tol, category, reason
+
+
+def _finite(value: Value) -> bool:
+    if isinstance(value, Undefined):
+        return False
+    if isinstance(value, tuple):
+        return all(isinstance(x, float | int) and math.isfinite(x) for x in value)
+    return not isinstance(value, float) or math.isfinite(value)
+
+
+def explain(case: ToiCase, conv: Conventions, quantity: str, value: Value,
+            truth: Observation, observed: Observation, err: float) -> tuple[str, str]:
+    """The category and reason of a disagreement (see the module docstring)."""
+    motion = Motion.of(case)
+    reported = observed.hit if isinstance(observed.hit, bool) else None
+    when = observed.toi if isinstance(observed.toi, float) and math.isfinite(observed.toi) \
+        else None
+    exact = truth.toi if isinstance(truth.toi, float) else None
+    if quantity == "hit" or when is None or not reported:
+        return _verdict(case, conv, motion, reported, exact)
+    rule = _at_time(case, conv, motion, when, truth)
+    if quantity == "toi":
+        return rule or (Category.ERROR, _unexplained(motion, when, exact, err, "toi"))
+    right_then = _normal_then(motion, value, when)
+    if rule and right_then is not None and right_then <= bound(
+            case, "normal", truth, max(U, conv.rtol)):
+        category, why = rule
+        return category, (f"normal right for the engine's time {when:.17g} (off by "
+                          f"{right_then:.3g} rad from the direction then): {why}")
+    return Category.ERROR, _unexplained(motion, when, exact, err, "normal")
+
+
+def _unexplained(motion: Motion, when: float, exact: float | None, err: float,
+                 quantity: str) -> str:
+    at = f"exact contact at t = {exact!r}" if exact is not None else "no exact contact"
+    return (f"{quantity} off by {err:.3g}: at the engine's time {when:.17g} the surfaces are "
+            f"{motion.gap(when):.3g} apart ({at}); no declared target separation, tolerance "
+            "or sampling explains it")
+
+
+def _normal_then(motion: Motion, value: Value, when: float) -> float | None:
+    if not isinstance(value, tuple) or motion.radius <= 0:
+        return None
+    d = motion.at(when)
+    length = norm(d)
+    if length == 0:
+        return None
+    return error_of("normal", value, tuple(x / length for x in d))
+
+
+def _separation(conv: Conventions, case: ToiCase, truth: Observation) -> tuple[float, float]:
+    """The declared target separation and its allowance (tolerance plus ``rtol`` of sizes)."""
+    motion = Motion.of(case)
+    t = truth.toi if isinstance(truth.toi, float) else case.duration
+    sizes = norm(motion.dp) + norm(motion.dv) * t + motion.radius
+    return conv.toi_target, conv.toi_tolerance + max(U, conv.rtol) * sizes * K_TOI
+
+
+def _at_time(case: ToiCase, conv: Conventions, motion: Motion, when: float,
+             truth: Observation) -> tuple[str, str] | None:
+    """A reported time explained by a declared target, tolerance or sampling, else None."""
+    target, slack = _separation(conv, case, truth)
+    gap = motion.gap(when)
+    if abs(gap - target) <= slack:
+        category = Category.CONVENTION if target != 0 else Category.TOLERANCE
+        aim = (f"the declared target separation {target:.3g}" if target
+               else "touching (separation 0)")
+        return category, (f"at the engine's time {when:.17g} the surfaces are {gap:.3g} apart, "
+                          f"within {slack:.3g} (declared toi_tolerance {conv.toi_tolerance:.3g} "
+                          f"plus rtol {conv.rtol:.3g} of the lengths) of {aim}")
+    if conv.sampled_contacts and when == case.duration and gap < 0:
+        exact = truth.toi if isinstance(truth.toi, float) else math.nan
+        return Category.TIMESTEP, (
+            f"the engine samples contacts at the interval's ends (0 and {case.duration:g}): "
+            f"it reports the end, where the spheres overlap by {-gap:.3g}, for the contact at "
+            f"t = {exact!r}")
+    return None
+
+
+def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | None,
+             exact: float | None) -> tuple[str, str]:
+    """Why the engine's contact verdict (hit or no hit) differs from the exact one."""
+    end = case.duration
+    closest = motion.closest(end)
+    nearest = motion.gap(closest)
+    target, slack = conv.toi_target, conv.toi_tolerance
+    if reported is None:
+        return Category.ERROR, "the engine reported no contact verdict"
+    if reported and exact is None:
+        if nearest <= target + slack:
+            category = Category.CONVENTION if target else Category.TOLERANCE
+            return category, (f"the surfaces come within {nearest:.3g} at t = {closest:.6g} "
+                              f"(no exact contact), inside the declared target separation "
+                              f"{target:.3g} plus toi_tolerance {slack:.3g}")
+        return Category.ERROR, (f"reported a contact, but the surfaces stay {nearest:.3g} apart "
+                                f"at the closest (t = {closest:.6g}); no declared rule reaches it")
+    # the engine saw no contact; the exact pair touches at `exact`
+    if (exact is not None and conv.sampled_contacts and exact in (0.0, end)
+            and motion.gap(exact) == 0.0 and not conv.touching_is_contact("sphere")):
+        return Category.CONVENTION, (
+            f"the first contact is an exact touch at the sample t = {exact!r} (distance 0): "
+            "the engine's test counts touching spheres as apart, the time of impact as "
+            "contact")
+    if target < 0 and nearest > target - slack:
+        return Category.CONVENTION, (
+            f"the spheres overlap at most {max(0.0, -nearest):.3g} (t = {closest:.6g}), less "
+            f"than the engine's declared target overlap {-target:.3g}: it reports no contact")
+    if conv.sampled_contacts and motion.gap(0.0) >= 0 and motion.gap(end) >= 0:
+        return Category.TIMESTEP, (
+            f"the engine samples contacts at the interval's ends (0 and {end:g}); the exact "
+            f"contact at t = {exact!r} falls between them, and the spheres are apart again "
+            f"at the end ({motion.gap(end):.3g})")
+    return Category.ERROR, (f"reported no contact; the exact first contact is at t = {exact!r}"
+                            f" (the spheres overlap by up to {max(0.0, -nearest):.3g})")
+

@@ -1,0 +1,118 @@
+"""Times of impact (:mod:`crosscheck.truth.toi`): the exact truth, the float64 bound and the
+categories of engines' answers, from declared conventions."""
+
+from __future__ import annotations
+
+import math
+
+from crosscheck.cases.load import load_paths
+from crosscheck.core.contract import Conventions
+from crosscheck.core.model import Category, Observation, Status, Undefined
+from crosscheck.core.schema import CASE_ADAPTER, ToiCase
+from crosscheck.truth import oracle, toi
+from crosscheck.truth.score import judge
+from tests.conftest import ROOT
+
+SUITE = [c for c in load_paths([ROOT / "cases"]).cases if isinstance(c, ToiCase)]
+
+
+def crossing(**changes: object) -> ToiCase:
+    block = {"id": "t", "description": "d", "kind": "sphere_toi", "dim": 2, "duration": 1.0,
+             "a": {"center": [-1.0123456789, 0.0], "radius": 0.05,
+                   "velocity": [2.0246913578, 0.0]},
+             "b": {"center": [1.0123456789, 0.0], "radius": 0.05,
+                   "velocity": [-2.0246913578, 0.0]}} | changes
+    case = CASE_ADAPTER.validate_python(block)
+    assert isinstance(case, ToiCase)
+    return case
+
+
+def float64_root(case: ToiCase) -> float:
+    """A plain float64 solver: the first root of |dp + dv t|^2 = R^2, cancellation-free."""
+    dp = [y - x for x, y in zip(case.a.center, case.b.center, strict=True)]
+    dv = [y - x for x, y in zip(case.a.velocity, case.b.velocity, strict=True)]
+    radius = case.a.radius + case.b.radius
+    a = sum(v * v for v in dv)
+    b = sum(p * v for p, v in zip(dp, dv, strict=True))
+    c = sum(p * p for p in dp) - radius * radius
+    if c <= 0:
+        return 0.0
+    return c / (-b + math.sqrt(max(0.0, b * b - a * c)))
+
+
+def test_a_float64_solver_stays_within_the_time_bound_on_the_suite() -> None:
+    hits = [c for c in SUITE if oracle.truth(c).hit is True]
+    assert len(hits) > 40
+    for case in hits:
+        truth = oracle.truth(case)
+        assert isinstance(truth.toi, float)
+        verdict = judge(case, Conventions(), "toi", float64_root(case), truth)
+        assert verdict.status is Status.AGREE, (case.id, verdict)
+
+
+def test_the_time_bound_is_tight_enough_to_catch_a_step_late_answer() -> None:
+    case = crossing()
+    truth = oracle.truth(case)
+    assert isinstance(truth.toi, float)
+    late = judge(case, Conventions(), "toi", truth.toi + 1e-9, truth)
+    assert late.status is Status.DISAGREE and late.tolerance < 1e-12
+
+
+def test_the_discrete_baseline_misses_a_crossing_and_says_it_fell_between_samples() -> None:
+    case = crossing()
+    sampled = oracle.textbook(case)
+    assert sampled.hit is False
+    verdict = judge(case, Conventions(sampled_contacts=True), "hit", sampled.hit,
+                    oracle.truth(case), sampled)
+    assert verdict.status is Status.DISAGREE and verdict.category == Category.TIMESTEP
+    assert "falls between them" in verdict.reason
+
+
+def test_a_declared_target_overlap_explains_a_later_time_as_convention() -> None:
+    case = crossing()
+    truth = oracle.truth(case)
+    assert isinstance(truth.toi, float)
+    closing = 2 * 2.0246913578  # |vb - va|
+    overlap = 0.015  # an engine that stops at 1.5 cm of overlap reports this much later
+    later = truth.toi + overlap / closing
+    engine = Observation(hit=True, toi=later, normal=(1.0, 0.0))
+    declared = Conventions(toi_target=-overlap, toi_tolerance=1e-3)
+    verdict = judge(case, declared, "toi", later, truth, engine)
+    assert verdict.status is Status.DISAGREE and verdict.category == Category.CONVENTION
+    undeclared = judge(case, Conventions(), "toi", later, truth, engine)
+    assert undeclared.category == Category.ERROR
+
+
+def test_no_contact_where_the_pair_crosses_is_an_error_without_a_declared_rule() -> None:
+    case = crossing()
+    none = Undefined("no contact")
+    engine = Observation(hit=False, toi=none, normal=none)
+    for quantity in ("hit", "toi", "normal"):
+        verdict = judge(case, Conventions(), quantity, engine.get(quantity),
+                        oracle.truth(case), engine)
+        assert verdict.status is Status.DISAGREE and verdict.category == Category.ERROR
+        assert "reported no contact" in verdict.reason
+
+
+def test_toi_and_normal_have_no_value_without_a_contact() -> None:
+    miss = crossing(b={"center": [1.0, 0.2], "radius": 0.05, "velocity": [-2.0, 0.0]})
+    truth = oracle.truth(miss)
+    assert truth.hit is False and isinstance(truth.toi, Undefined)
+    verdict = judge(miss, Conventions(), "toi", 0.5, truth)
+    assert verdict.status is Status.UNDEFINED
+
+
+def test_a_normal_right_for_the_engines_own_time_takes_that_times_category() -> None:
+    oblique = crossing(b={"center": [1.0, 0.06], "radius": 0.05, "velocity": [-2.0, 0.0]})
+    truth = oracle.truth(oblique)
+    assert isinstance(truth.toi, float)
+    later = truth.toi + 0.001
+    motion = toi.Motion.of(oblique)
+    d = motion.at(later)
+    length = math.hypot(*d)
+    normal = (d[0] / length, d[1] / length)
+    engine = Observation(hit=True, toi=later, normal=normal)
+    declared = Conventions(toi_target=motion.gap(later), toi_tolerance=1e-6)
+    verdict = judge(oblique, declared, "normal", normal, truth, engine)
+    assert verdict.category == Category.CONVENTION
+    assert "normal right for the engine's time" in verdict.reason
