@@ -3,7 +3,9 @@
 Box2D is a 2-D engine in float32 (``float32`` is C ``float`` throughout): every 3-D case
 is skipped with the reason "2-D engine", and every input is rounded to float32 on its way
 into the engine.  Kinds: ``aabb`` (polygon boxes), ``sphere`` (circles) and
-``sphere_response``, and ``sphere_scene`` (stepped by :mod:`adapters.box2d_scene`, see below).
+``sphere_response``, and ``sphere_scene`` (stepped by :mod:`adapters.box2d_scene`, see below),
+and ``sphere_toi``: ``b2TimeOfImpact`` on two circles (:mod:`adapters.box2d_toi`, where its
+conventions, ``toi_target`` -0.015 and ``toi_tolerance`` 0.00125, are derived and cited).
 
 Detection (``aabb``, ``sphere``): ``prepare`` builds two shapes (``b2PolygonShape(box=(hx,
 hy))`` or ``b2CircleShape(radius=r)``) and two ``b2Transform`` s at the case's centres
@@ -141,12 +143,12 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from adapters import box2d_scene, stepping
+from adapters import box2d_scene, box2d_toi, stepping
 from adapters.box2d_world import Variant, add_disc, engine, new_world, xy
 from crosscheck.core.contract import Adapter, Capability, Conventions, import_problem
 from crosscheck.core.geometry import Vec
 from crosscheck.core.model import Kind, Observation
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, ToiCase
 
 B2 = "https://github.com/pybox2d/pybox2d/blob/2.3.10/Box2D/"
 SOURCES = (
@@ -182,7 +184,7 @@ SKIN = 0.02
 MAX_STEPS = 100_000
 """Step cap of a response query (bodies still approaching without touching)."""
 CAPABILITIES = frozenset({(Kind.AABB, 2), (Kind.SPHERE, 2), (Kind.SPHERE_RESPONSE, 2),
-                          (Kind.SPHERE_SCENE, 2)})
+                          (Kind.SPHERE_SCENE, 2), (Kind.SPHERE_TOI, 2)})
 
 
 @dataclass(frozen=True, slots=True)
@@ -336,8 +338,10 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
         max_speed_at="step",
         zero_mass="",
         negative_extents="",
-        notes=_NOTES + settings,
-        sources=SOURCES,
+        toi_target=box2d_toi.TOI_TARGET,
+        toi_tolerance=box2d_toi.TOI_TOLERANCE,
+        notes=_NOTES + box2d_toi.TOI_NOTES + settings,
+        sources=SOURCES + box2d_toi.SOURCES,
     )
 
 
@@ -395,6 +399,8 @@ class Box2dTuned(Adapter):
     def prepare(self, case: AnyCase) -> Any:
         if isinstance(case, SceneCase):
             return stepping.prepare(box2d_scene, case, self.scene_tuning)
+        if isinstance(case, ToiCase):
+            return box2d_toi.prepare(case)
         why = refusal(case)
         if why:
             raise ValueError(why)
@@ -418,6 +424,8 @@ class Box2dTuned(Adapter):
             return stepping.query(prepared)
         if isinstance(prepared, Response):
             return _respond(prepared)
+        if isinstance(prepared, box2d_toi.PreparedToi):
+            return box2d_toi.query(prepared)
         return _detect(prepared)
 
     def release(self, prepared: Any) -> None:

@@ -1,4 +1,10 @@
-"""FCL 0.7.0 through python-fcl 0.7.0.11 as an engine: ``fcl``.
+"""FCL 0.7.0 through python-fcl 0.7.0.11 as an engine: ``fcl``, and its CCD solvers as variants.
+
+Times of impact (``sphere_toi``, 2-D at z = 0 and 3-D) are :mod:`adapters.fcl_toi`'s:
+``fcl`` asks ``continuousCollide`` with python-fcl's default request (conservative
+advancement, translation motion); ``fcl-ccd-naive``, ``fcl-ccd-ray-shooting`` and
+``fcl-ccd-polynomial`` (:class:`FclCcdNaive` and its siblings, ``sphere_toi`` only) ask it
+with the other ``CCDSolverType`` s, so that each solver is a row of the report.
 
 FCL answers collision and distance queries; it has no dynamics, so ``sphere_response`` is
 unsupported.  A case becomes two ``CollisionObject`` s (a ``Box`` or ``Sphere`` at the
@@ -73,6 +79,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
+from adapters import fcl_toi
 from crosscheck.core import geometry
 from crosscheck.core.contract import (
     FEATURES,
@@ -84,7 +91,15 @@ from crosscheck.core.contract import (
 )
 from crosscheck.core.geometry import Vec, to3
 from crosscheck.core.model import Kind, Observation
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
+from crosscheck.core.schema import (
+    AabbCase,
+    AnyCase,
+    PairCase,
+    ResponseCase,
+    SceneCase,
+    SphereCase,
+    ToiCase,
+)
 
 FCL = "https://github.com/flexible-collision-library/fcl/"
 TREE = FCL + "blob/v0.7.0/include/fcl/narrowphase/"
@@ -101,6 +116,14 @@ SOURCES = (
     FCL + "issues/578",
 )
 GJK_TOLERANCE = 1e-6
+TOI_NOTES = (
+    "Times of impact: continuousCollide with python-fcl's default request (conservative "
+    "advancement, CCDM_TRANS); toi = time_of_contact x duration; normal from the case's "
+    "centres at that time (the binding gives no contact normal). Target separation 0; it "
+    "stops once a step is <= 1e-4 of the interval (t_err, hard-coded), so the surfaces may "
+    "be up to 1e-4 x the closing travel apart: a tolerance relative to the motion, not a "
+    "length (toi_tolerance declared 0). A first touch exactly at the interval's end reads "
+    "as no contact (toc < 1 required).")
 """``GJKSolver_libccd``'s default ``distance_tolerance`` and ``collision_tolerance``."""
 
 
@@ -169,7 +192,10 @@ class Fcl(Adapter):
         "collide: CollisionRequest(enable_contact=True, num_max_contacts=1); distance: "
         "DistanceRequest(enable_nearest_points=True, enable_signed_distance=True); "
         "GST_LIBCCD; 2-D: z = 0, boxes get z half-width 2 x the largest half-width")
-    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.AABB, Kind.SPHERE)
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_TOI)
+    solver: ClassVar[str] = "conservative advancement"
+    """Times of impact: the CCD solver (a key of :data:`adapters.fcl_toi.SOLVERS`)."""
     conventions: ClassVar[Conventions] = Conventions(
         box_extents="full (Box takes side lengths; the adapter doubles half-widths)",
         normal="o1 to o2 (Contact.normal), i.e. A to B; no flip",
@@ -185,8 +211,8 @@ class Fcl(Adapter):
                "boxes do not (no contact point with enable_contact). Signed distance is "
                "GJK/EPA, within 1e-6; coincident sphere centres hang it (only the distance: "
                "collide answers, so hit and normal are still scored). Negative radii and "
-               "half-widths read literally, not as magnitudes (measured here)."),
-        sources=SOURCES,
+               "half-widths read literally, not as magnitudes (measured here). " + TOI_NOTES),
+        sources=SOURCES + fcl_toi.SOURCES,
     )
 
     def version(self) -> str:
@@ -221,6 +247,8 @@ class Fcl(Adapter):
 
     def prepare(self, case: AnyCase) -> Any:
         assert not isinstance(case, SceneCase), "fcl declares no scene capability"
+        if isinstance(case, ToiCase):
+            return fcl_toi.prepare(case, self.solver)
         fcl = engine()
         shape_a, shape_b = shapes(case)
         return Prepared(
@@ -232,6 +260,8 @@ class Fcl(Adapter):
             dim=case.dim)
 
     def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, fcl_toi.PreparedToi):
+            return fcl_toi.query(prepared)
         return self.query_without(prepared, frozenset())
 
     def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
@@ -250,3 +280,61 @@ class Fcl(Adapter):
         if normal is not None and p.dim == 2:
             normal = normal[:2]
         return Observation(hit=bool(hits.is_collision), distance=distance, normal=normal)
+
+
+def _ccd_conventions(solver: str, notes: str) -> Conventions:
+    return Conventions(
+        normal="from A's centre to B's at the reported time (computed: the binding gives no "
+               "contact normal)",
+        touching={"sphere": True},
+        rtol=2.0**-50,
+        restitution="not applicable: FCL has no dynamics",
+        notes=f"continuousCollide with ccd_solver_type {fcl_toi.SOLVERS[solver]} (CCDM_TRANS, "
+              f"GST_LIBCCD, num_max_iterations 10, toc_err 1e-4: the request's defaults). "
+              + notes,
+        sources=fcl_toi.SOURCES,
+    )
+
+
+class FclCcdNaive(Fcl):
+    """FCL's naive CCD: 10 discrete collision tests evenly spaced over the interval."""
+
+    name: ClassVar[str] = "fcl-ccd-naive"
+    settings: ClassVar[str] = (
+        "continuousCollide: ContinuousCollisionRequest(ccd_solver_type=CCDC_NAIVE), "
+        "otherwise defaults; 2-D: z = 0")
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE_TOI)
+    solver: ClassVar[str] = "naive"
+    conventions: ClassVar[Conventions] = _ccd_conventions(
+        "naive", "Samples collide() at t = i / 9 of the interval, i = 0..9 (min(10, "
+                 "ceil(1 / toc_err)) tests) and reports the first sample in collision: a "
+                 "contact between samples is missed, a found one is late by up to 1/9 of the "
+                 "interval. The harness's sampled_contacts rule (the two ends only) does not "
+                 "describe ten samples, so it is not declared.")
+
+
+class FclCcdRayShooting(FclCcdNaive):
+    """FCL's ray-shooting CCD: not implemented in FCL 0.7.0 (returns -1: ``error`` rows)."""
+
+    name: ClassVar[str] = "fcl-ccd-ray-shooting"
+    settings: ClassVar[str] = (
+        "continuousCollide: ContinuousCollisionRequest(ccd_solver_type=CCDC_RAY_SHOOTING), "
+        "otherwise defaults; 2-D: z = 0")
+    solver: ClassVar[str] = "ray shooting"
+    conventions: ClassVar[Conventions] = _ccd_conventions(
+        "ray shooting", "Not implemented for two geometries (an empty branch): FCL returns -1 "
+                        "and leaves is_collide False; the adapter raises (error rows).")
+
+
+class FclCcdPolynomial(FclCcdNaive):
+    """FCL's polynomial-solver CCD: BVH meshes only (returns -1 for spheres: ``error`` rows)."""
+
+    name: ClassVar[str] = "fcl-ccd-polynomial"
+    settings: ClassVar[str] = (
+        "continuousCollide: ContinuousCollisionRequest(ccd_solver_type="
+        "CCDC_POLYNOMIAL_SOLVER), otherwise defaults; 2-D: z = 0")
+    solver: ClassVar[str] = "polynomial"
+    conventions: ClassVar[Conventions] = _ccd_conventions(
+        "polynomial", "BVH meshes only: for spheres FCL prints 'Warning! Invalid continuous "
+                      "collision checking' to stderr and returns -1; the adapter raises "
+                      "(error rows).")

@@ -7,7 +7,8 @@ Kinds: ``aabb``, ``sphere``, ``sphere_response`` in 3-D, and in 2-D run in the p
 :func:`crosscheck.core.geometry.z_half` (z is never the axis of least overlap nor a gap), a
 2-D response locks z translation; answers come back as 2-tuples.  Scenes (``sphere_scene``,
 2-D and 3-D) are stepped by :mod:`adapters.rapier_scene` with the variant's ``scene_tuning``
-(its conventions are measured and declared there).
+(its conventions are measured and declared there).  Times of impact (``sphere_toi``, 2-D and
+3-D) are a shape cast, :mod:`adapters.rapier_toi` (``toi_target`` 0, ``toi_tolerance`` 0).
 
 Detection.  The bindings expose no pairwise parry query (no ``contact``/``distance`` of two
 shapes at two poses): the narrow phase is the pairwise query they have.  ``prepare`` builds
@@ -110,7 +111,7 @@ from dataclasses import dataclass, replace
 from importlib import metadata
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from adapters import rapier_scene, stepping
+from adapters import rapier_scene, rapier_toi, stepping
 from adapters.rapier_response import (
     APPROACH_RTOL,
     Response,
@@ -126,7 +127,7 @@ from crosscheck.core import contract, geometry
 from crosscheck.core.contract import FEATURES, Adapter, Capability, Conventions, all_capabilities
 from crosscheck.core.geometry import Vec3, to3
 from crosscheck.core.model import Kind, Observation, Undefined
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, ToiCase
 
 if TYPE_CHECKING:
     import rapier3d
@@ -292,8 +293,11 @@ TUNED = Conventions(
     damping=0.0,
     zero_mass="static",
     negative_extents="",
-    notes=_NOTES + "Tuned: prediction 0, soft CCD, friction 0, no speed cap.",
-    sources=SOURCES,
+    toi_target=0.0,
+    toi_tolerance=0.0,
+    notes=_NOTES + rapier_toi.TOI_NOTES + "Tuned: prediction 0, soft CCD, friction 0, no "
+                                          "speed cap.",
+    sources=SOURCES + rapier_toi.SOURCES,
 )
 DEFAULT = replace(
     TUNED,
@@ -303,7 +307,8 @@ DEFAULT = replace(
     restitution="rapier's default rule Average, both colliders e: (e + e) / 2 = e exactly",
     time_step=DEFAULT_DT,
     friction=0.5,
-    notes=_NOTES + ("Defaults: prediction 0.02 (touching and gaps below it are contact), "
+    notes=_NOTES + rapier_toi.TOI_NOTES + (
+                    "Defaults: prediction 0.02 (touching and gaps below it are contact), "
                     "friction 0.5 (ColliderBuilder default, combined by Average) and free "
                     "rotation: oblique responses lose tangential speed to friction (declared), "
                     "speed cap 400 before the bounce (declared max_speed)."),
@@ -321,7 +326,7 @@ class RapierTuned(Adapter):
         "f32::MAX, soft_ccd_prediction 1e30, rotations locked, no sleeping, damping 0, "
         "friction 0, restitution rule Multiply with A = e, B = 1; 2-D: z = 0, z locked")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
-        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE, Kind.SPHERE_SCENE)
+        Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE, Kind.SPHERE_SCENE, Kind.SPHERE_TOI)
     conventions: ClassVar[Conventions] = TUNED
     prediction: ClassVar[float] = 0.0
     """Detection: the verdict's prediction distance (``normalized_prediction_distance``)."""
@@ -350,6 +355,8 @@ class RapierTuned(Adapter):
     def prepare(self, case: AnyCase) -> Any:
         if isinstance(case, SceneCase):
             return stepping.prepare(rapier_scene, case, self.scene_tuning)
+        if isinstance(case, ToiCase):
+            return rapier_toi.prepare(case)
         check_inputs(case)
         if isinstance(case, ResponseCase):
             return self._response(case)
@@ -384,6 +391,8 @@ class RapierTuned(Adapter):
             return stepping.query(prepared)
         if isinstance(prepared, Response):
             return respond(prepared)
+        if isinstance(prepared, rapier_toi.PreparedToi):
+            return rapier_toi.query(prepared)
         return detect(prepared)
 
     def release(self, prepared: Any) -> None:

@@ -8,7 +8,8 @@ the total ``momentum`` and kinetic ``energy`` (``STATE`` of
 :mod:`~crosscheck.studies.repro.scenes`).  The script's inputs are the scene's bodies,
 restitution, time step, step count and solver iterations, as for pybullet's and pymunk's
 scenes.  :func:`box2d_writer` is the script writer of both Box2D variants: scenes here, pair
-cases in :mod:`~crosscheck.studies.repro.box2d`.
+cases in :mod:`~crosscheck.studies.repro.box2d`, times of impact in
+:mod:`~crosscheck.studies.repro.toi`.
 """
 
 from __future__ import annotations
@@ -18,10 +19,11 @@ from typing import Any
 
 from adapters import box2d_scene, scene
 from adapters.box2d_engine import Box2dTuned
-from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase, ToiCase
 from crosscheck.studies.repro.box2d import box2d_code
 from crosscheck.studies.repro.code import EngineCode, number, raising
 from crosscheck.studies.repro.scenes import NOTE, STATE, scene_inputs
+from crosscheck.studies.repro.toi import box2d_toi_code
 
 BOX2D = Template("""\
 VELOCITY_ITERATIONS = ITERATIONS if ITERATIONS is not None else $velocity_iterations
@@ -67,7 +69,10 @@ def box2d_scene_code(adapter: Box2dTuned, case: SceneCase) -> EngineCode:
 
 
 def box2d_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
-    """The script writer of the Box2D variants: scenes here, pair cases in ``repro.box2d``."""
+    """The script writer of the Box2D variants: scenes here, pair cases in ``repro.box2d``,
+    times of impact in ``repro.toi``."""
     if isinstance(case, SceneCase):
         return box2d_scene_code(adapter, case)
+    if isinstance(case, ToiCase):
+        return box2d_toi_code(case)
     return box2d_code(adapter, case)

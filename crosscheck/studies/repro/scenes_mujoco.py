@@ -17,7 +17,7 @@ from typing import Any
 from adapters import mujoco_response, mujoco_scene, scene
 from adapters.mujoco_engine import MujocoDefault
 from adapters.mujoco_setup import Mass, scene_mjcf
-from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase, ToiCase
 from crosscheck.studies.repro.code import EngineCode, literal, number, raising, vector
 from crosscheck.studies.repro.mujoco import mujoco_code
 from crosscheck.studies.repro.scenes import NOTE, STATE, scene_inputs
@@ -105,5 +105,7 @@ def mujoco_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCo
     """The script writer of both MuJoCo variants (``writers.WRITERS``): scenes and pairs."""
     if isinstance(case, SceneCase):
         return mujoco_scene_code(adapter, case)
+    if isinstance(case, ToiCase):  # (writers.WRITERS asks it no time of impact)
+        raise ValueError("mujoco declares no time-of-impact capability")
     return mujoco_code(adapter, case)
 

@@ -1,7 +1,8 @@
 """The engine part of a repro script for Rapier (``rapier``, ``rapier-default``), scenes included.
 
 :func:`rapier_writer` is the script writer of both Rapier variants: a pair case gets the
-statements of :mod:`crosscheck.studies.repro.rapier`, a scene (``sphere_scene``) those made
+statements of :mod:`crosscheck.studies.repro.rapier`, a time of impact (``sphere_toi``) those of
+:mod:`crosscheck.studies.repro.toi`, a scene (``sphere_scene``) those made
 here, which build it as ``adapters/rapier_scene.py`` does: a new ``PhysicsWorld`` (gravity 0)
 with the variant's ``IntegrationParameters`` (``rapier_scene.parameters``: the scene's dt and
 iterations), one dynamic body per sphere with the variant's body and collider builder chains
@@ -19,7 +20,7 @@ from typing import Any
 
 from adapters import rapier_response, rapier_scene, scene
 from adapters.rapier_engine import RapierTuned
-from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase, ToiCase
 from crosscheck.studies.repro.code import EngineCode, number, raising
 from crosscheck.studies.repro.rapier import (
     DEFAULT_BODY,
@@ -30,6 +31,7 @@ from crosscheck.studies.repro.rapier import (
     rapier_code,
 )
 from crosscheck.studies.repro.scenes import IN_PLANE, NOTE, STATE, scene_inputs
+from crosscheck.studies.repro.toi import rapier_toi_code
 
 SCENE = Template("""\
 world = rp.PhysicsWorld(gravity=(0.0, 0.0, 0.0))
@@ -89,7 +91,10 @@ def rapier_scene_code(adapter: RapierTuned, case: SceneCase) -> EngineCode:
 
 
 def rapier_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
-    """The script writer of both Rapier variants: scenes here, pair cases in ``rapier``."""
+    """The script writer of both Rapier variants: scenes here, pair cases in ``rapier``,
+    times of impact in ``toi``."""
     if isinstance(case, SceneCase):
         return rapier_scene_code(adapter, case)
+    if isinstance(case, ToiCase):
+        return rapier_toi_code(case)
     return rapier_code(adapter, case)

@@ -1,0 +1,127 @@
+"""FCL's continuous collision (``fcl.continuousCollide``) for ``sphere_toi`` cases.
+
+Used by the ``fcl`` adapter (python-fcl's default request: conservative advancement) and by
+the variants ``fcl-ccd-naive``, ``fcl-ccd-ray-shooting`` and ``fcl-ccd-polynomial``
+(:mod:`adapters.fcl_engine`), one per other ``CCDSolverType``, so that each solver is a
+row of the report.
+
+``prepare`` builds two ``CollisionObject`` s (``Sphere(radius)`` at the case's start
+centres, identity rotation; 2-D at z = 0), their end transforms ``center + velocity x
+duration`` (float64, here) and the ``ContinuousCollisionRequest``; ``query`` makes the one
+call ``continuousCollide(a, end_a, b, end_b, request, result)`` with a fresh
+``ContinuousCollisionResult`` (python-fcl keeps the minimum of the time already in a
+result object and the new one, so a reused result would remember an earlier query).
+
+FCL's motion is ``CCDM_TRANS`` (``TranslationMotion``: the start transform moved linearly
+to the end one over a normalised time in [0, 1]): ``toi`` = ``time_of_contact x
+duration`` (one rounding, none for a duration of 1).  The binding exposes only
+``is_collide`` and ``time_of_contact`` (not FCL's ``contact_tf1``/``contact_tf2``, no
+contact point or normal), so ``normal`` is computed here from the case's centres at the
+reported time (:func:`adapters.sphere_toi.centre_normal`, float64).  Without a collision:
+``hit`` False, ``toi`` and ``normal`` Undefined ("no contact in the interval").
+
+What each solver does (FCL 0.7.0, include/fcl/narrowphase/continuous_collision-inl.h):
+
+- ``CCDC_CONSERVATIVE_ADVANCEMENT`` (python-fcl's default; FCL's own C++ default is
+  ``CCDC_NAIVE``): a start in collision is ``toc`` 0; otherwise it advances by ``distance /
+  bound`` (the distance of the shapes over the bound on their approach along the
+  nearest-points direction, ``ShapeConservativeAdvancementTraversalNode::leafTesting``)
+  until a step is at most ``t_err`` = 1e-4 (normalised time; hard-coded in the traversal
+  node, ``toc_err`` of the request is not read there), and reports a contact only for
+  ``toc < 1``: a first touch exactly at the interval's end reads as no contact.  The
+  target separation is 0 (touching); where it stops, the surfaces are up to 1e-4 x the
+  bound (the closing travel over the whole interval) apart, a tolerance relative to the
+  motion that a length (``toi_tolerance``) cannot state: declared 0, said in the notes.
+  Measured: a head-on approach is found in one step, exactly.
+- ``CCDC_NAIVE``: ``n = min(num_max_iterations, ceil(1 / toc_err))`` = 10 discrete
+  collision tests at ``t = i / (n - 1)``, i = 0..9 (t = 0, 1/9, ..., 1), and the first in
+  collision is the ``toc``: a sampled answer, which misses any contact between samples.
+- ``CCDC_RAY_SHOOTING``: not implemented (an empty branch for two geometries): FCL returns
+  -1 and leaves the result at no collision.
+- ``CCDC_POLYNOMIAL_SOLVER``: BVH meshes only; for spheres it prints "Warning! Invalid
+  continuous collision checking" to stderr (harmless in a run: a worker's C-level stderr
+  goes to /dev/null) and returns -1.
+
+FCL's return value -1 is its "not computed"; the adapter then raises ``RuntimeError`` (an
+``error`` row for every quantity, with the reason), rather than read the untouched result
+as "no contact".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from adapters.sphere_toi import centre_normal, end_centres, no_contact, refusal
+from crosscheck.core.geometry import to3
+from crosscheck.core.model import Observation
+from crosscheck.core.schema import ToiCase
+
+CCD = "https://github.com/flexible-collision-library/fcl/blob/v0.7.0/include/fcl/narrowphase/"
+SOURCES = (
+    "https://github.com/BerkeleyAutomation/python-fcl/blob/master/src/fcl/fcl.pyx",
+    "https://github.com/BerkeleyAutomation/python-fcl/blob/master/src/fcl/collision_data.py",
+    CCD + "continuous_collision-inl.h",
+    CCD + "continuous_collision_request.h",
+    CCD + "detail/conservative_advancement_func_matrix-inl.h",
+    CCD + "detail/traversal/distance/shape_conservative_advancement_traversal_node-inl.h",
+)
+T_ERR = 1e-4
+"""``ShapeConservativeAdvancementTraversalNode::t_err``: the last step (normalised time)."""
+NAIVE_SAMPLES = 10
+"""``min(num_max_iterations = 10, ceil(1 / toc_err = 1e-4))``: the naive solver's tests."""
+SOLVERS = {"conservative advancement": "CCDC_CONSERVATIVE_ADVANCEMENT",
+           "naive": "CCDC_NAIVE", "ray shooting": "CCDC_RAY_SHOOTING",
+           "polynomial": "CCDC_POLYNOMIAL_SOLVER"}
+"""The solvers by the name the variants use, and their ``CCDSolverType`` member."""
+
+
+def engine() -> Any:
+    import fcl
+
+    return fcl
+
+
+@dataclass(frozen=True, slots=True)
+class PreparedToi:
+    """Two objects at their start, their end transforms, the request; the case for the normal."""
+
+    a: Any
+    b: Any
+    end_a: Any
+    end_b: Any
+    request: Any
+    case: ToiCase
+    solver: str
+
+
+def prepare(case: ToiCase, solver: str) -> PreparedToi:
+    """Everything ``query`` needs; raises ``ValueError`` for inputs FCL would take unchecked."""
+    why = refusal(case)
+    if why:
+        raise ValueError(why)
+    fcl = engine()
+    end_a, end_b = end_centres(case)
+    request = fcl.ContinuousCollisionRequest(
+        ccd_solver_type=getattr(fcl.CCDSolverType, SOLVERS[solver]))
+    return PreparedToi(
+        a=fcl.CollisionObject(fcl.Sphere(case.a.radius), fcl.Transform(list(to3(case.a.center)))),
+        b=fcl.CollisionObject(fcl.Sphere(case.b.radius), fcl.Transform(list(to3(case.b.center)))),
+        end_a=fcl.Transform(list(to3(end_a))), end_b=fcl.Transform(list(to3(end_b))),
+        request=request, case=case, solver=solver)
+
+
+def query(p: PreparedToi) -> Observation:
+    """The one ``continuousCollide`` call, mapped to the harness's conventions."""
+    fcl = engine()
+    result = fcl.ContinuousCollisionResult()
+    returned = fcl.continuousCollide(p.a, p.end_a, p.b, p.end_b, p.request, result)
+    if returned == -1.0:
+        raise RuntimeError(
+            f"fcl.continuousCollide returned -1 with {SOLVERS[p.solver]}: FCL 0.7.0 does not "
+            "compute it for two sphere geometries (ray shooting: not implemented; polynomial "
+            "solver: BVH meshes only), and leaves the result at is_collide False")
+    if not result.is_collide:
+        return no_contact()
+    toi = float(result.time_of_contact) * p.case.duration
+    return Observation(hit=True, toi=toi, normal=centre_normal(p.case, toi))
