@@ -21,10 +21,14 @@ Variants (``tuning``, passed in by the adapter: a ``box2d_world.Variant`` or Non
 ``fixedRotation``, sleeping off.  Default (``box2d-default``) passes None: friction (0.2),
 rotation free with the disc's moment, sleeping allowed; only dt, masses, radii, velocities,
 restitution and iterations come from the scene.  Neither sets damping (Box2D's default is
-0) nor bullets (Box2D 2.3.0's continuous collision acts between dynamic and static bodies
-only, unless a body is a bullet; the pair adapter sets none either).  Compiled-in constants
-no variant can change: ``b2_velocityThreshold`` (1 m/s), ``b2_maxTranslation`` (2 m a step),
-``b2_linearSlop`` (0.005 m) and the position solver.
+0) nor bullets: Box2D 2.3.0's continuous collision (``b2World::SolveTOI``) acts on a contact
+only when one of its bodies is static, kinematic or a bullet (``collideA = bA->IsBullet() ||
+typeA != b2_dynamicBody``, b2World.cpp), so between two dynamic discs contacts are found at
+step starts only.  Bullets (``box2d-bullet``, :mod:`adapters.ccd_variants`) passes the tuned
+variant with ``bullet`` True: every disc is a bullet (``b2BodyDef.bullet``), and a contact
+between two of them gets a time of impact, a sub-step to it and a velocity solve with
+restitution.  Compiled-in constants no variant can change: ``b2_velocityThreshold`` (1 m/s),
+``b2_maxTranslation`` (2 m a step), ``b2_linearSlop`` (0.005 m) and the position solver.
 
 Conventions, measured with this module (sources as cited in ``box2d_engine.SOURCES``):
 
@@ -39,8 +43,17 @@ Conventions, measured with this module (sources as cited in ``box2d_engine.SOURC
   0.5% of its energy).
 - speed cap: a body moving more than ``b2_maxTranslation`` (2 m) in a step has its velocity
   scaled down to 2 / dt [b2Island.cpp].  Measured: a free disc at 30 m/s with dt 0.1 moves 2
-  m and leaves the step at 20 m/s; at 19 m/s it is untouched.  The suite's speeds stay under
-  the cap at its largest dt.
+  m and leaves the step at 20 m/s; at 19 m/s it is untouched; a free disc at 1000 m/s moves
+  exactly 2 m in its first step and leaves it at 120 (float32 119.99999) at dt 1/60, at 480
+  at dt 1/240, untouched at dt 1e-3 (2000): the cap is 2 / dt of the scene's dt, and it acts
+  before the step's positions are integrated, so a scene starting above it moves as if it
+  started at the cap.  Bullets, two discs r = 0.05, e = 1, head-on at +-v from 0.6 apart:
+  at dt 1/60 v = 200 and 1000 end at -120 and 120 (capped, then exchanged), at 1/240 v =
+  1000 at -480 and 480.
+- fast bodies (same pair): without bullets they pass through each other at dt 1/240 from
+  v = 50 (step travel |vb - va| dt / 2(ra + rb) = 2.08; 20, travel 0.83, is caught) and at
+  1/60 from v = 20 (travel 3.3; 5 is caught), tuned and default alike; with bullets every v
+  measured (5 to 1000, both dt) exchanges the velocities, capped as above.
 - sleeping: off in the tuned variant; in the default one a body slower than 0.01 m/s for 0.5
   s sleeps with its velocity zeroed (measured: a disc at rest in a default scene was still
   awake after 1 s and, hit at 2, took the striker's velocity exactly).

@@ -37,6 +37,9 @@ class Variant:
     sleep: bool
     velocity_iterations: int = 8
     position_iterations: int = 3
+    bullet: bool = False
+    """Every disc a bullet (``b2BodyDef.bullet``): Box2D's continuous collision (time of
+    impact) then acts between it and other dynamic bodies too, not only static ones."""
 
 
 def new_world(sleep: bool) -> Any:
@@ -56,7 +59,7 @@ def add_disc(world: Any, center: Sequence[float], velocity: Sequence[float], rad
     """A dynamic body at ``center`` with ``velocity`` and ``mass``, with one circle fixture."""
     b2 = engine()
     body = world.CreateDynamicBody(position=xy(center), linearVelocity=xy(velocity),
-                                   fixedRotation=variant.fixed_rotation)
+                                   fixedRotation=variant.fixed_rotation, bullet=variant.bullet)
     extra = {} if variant.friction is None else {"friction": variant.friction}
     body.CreateCircleFixture(radius=radius, density=0.0, restitution=restitution, **extra)
     moment = 0.0 if variant.fixed_rotation else 0.5 * mass * radius**2

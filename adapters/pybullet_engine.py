@@ -86,6 +86,14 @@ Conventions, measured here (sources in ``SOURCES``):
   linear damping 0.04 [btMultiBody.cpp] acts as dv/dt = -0.04 (1 + |v|) v
   (``DAMPING_K1_LINEAR`` + ``DAMPING_K2_LINEAR`` |v|, measured in scenes, see
   :mod:`adapters.pybullet_scene`); the tuned variant sets it to 0.
+- contacts sampled (``sampled_contacts`` True, both variants): detection runs on the
+  positions a step starts from [btDiscreteDynamicsWorld.cpp], and a multibody has no CCD
+  (``changeDynamics`` sets ``ccdSweptSphereRadius`` on rigid bodies only
+  [PhysicsServerCommandProcessor.cpp]); the sphere-sphere algorithm adds no point before
+  touching.  ``pybullet-ccd`` (:mod:`adapters.ccd_variants`) is the CCD switch, on rigid
+  bodies.  Speed: a multibody's velocity coordinates are clamped to +-100 m/s every step
+  (``m_maxCoordinateVelocity`` [btMultiBody.h], per axis; measured in scenes), which no
+  ``max_speed`` declares (a "step" cap there is a travel per step, Box2D's).
 - mass 0 is a static body: ``isFixedBase = (mass == 0)`` [URDF2Bullet.cpp], immovable,
   an infinitely heavy body; a response against it bounces off it moving at the velocity it
   was given (measured: ``bad-resp-3d-zero-mass``).  Declared ``zero_mass="static"``.
@@ -120,7 +128,7 @@ contactSlop 1e-5, default contact ERP, dt 1/240 s).  Both set restitution by the
 Scenes (``sphere_scene``) are stepped by :mod:`adapters.pybullet_scene` with the variant's
 ``scene_tuning``: the tuned settings as a ``pybullet_scene.Tuning``, or None (defaults).
 
-(Longer than 400 lines: about 125 of them are this docstring, the conventions as measured with
+(Longer than 400 lines: about 135 of them are this docstring, the conventions as measured with
 their sources; the code is the pooled bodies and the response stepping that uses them.)
 """
 
@@ -145,7 +153,14 @@ from crosscheck.core.contract import (
 )
 from crosscheck.core.geometry import Vec3, approach_speed, to3, z_half
 from crosscheck.core.model import Kind, Observation
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase
+from crosscheck.core.schema import (
+    AabbCase,
+    AnyCase,
+    PairCase,
+    ResponseCase,
+    SceneCase,
+    ToiCase,
+)
 
 Spec = tuple[str, tuple[float, ...], float]
 """A body to build: geometry, size (radius or half-widths) and mass (0: static)."""
@@ -164,6 +179,9 @@ SOURCES = (
     GH + "src/BulletDynamics/Featherstone/btMultiBodyConstraintSolver.cpp",
     GH + "src/BulletDynamics/Featherstone/btMultiBody.cpp",
     GH + "examples/Importers/ImportURDFDemo/URDF2Bullet.cpp",
+    GH + "src/BulletDynamics/Featherstone/btMultiBody.h",
+    GH + "src/BulletDynamics/Dynamics/btDiscreteDynamicsWorld.cpp",
+    GH + "examples/SharedMemory/PhysicsServerCommandProcessor.cpp",
 )
 BOX_MARGIN = 0.001
 MAX_STEPS = 64
@@ -384,6 +402,7 @@ class PyBulletTuned(Adapter):
         damping=0.0,
         zero_mass="static",
         negative_extents="",
+        sampled_contacts=True,
         notes=("hit = contact points exist after performCollisionDetection between static "
                "(mass 0) bodies (touching spheres and face-touching boxes are contacts); the "
                "0.001 box margin rounds edges and corners: edge/corner-touching boxes read "
@@ -398,7 +417,15 @@ class PyBulletTuned(Adapter):
                "half-width ~5e3 may read -0.002 (-2 x margin) instead of the depth.  Mass 0 "
                "is a static body (isFixedBase = mass == 0 in URDF2Bullet.cpp).  A negative "
                "radius raises; a box with one negative half-width reads literally (measured "
-               "here)"),
+               "here).  Contacts are sampled at step starts (sampled_contacts): collision "
+               "detection runs on the positions a step starts from "
+               "(btDiscreteDynamicsWorld::internalSingleStepSimulation) and a multibody has "
+               "no CCD (changeDynamics sets ccdSweptSphereRadius on rigid bodies only, "
+               "PhysicsServerCommandProcessor.cpp): fast pairs pass through each other.  "
+               "Multibody velocity coordinates are clamped to +-100 m/s every step "
+               "(btMultiBody m_maxCoordinateVelocity 100, applyDeltaVeeMultiDof; per axis, "
+               "not the norm; measured in scenes): not declared as max_speed, whose 'step' "
+               "cap is a travel per step"),
         sources=SOURCES,
     )
 
@@ -421,6 +448,7 @@ class PyBulletTuned(Adapter):
     def prepare(self, case: AnyCase) -> Any:
         if isinstance(case, SceneCase):
             return stepping.prepare(pybullet_scene, case, self.scene_tuning)
+        assert not isinstance(case, ToiCase), "pybullet declares no time of impact"
         if isinstance(case, ResponseCase):
             w = world(self.name + "/response", self.world, response=True)
         else:

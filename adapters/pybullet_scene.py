@@ -24,6 +24,17 @@ settings of the pair adapter (restitutionVelocityThreshold 0, contactSlop 0, con
 its fixed step replaced by dt) and its per-body settings (lateral, rolling and spinning
 friction 0, linear and angular damping 0).  Default (``pybullet-default``) passes None and
 sets only what the scene declares: dt, iterations if given, masses, restitution.
+CCD (``pybullet-ccd``, :mod:`adapters.ccd_variants`) passes the tuned settings with
+``maximal`` True and ``ccd`` 0.9: every sphere is a maximal-coordinates body
+(``createMultiBody(useMaximalCoordinates=True)``: a ``btRigidBody``, not a ``btMultiBody``)
+with ``changeDynamics(ccdSweptSphereRadius=0.9 r)``.  Both are needed: ``changeDynamics``
+applies ``ccdSweptSphereRadius`` only to a rigid body (its multibody branch has no CCD
+setting), and sets the motion threshold to half the swept radius itself
+(``setCcdMotionThreshold(radius / 2)``) [PhysicsServerCommandProcessor.cpp]; Bullet's CCD
+(a swept-sphere test of each rigid body moving more than the threshold in a step, a
+predictive contact and a motion clamp at the first hit) runs over rigid bodies only
+[btDiscreteDynamicsWorld.cpp, ``createPredictiveContactsInternal`` and
+``integrateTransformsInternal``].
 
 Conventions, measured with this module (sources as cited in ``pybullet_engine.SOURCES``):
 
@@ -56,6 +67,25 @@ Conventions, measured with this module (sources as cited in ``pybullet_engine.SO
   than restitutionVelocityThreshold 0.2 are inelastic [btContactSolverInfo.h].
 - impacts are seen a step late: the first step that starts overlapped resolves them, so
   centres lag the exact run by up to the closing speed x dt (0.002 measured, dt 1e-3).
+- contacts are sampled at step starts (tuned and default): a multibody has no CCD, and the
+  sphere-sphere algorithm adds a point only at distance <= 0.  Two balls r = 0.05, m = 1,
+  e = 1, head-on at +-v from 0.6 apart: at dt 1/240 they pass through each other from v = 20
+  (step travel |vb - va| dt / 2(ra + rb) = 0.83: the step that finds them overlapping starts
+  with the centres already crossed) and at dt 1/60 from v = 5 (travel 0.83).
+- speed cap: a multibody's velocity coordinates are clamped to +-100 (``btMultiBody``
+  ``m_maxCoordinateVelocity`` 100, in ``applyDeltaVeeMultiDof``, every step): a free ball at
+  200 or 1000 ends at 100, per axis, not by the norm; changeDynamics ``maxJointVelocity``
+  sets it.  Not declared as ``max_speed`` (see ``pybullet_engine``).
+- CCD variant (maximal-coordinates bodies, swept sphere 0.9 r), the same pair: no speed cap
+  (1000 stays 1000); no pass-through at any v measured (5 to 1000, dt 1/240 and 1/60), but
+  the bounce is lost: the predictive contact has restitution 0 (``m_combinedRestitution =
+  0`` in ``createPredictiveContactsInternal``), so the solver stops the approach at the
+  swept hit and only what is left of it bounces (dt 1/240: v = 20 ends at -0.6, v = 50 at
+  -10.6, v = 200 and 1000 at -60.6; dt 1/60: v = 5 at -0.15, 50 to 1000 at -15.15).  Where
+  the sweep clamps one ball and the next step starts with the pair overlapping, the ordinary
+  contact bounces in full (dt 1/60, v = 20: -20 and 20, but B's centre 0.16 further out than
+  A's mirror: only A was clamped).  Bodies are clamped one after another, each swept against
+  the others' positions at the step's start.
 """
 
 from __future__ import annotations
@@ -70,7 +100,8 @@ from adapters.pybullet_setup import connect, engine, quiet
 from adapters.scene import Body, SceneRun, check_scene, check_steps, in_scene_dim
 from crosscheck.core.geometry import Vec3, to3
 
-__all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
+__all__ = ["Body", "SceneRun", "Tuning", "body_settings", "prepare_scene", "release_scene",
+           "run_scene"]
 
 ZERO: Vec3 = (0.0, 0.0, 0.0)
 
@@ -81,11 +112,30 @@ class Tuning:
 
     ``world``: ``setPhysicsEngineParameter`` arguments (``fixedTimeStep`` and
     ``numSubSteps`` are replaced by the scene's); ``body``: ``changeDynamics`` arguments
-    for every sphere.
+    for every sphere.  ``maximal``: bodies in maximal coordinates (``btRigidBody``; else
+    Bullet multibodies, pybullet's default); ``ccd``: each sphere's
+    ``ccdSweptSphereRadius`` as a fraction of its radius (0: not set; acts on maximal
+    bodies only, see the module docstring).
     """
 
     world: Mapping[str, float]
     body: Mapping[str, float]
+    maximal: bool = False
+    ccd: float = 0.0
+
+
+def body_settings(radius: float, tuning: Tuning | None) -> dict[str, float]:
+    """The ``changeDynamics`` settings of a sphere of ``radius`` (restitution apart).
+
+    >>> body_settings(0.5, Tuning({}, {"linearDamping": 0.0}, maximal=True, ccd=0.9))
+    {'linearDamping': 0.0, 'ccdSweptSphereRadius': 0.45}
+    >>> body_settings(0.5, None)
+    {}
+    """
+    settings: dict[str, float] = dict(tuning.body) if tuning is not None else {}
+    if tuning is not None and tuning.ccd > 0.0:
+        settings["ccdSweptSphereRadius"] = tuning.ccd * radius
+    return settings
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,13 +173,15 @@ def add_sphere(cid: int, shapes: dict[float, int], body: Body, restitution: floa
     """One sphere of the scene with its velocity, restitution sqrt(e) and variant settings."""
     bt = engine()
     center, radius, mass, velocity = body
-    extra: Mapping[str, float] = tuning.body if tuning is not None else {}
+    extra = body_settings(radius, tuning)
+    maximal = tuning is not None and tuning.maximal
     with quiet():
         if radius not in shapes:
             shapes[radius] = bt.createCollisionShape(bt.GEOM_SPHERE, radius=radius,
                                                      physicsClientId=cid)
         uid: int = bt.createMultiBody(baseMass=mass, baseCollisionShapeIndex=shapes[radius],
-                                      basePosition=to3(center), physicsClientId=cid)
+                                      basePosition=to3(center), useMaximalCoordinates=maximal,
+                                      physicsClientId=cid)
         bt.changeDynamics(uid, -1, restitution=math.sqrt(restitution), **extra,
                           physicsClientId=cid)
     bt.resetBaseVelocity(uid, to3(velocity), ZERO, physicsClientId=cid)

@@ -37,7 +37,23 @@ rigid_body_components.rs):
   threshold (a contact bounces when e > 0, ``is_bouncy`` in contact_pair.rs): a pair closing
   at 0.02 with e = 0.5 leaves at 0.01 in the tuned variant.
 - speed cap: tuned none (a free body at 1000 keeps 1000); default 400 (a free body at 1000
-  is at 400 after a step) [integration_parameters.rs].
+  is at 400 after a step) [integration_parameters.rs].  In a scene it is a fixed speed, not a
+  travel per step: a free body at 1000 leaves its first step at 400 having moved 400 dt, at
+  dt 1e-3, 1/240 and 1/60 alike, so a scene starting above it moves as if it started at 400.
+  A bounce can leave a step above it (it comes after the cap: A at 1000 onto a touching B at
+  rest, e = 1, leaves the first step at -100 and 900, dt 1/60 and 1/240, as declared "before
+  restitution" for responses); the next step caps it.
+- fast bodies (two balls r = 0.05, e = 1, head-on at +-v from 0.6 apart, v 5 to 1000, dt
+  1/240 and 1/60): tuned catches every impact (soft CCD: predictive contacts whatever the
+  travel) and exchanges the velocities exactly; default passes through from step travel
+  |vb - va| dt / 2(ra + rb) 2.08 at 1/240 (v = 50; v = 20 is caught by the 0.02 prediction
+  distance) and 0.83 at 1/60 (v = 20), its speeds capped at 400.  ``ccd_enabled`` changes
+  none of these, tuned or default, nor with soft CCD off (then tuned passes through from v
+  = 20 at 1/240): Rapier's CCD sweeps a fast body against fixed colliders, and a
+  ``ccd_enabled`` body ("bullet") also against moving bodies but "never sweeps another
+  bullet, so two bullets can still tunnel through each other" (``RigidBody::enable_ccd``,
+  rigid_body.rs; ccd_solver.rs, v0.35.2).  ``rapier-ccd`` (:mod:`adapters.ccd_variants`)
+  enables it on every body of the tuned variant.
 - sleeping: tuned none.  Default: a body slower than about 0.1 m/s (bisected: 0.1000017 at dt
   1e-3; ``linear_threshold`` reads 0.05, ``time_until_sleep`` 0.5) falls asleep, its velocity
   set to 0, after 0.5 to 1.2 s (depending on dt): momentum is lost.  No convention field says
@@ -99,11 +115,14 @@ class Tuning:
     ``parameters``: ``IntegrationParameters`` overrides (a ``dt`` among them is replaced by
     the scene's); with a Tuning every body and collider is the tuned variant's
     (:func:`adapters.rapier_response.tuned_body`, ``tuned_collider`` with restitution e on
-    every collider, combined by ``rule``).
+    every collider, combined by ``rule``); ``ccd``: every body also ``ccd_enabled``.
     """
 
     parameters: tuple[tuple[str, float], ...]
     rule: str = "MAX"
+    ccd: bool = False
+    """Every body ``ccd_enabled`` (``RigidBodyBuilder.ccd_enabled(True)``), the
+    ``rapier-ccd`` variant's switch."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -150,6 +169,8 @@ def add_sphere(world: Any, body: Body, dim: int, restitution: float,
         collider = default_collider(radius, mass, restitution)
     else:
         builder = tuned_body(to3(center), to3(velocity))
+        if tuning.ccd:
+            builder = builder.ccd_enabled(True)
         collider = tuned_collider(radius, mass, restitution, tuning.rule)
     return world.add_body(in_plane(builder, dim), [collider])
 

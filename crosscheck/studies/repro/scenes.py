@@ -80,9 +80,9 @@ for center, radius, mass, velocity in BODIES:
                                                        physicsClientId=cid)
     position = (center[0], center[1], center[2] if len(center) > 2 else 0.0)
     uid = pybullet.createMultiBody(baseMass=mass, baseCollisionShapeIndex=shapes[radius],
-                                   basePosition=position, physicsClientId=cid)
+                                   basePosition=position,$maximal physicsClientId=cid)
     # restitution combines as the product of the bodies' values: sqrt(e) each gives e
-    pybullet.changeDynamics(uid, -1, restitution=math.sqrt(RESTITUTION), **BODY,
+    pybullet.changeDynamics(uid, -1, restitution=math.sqrt(RESTITUTION), **BODY,$ccd
                             physicsClientId=cid)
     speed = (velocity[0], velocity[1], velocity[2] if len(velocity) > 2 else 0.0)
     pybullet.resetBaseVelocity(uid, speed, (0.0, 0.0, 0.0), physicsClientId=cid)
@@ -148,6 +148,12 @@ def pybullet_scene_code(adapter: PyBulletTuned, case: SceneCase) -> EngineCode:
     tuning = adapter.scene_tuning
     settings = pybullet_scene.world_settings(case.dt or DEFAULT_DT, case.iterations, tuning)
     body = dict(tuning.body) if tuning is not None else {}
-    code = PYBULLET.substitute(settings=repr(settings), body=repr(body), dim=case.dim) + STATE
+    maximal = ccd = ""
+    if tuning is not None and tuning.maximal:  # a btRigidBody, not a btMultiBody
+        maximal = "\n                                   useMaximalCoordinates=True,"
+    if tuning is not None and tuning.ccd > 0.0:  # CCD: a swept sphere of this x the radius
+        ccd = f"\n                            ccdSweptSphereRadius={tuning.ccd!r} * radius,"
+    code = PYBULLET.substitute(settings=repr(settings), body=repr(body), dim=case.dim,
+                               maximal=maximal, ccd=ccd) + STATE
     return EngineCode(("import math", "import pybullet"), _guarded(case, "pybullet", code),
                       (NOTE,), inputs=scene_inputs(case))

@@ -34,7 +34,7 @@ discs = []
 for center, radius, mass, velocity in BODIES:
     disc = world.CreateDynamicBody(position=(float(center[0]), float(center[1])),
                                    linearVelocity=(float(velocity[0]), float(velocity[1])),
-                                   fixedRotation=$fixed_rotation)
+                                   fixedRotation=$fixed_rotation$bullet)
     # restitution mixes by max: e on every fixture gives e for every pair
     disc.CreateCircleFixture(radius=radius, density=0.0, restitution=RESTITUTION$friction)
     moment = $moment
@@ -54,6 +54,7 @@ def box2d_scene_code(adapter: Box2dTuned, case: SceneCase) -> EngineCode:
     code = BOX2D.substitute(
         velocity_iterations=v.velocity_iterations, position_iterations=v.position_iterations,
         sleep=v.sleep, fixed_rotation=v.fixed_rotation, friction=friction,
+        bullet=", bullet=True" if v.bullet else "",
         moment="0.0  # fixedRotation" if v.fixed_rotation
         else "0.5 * mass * radius**2  # a disc's moment") + STATE
     bodies = [(b.center, b.radius, b.mass, b.velocity) for b in case.bodies]

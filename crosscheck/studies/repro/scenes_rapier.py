@@ -42,7 +42,7 @@ handles = []
 for center, RADIUS, MASS, velocity in BODIES:
     CENTRE = (center[0], center[1], center[2] if len(center) > 2 else 0.0)
     VELOCITY = (velocity[0], velocity[1], velocity[2] if len(velocity) > 2 else 0.0)
-    body = ($body)
+    body = ($body)$ccd
     if len(center) == 2:  # a 2-D scene keeps to the plane z = 0
         body = body.enabled_translations((True, True, False))
     collider = ($collider)
@@ -82,6 +82,7 @@ def rapier_scene_code(adapter: RapierTuned, case: SceneCase) -> EngineCode:
         parameters=repr(params),
         body=body.format(c="CENTRE", v="VELOCITY", ccd=number(rapier_response.SOFT_CCD), z=""),
         collider=collider.format(r="RADIUS", m="MASS", own="RESTITUTION", rule=rule),
+        ccd=".ccd_enabled(True)" if tuning is not None and tuning.ccd else "",
         dim=case.dim) + STATE
     refused = refusal(case)
     if refused is not None:
