@@ -37,8 +37,12 @@ REGISTRY: dict[str, tuple[str, str]] = {
     "reference": ("adapters.reference", "ReferenceF64"),
     "reference-f32": ("adapters.reference", "ReferenceF32"),
     "fcl": ("adapters.fcl_engine", "Fcl"),
+    "fcl-ccd-naive": ("adapters.fcl_engine", "FclCcdNaive"),
+    "fcl-ccd-ray-shooting": ("adapters.fcl_engine", "FclCcdRayShooting"),
+    "fcl-ccd-polynomial": ("adapters.fcl_engine", "FclCcdPolynomial"),
     "pybullet": ("adapters.pybullet_engine", "PyBulletTuned"),
     "pybullet-default": ("adapters.pybullet_engine", "PyBulletDefault"),
+    "pybullet-ccd": ("adapters.ccd_variants", "PyBulletCcd"),
     "pymunk": ("adapters.pymunk_engine", "PymunkTuned"),
     "pymunk-default": ("adapters.pymunk_engine", "PymunkDefault"),
     "mujoco": ("adapters.mujoco_engine", "MujocoStiff"),
@@ -47,8 +51,10 @@ REGISTRY: dict[str, tuple[str, str]] = {
     "coal-default": ("adapters.coal_engine", "CoalDefault"),
     "box2d": ("adapters.box2d_engine", "Box2dTuned"),
     "box2d-default": ("adapters.box2d_engine", "Box2dDefault"),
+    "box2d-bullet": ("adapters.ccd_variants", "Box2dBullet"),
     "rapier": ("adapters.rapier_engine", "RapierTuned"),
     "rapier-default": ("adapters.rapier_engine", "RapierDefault"),
+    "rapier-ccd": ("adapters.ccd_variants", "RapierCcd"),
 }
 
 ENTRY_POINT_GROUP = "crosscheck.adapters"

@@ -336,12 +336,13 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
         friction=DEFAULT_FRICTION if variant.friction is None else variant.friction,
         max_speed=MAX_TRANSLATION / variant.dt,
         max_speed_at="step",
+        sampled_contacts=True,
         zero_mass="",
         negative_extents="",
         toi_target=box2d_toi.TOI_TARGET,
         toi_tolerance=box2d_toi.TOI_TOLERANCE,
         notes=_NOTES + box2d_toi.TOI_NOTES + settings,
-        sources=SOURCES + box2d_toi.SOURCES,
+        sources=SOURCES + box2d_toi.SOURCES + (B2 + "Dynamics/b2World.cpp",),
     )
 
 
@@ -355,7 +356,10 @@ _NOTES = ("float32 engine (inputs rounded to float32). Detection: b2CollidePolyg
           "only the polygon skins (default) act on it. "
           "Refused (ValueError): negative sizes, mass <= 0 (Box2D reads it as 1), negative "
           "restitution, non-finite detection inputs and radii. Scenes (2-D): every fixture "
-          "gets e; the threshold and the 2 m a step cap act there too, at the scene's dt. ")
+          "gets e; the threshold and the 2 m a step cap act there too, at the scene's dt. "
+          "Contacts between two dynamic bodies are sampled at each step (sampled_contacts): "
+          "b2World::SolveTOI sweeps a pair only if one is a bullet or not dynamic "
+          "(b2World.cpp; the box2d-bullet variant sets bullet). ")
 
 
 class Box2dTuned(Adapter):

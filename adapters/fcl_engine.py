@@ -121,9 +121,9 @@ TOI_NOTES = (
     "advancement, CCDM_TRANS); toi = time_of_contact x duration; normal from the case's "
     "centres at that time (the binding gives no contact normal). Target separation 0; it "
     "stops once a step is <= 1e-4 of the interval (t_err, hard-coded), so the surfaces may "
-    "be up to 1e-4 x the closing travel apart: a tolerance relative to the motion, not a "
-    "length (toi_tolerance declared 0). A first touch exactly at the interval's end reads "
-    "as no contact (toc < 1 required).")
+    "be up to 1e-4 x the closing travel apart: declared toi_time_tolerance 1e-4 (of the "
+    "interval). A first touch exactly at the interval's end reads as no contact (toc < 1 "
+    "required): declared toi_end_excluded.")
 """``GJKSolver_libccd``'s default ``distance_tolerance`` and ``collision_tolerance``."""
 
 
@@ -207,6 +207,8 @@ class Fcl(Adapter):
         damping=0.0,
         zero_mass="",
         negative_extents="",
+        toi_time_tolerance=1e-4,
+        toi_end_excluded=True,
         notes=("Touching spheres and face-touching boxes collide; edge- or corner-touching "
                "boxes do not (no contact point with enable_contact). Signed distance is "
                "GJK/EPA, within 1e-6; coincident sphere centres hang it (only the distance: "
@@ -265,7 +267,10 @@ class Fcl(Adapter):
         return self.query_without(prepared, frozenset())
 
     def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
-        """Both calls; without ``distance`` only ``collide`` (normal: the contact's, if any)."""
+        """Both calls; without ``distance`` only ``collide`` (normal: the contact's, if any).
+        A time of impact has no hanging part: it is :meth:`query`."""
+        if isinstance(prepared, fcl_toi.PreparedToi):
+            return fcl_toi.query(prepared)
         p: Prepared = prepared
         fcl = engine()
         hits = fcl.CollisionResult()
@@ -282,8 +287,9 @@ class Fcl(Adapter):
         return Observation(hit=bool(hits.is_collision), distance=distance, normal=normal)
 
 
-def _ccd_conventions(solver: str, notes: str) -> Conventions:
+def _ccd_conventions(solver: str, notes: str, samples: int = 0) -> Conventions:
     return Conventions(
+        toi_samples=samples,
         normal="from A's centre to B's at the reported time (computed: the binding gives no "
                "contact normal)",
         touching={"sphere": True},
@@ -309,8 +315,7 @@ class FclCcdNaive(Fcl):
         "naive", "Samples collide() at t = i / 9 of the interval, i = 0..9 (min(10, "
                  "ceil(1 / toc_err)) tests) and reports the first sample in collision: a "
                  "contact between samples is missed, a found one is late by up to 1/9 of the "
-                 "interval. The harness's sampled_contacts rule (the two ends only) does not "
-                 "describe ten samples, so it is not declared.")
+                 "interval (declared toi_samples 10).", samples=10)
 
 
 class FclCcdRayShooting(FclCcdNaive):

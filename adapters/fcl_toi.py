@@ -42,9 +42,9 @@ What each solver does (FCL 0.7.0, include/fcl/narrowphase/continuous_collision-i
   continuous collision checking" to stderr (harmless in a run: a worker's C-level stderr
   goes to /dev/null) and returns -1.
 
-FCL's return value -1 is its "not computed"; the adapter then raises ``RuntimeError`` (an
-``error`` row for every quantity, with the reason), rather than read the untouched result
-as "no contact".
+FCL's return value -1 is its "not computed"; the adapter then answers Undefined for every
+quantity, with the reason (a ``disagree`` row of category ``error`` wherever the exact
+answer is defined), rather than read the untouched result as "no contact".
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ from typing import Any
 
 from adapters.sphere_toi import centre_normal, end_centres, no_contact, refusal
 from crosscheck.core.geometry import to3
-from crosscheck.core.model import Observation
+from crosscheck.core.model import Kind, Observation, quantities_of
 from crosscheck.core.schema import ToiCase
 
 CCD = "https://github.com/flexible-collision-library/fcl/blob/v0.7.0/include/fcl/narrowphase/"
@@ -117,10 +117,10 @@ def query(p: PreparedToi) -> Observation:
     result = fcl.ContinuousCollisionResult()
     returned = fcl.continuousCollide(p.a, p.end_a, p.b, p.end_b, p.request, result)
     if returned == -1.0:
-        raise RuntimeError(
+        return Observation.undefined(quantities_of(Kind.SPHERE_TOI), (
             f"fcl.continuousCollide returned -1 with {SOLVERS[p.solver]}: FCL 0.7.0 does not "
             "compute it for two sphere geometries (ray shooting: not implemented; polynomial "
-            "solver: BVH meshes only), and leaves the result at is_collide False")
+            "solver: BVH meshes only), and leaves the result at is_collide False"))
     if not result.is_collide:
         return no_contact()
     toi = float(result.time_of_contact) * p.case.duration

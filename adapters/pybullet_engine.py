@@ -384,7 +384,8 @@ class PyBulletTuned(Adapter):
         "contactSlop 0, contactERP 0; per body lateral/rolling/spinning friction 0, "
         "linear/angular damping 0; restitution A = e, B = 1 (product); "
         "boxes keep the default 0.001 collision margin")
-    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind)
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
+        *(k for k in Kind if k is not Kind.SPHERE_TOI))
     world: ClassVar[dict[str, float]] = TUNED_WORLD
     body: ClassVar[dict[str, float]] = TUNED_BODY
     scene_tuning: ClassVar[Tuning | None] = Tuning(TUNED_WORLD, TUNED_BODY)

@@ -269,7 +269,8 @@ class PymunkTuned(Adapter):
     engine: ClassVar[str] = "pymunk"
     settings: ClassVar[str] = ("dt 1e-3 s, collision_slop 0, collision_bias 1.0 (no positional "
                                "correction), iterations 10, friction 0, elasticity A = e, B = 1")
-    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(*Kind, dims=(2,))
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
+        *(k for k in Kind if k is not Kind.SPHERE_TOI), dims=(2,))
     conventions: ClassVar[Conventions] = _conventions(settings, 1e-3)
     dt: ClassVar[float] = 1e-3
     slop: ClassVar[float | None] = 0.0

@@ -11,7 +11,7 @@ touching overlaps, spheres touching do not collide; no margin; the relative
 tolerance is the rounding of a handful of operations in the declared precision.
 For a time of impact (``sphere_toi``) they are the discrete baseline: the textbook's
 sphere test at the interval's start and end only, as a simulation stepping over the
-interval sees the pair (``sampled_contacts``; :func:`crosscheck.truth.oracle.sampled_impact`).
+interval sees the pair (``toi_samples`` 2; :func:`crosscheck.truth.oracle.sampled_impact`).
 The formula has no time step or damping (``time_step`` None, ``damping`` 0), takes a
 zero mass as the number 0 (``zero_mass`` "") and a negative radius or half-width as the
 number it is (``negative_extents`` "": the textbook's literal reading, which is the
@@ -58,10 +58,10 @@ class ReferenceF64(Adapter):
         zero_mass="",
         negative_extents="",
         no_value=("float64-textbook",),
-        sampled_contacts=True,
+        toi_samples=2,
         notes="Faithful textbook code; float64 throughout; no normal (nor response) where the "
               "computed centres coincide or the box axes tie. A time of impact is the discrete "
-              "test sampled at the interval's two ends (sampled_contacts).",
+              "test sampled at the interval's two ends (toi_samples 2).",
         sources=TEXTBOOK,
     )
 
@@ -89,7 +89,7 @@ class ReferenceF32(ReferenceF64):
         zero_mass="",
         negative_extents="",
         no_value=("float32-textbook",),
-        sampled_contacts=True,
+        toi_samples=2,
         notes="Inputs rounded to float32, every operation in float32; no normal (nor "
               "response) where the rounded centres coincide or the box axes tie. A time of "
               "impact is the discrete test sampled at the interval's two ends.",

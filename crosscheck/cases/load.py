@@ -18,6 +18,9 @@ its bytes and the loader's code), so the next run does not validate it again.
 >>> result = load_paths([p])
 >>> print(result.errors[0].message.replace(str(p), "c.toml"))  # doctest: +ELLIPSIS
 c.toml:6: case 's1': field a.radius: must be >= 0, got -1.0 (tag the case 'bad-input' ...)
+
+Over 400 lines: loading, validation, expansion errors and the 2-D twin check share one
+error type and one line-finding pass, and are kept in one module.
 """
 
 from __future__ import annotations

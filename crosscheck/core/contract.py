@@ -87,7 +87,12 @@ class Conventions:
     Times of impact (:mod:`crosscheck.truth.toi`): ``toi_target`` is the separation of
     the surfaces at which the engine's time-of-impact query stops (negative: an
     overlap; 0: touching, as the exact first contact), ``toi_tolerance`` how far from it
-    the query may stop (its declared termination tolerance, a length).
+    the query may stop (its declared termination tolerance, a length) and
+    ``toi_time_tolerance`` the same as a fraction of the interval (a solver that stops
+    once its time step is that small).  ``toi_samples`` is 0 for a continuous query, or
+    the number ``n`` of discrete tests at ``t = i T / (n - 1)`` that a sampling query makes
+    (2: the interval's two ends); ``toi_end_excluded`` is True for a query that counts no
+    contact exactly at the interval's end.
     """
 
     box_extents: str = "half"
@@ -112,6 +117,9 @@ class Conventions:
     sampled_contacts: bool = False
     toi_target: float = 0.0
     toi_tolerance: float = 0.0
+    toi_time_tolerance: float = 0.0
+    toi_samples: int = 0
+    toi_end_excluded: bool = False
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
 

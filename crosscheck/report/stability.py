@@ -16,6 +16,13 @@ file: the same sweep in a plane) has columns of its own beside its 3-D sweep's (
 walk (pymunk gives none for separated bodies) is shown by its ``hit`` walk, and the cell
 says so.  An engine with no verdict in a column (skip or undefined everywhere, or no rows)
 has a grey "no verdict" cell.  The charts are :mod:`crosscheck.report.stability_charts`.
+
+A fast-body scene point (``step_travel`` at one ``dt``, with its impact ``phase``) is a point
+of the ``step_travel`` sweep of that ``dt``; its headline quantity is ``velocities`` (a
+pass-through exchanges none).
+
+Over 400 lines: the walk, the threshold table and the matrix read the same point records
+and are kept together so the cell rule has one home.
 """
 
 from __future__ import annotations

@@ -13,18 +13,18 @@ from dataclasses import fields, replace
 from typing import TypeGuard
 
 from crosscheck.core.contract import Adapter
-from crosscheck.core.model import Kind, Observation, quantities_of
+from crosscheck.core.model import Kind, Observation, Undefined, quantities_of
 from crosscheck.testing import samples
 from crosscheck.testing.samples import Sample
 
 REQUIRED: dict[Kind, tuple[str, ...]] = {
     Kind.AABB: ("hit",), Kind.SPHERE: ("hit",), Kind.SPHERE_RESPONSE: ("v1", "v2"),
-    Kind.SPHERE_SCENE: ("positions", "velocities")}
+    Kind.SPHERE_SCENE: ("positions", "velocities"), Kind.SPHERE_TOI: ("hit",)}
 """The quantities an observation of each kind always carries."""
 EXTRAS: dict[Kind, frozenset[str]] = {
     Kind.AABB: frozenset(), Kind.SPHERE: frozenset(),
     Kind.SPHERE_RESPONSE: frozenset({"resolved_at"}),
-    Kind.SPHERE_SCENE: frozenset({"wall_s", "impacts"})}
+    Kind.SPHERE_SCENE: frozenset({"wall_s", "impacts"}), Kind.SPHERE_TOI: frozenset()}
 """Observation fields besides the kind's quantities that an adapter may set."""
 UNIT_TOLERANCE = 1e-6
 """How far from 1 a normal's length may be (the scoring's own test of a unit vector)."""
@@ -66,6 +66,8 @@ class Answers:
         main = samples.first(kind, dim)
         if kind is Kind.SPHERE_RESPONSE:
             self.response(main)
+        elif kind is Kind.SPHERE_TOI:
+            self.impact(main)
         else:
             self.detection(kind, dim)
         self.repeat(main)
@@ -143,6 +145,22 @@ class Answers:
         elif not (v1[0] < 0.0 < v2[0]):
             self.fail("response", sample.label, "v1 along -x and v2 along +x (about -1 and +1)",
                       f"v1 {v1!r}, v2 {v2!r}")
+
+    def impact(self, sample: Sample) -> None:
+        """A time of impact: a contact verdict; with a contact, a time within the interval
+        and a normal from A to B (+x); an engine that cannot compute one says so with
+        Undefined values, never a made-up time."""
+        seen = self.observe(sample)
+        if seen is None or isinstance(seen.hit, Undefined):
+            return
+        if not isinstance(seen.hit, bool):
+            self.fail("impact", sample.label, "hit a bool (or Undefined)", _typed(seen.hit))
+            return
+        if not seen.hit:
+            return
+        if not (_is_float(seen.toi) and 0.0 <= seen.toi <= 1.0):
+            self.fail("impact", sample.label, "toi a float in [0, 1] (about 0.75)", repr(seen.toi))
+        self.normal("impact", sample, seen.normal)
 
     def scene(self, sample: Sample) -> None:
         """Two runs of a scene: the same bodies, moved as they should, each timed."""

@@ -90,10 +90,25 @@ def scene(dim: int) -> Sample:
                   f"dt 0.01, e = 1", case)
 
 
+def crossing(dim: int) -> Sample:
+    """Two spheres (r 0.5) 2.5 apart closing at 1 each along x over [0, 1]: first contact at
+    t = 0.75, normal +x (still overlapping at t = 1, so a sampling engine sees it there)."""
+    case = CASE_ADAPTER.validate_python({
+        "id": f"kit-toi-{dim}d", "description": "conformance kit sample", "kind": "sphere_toi",
+        "dim": dim, "duration": 1.0,
+        "a": {"center": _at(dim, 0, -1.0), "radius": 0.5, "velocity": _at(dim, 0, 1.0)},
+        "b": {"center": _at(dim, 0, 1.5), "radius": 0.5, "velocity": _at(dim, 0, -1.0)}})
+    return Sample(f"sphere_toi {dim}-D, two spheres closing head-on along x, first contact "
+                  f"at t = 0.75 of [0, 1]", case)
+
+
 def first(kind: Kind, dim: int) -> Sample:
-    """The kit's main sample of a kind: the overlap, the head-on response or the scene."""
+    """The kit's main sample of a kind: the overlap, the head-on response, the time-of-impact
+    crossing or the scene."""
     if kind is Kind.SPHERE_RESPONSE:
         return head_on(dim)
+    if kind is Kind.SPHERE_TOI:
+        return crossing(dim)
     if kind is Kind.SPHERE_SCENE:
         return scene(dim)
     return overlap(kind, dim)

@@ -24,9 +24,13 @@ lengths it divides).  ``hit`` is right or wrong.
   contact for a pair that never reaches that overlap;
 - ``tolerance``: the same with no target (``toi_target`` 0), within the declared
   ``toi_tolerance`` or the engine's precision ``rtol`` on the case's numbers;
-- ``timestep``: an engine that samples contacts (``sampled_contacts``), at the
-  interval's two ends, reported the later sample, or saw no contact because it fell
-  between them;
+- ``tolerance`` also: a time within the declared ``toi_time_tolerance`` (a fraction of
+  the interval) of the exact one;
+- ``timestep``: an engine that samples the interval (``toi_samples`` evenly spaced
+  discrete tests, 2 for the two ends) reported the first sample that overlaps, or saw
+  no contact because it fell between its samples;
+- ``convention`` also: no contact for a first touch exactly at the interval's end, by an
+  engine that declares the end excluded (``toi_end_excluded``);
 - ``error``: none of these.  A normal gets the category of its time when it is right
   for the time the engine reported.
 """
@@ -154,6 +158,8 @@ def explain(case: ToiCase, conv: Conventions, quantity: str, value: Value,
     when = observed.toi if isinstance(observed.toi, float) and math.isfinite(observed.toi) \
         else None
     exact = truth.toi if isinstance(truth.toi, float) else None
+    if isinstance(observed.hit, Undefined):
+        return Category.ERROR, f"the engine gave no answer: {observed.hit.reason}"
     if quantity == "hit" or when is None or not reported:
         return _verdict(case, conv, motion, reported, exact)
     rule = _at_time(case, conv, motion, when, truth)
@@ -206,13 +212,29 @@ def _at_time(case: ToiCase, conv: Conventions, motion: Motion, when: float,
         return category, (f"at the engine's time {when:.17g} the surfaces are {gap:.3g} apart, "
                           f"within {slack:.3g} (declared toi_tolerance {conv.toi_tolerance:.3g} "
                           f"plus rtol {conv.rtol:.3g} of the lengths) of {aim}")
-    if conv.sampled_contacts and when == case.duration and gap < 0:
-        exact = truth.toi if isinstance(truth.toi, float) else math.nan
+    exact = truth.toi if isinstance(truth.toi, float) else math.nan
+    allowed = conv.toi_time_tolerance * case.duration
+    if allowed and abs(when - exact) <= allowed:
+        return Category.TOLERANCE, (
+            f"time {when:.17g} within {allowed:.3g} of the exact {exact!r}: the declared "
+            f"toi_time_tolerance {conv.toi_time_tolerance:g} of the {case.duration:g} s interval")
+    times = sample_times(case, conv)
+    earlier = [t for t in times if t < when and motion.gap(t) <= 0]
+    if (any(math.isclose(when, t, rel_tol=1e-12, abs_tol=0.0) for t in times)
+            and gap <= 0 and when >= exact and not earlier):
         return Category.TIMESTEP, (
-            f"the engine samples contacts at the interval's ends (0 and {case.duration:g}): "
-            f"it reports the end, where the spheres overlap by {-gap:.3g}, for the contact at "
-            f"t = {exact!r}")
+            f"the engine samples the interval at {len(times)} evenly spaced times "
+            f"(declared toi_samples): it reports the first sample that overlaps, t = "
+            f"{when:.6g} (overlap {-gap:.3g}), for the contact at t = {exact!r}")
     return None
+
+
+def sample_times(case: ToiCase, conv: Conventions) -> list[float]:
+    """The times a sampling query tests: ``i T / (n - 1)`` for its declared ``n`` samples."""
+    n = conv.toi_samples
+    if n < 2:
+        return []
+    return [case.duration * i / (n - 1) for i in range(n)]
 
 
 def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | None,
@@ -233,7 +255,7 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
         return Category.ERROR, (f"reported a contact, but the surfaces stay {nearest:.3g} apart "
                                 f"at the closest (t = {closest:.6g}); no declared rule reaches it")
     # the engine saw no contact; the exact pair touches at `exact`
-    if (exact is not None and conv.sampled_contacts and exact in (0.0, end)
+    if (exact is not None and exact in sample_times(case, conv)
             and motion.gap(exact) == 0.0 and not conv.touching_is_contact("sphere")):
         return Category.CONVENTION, (
             f"the first contact is an exact touch at the sample t = {exact!r} (distance 0): "
@@ -243,11 +265,18 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
         return Category.CONVENTION, (
             f"the spheres overlap at most {max(0.0, -nearest):.3g} (t = {closest:.6g}), less "
             f"than the engine's declared target overlap {-target:.3g}: it reports no contact")
-    if conv.sampled_contacts and motion.gap(0.0) >= 0 and motion.gap(end) >= 0:
+    if exact == end and conv.toi_end_excluded:
+        return Category.CONVENTION, (
+            f"the first contact is exactly at the interval's end t = {exact!r}, which the "
+            "engine's query excludes (declared toi_end_excluded)")
+    times = sample_times(case, conv)
+    if times and all(motion.gap(t) > 0 or (motion.gap(t) == 0
+                                            and not conv.touching_is_contact("sphere"))
+                     for t in times):
         return Category.TIMESTEP, (
-            f"the engine samples contacts at the interval's ends (0 and {end:g}); the exact "
-            f"contact at t = {exact!r} falls between them, and the spheres are apart again "
-            f"at the end ({motion.gap(end):.3g})")
+            f"the engine samples the interval at {len(times)} evenly spaced times (declared "
+            f"toi_samples); the exact contact at t = {exact!r} falls between them: no sample "
+            f"finds the spheres overlapping (at the end they are {motion.gap(end):.3g} apart)")
     return Category.ERROR, (f"reported no contact; the exact first contact is at t = {exact!r}"
                             f" (the spheres overlap by up to {max(0.0, -nearest):.3g})")
 

@@ -62,7 +62,7 @@ def test_the_discrete_baseline_misses_a_crossing_and_says_it_fell_between_sample
     case = crossing()
     sampled = oracle.textbook(case)
     assert sampled.hit is False
-    verdict = judge(case, Conventions(sampled_contacts=True), "hit", sampled.hit,
+    verdict = judge(case, Conventions(toi_samples=2), "hit", sampled.hit,
                     oracle.truth(case), sampled)
     assert verdict.status is Status.DISAGREE and verdict.category == Category.TIMESTEP
     assert "falls between them" in verdict.reason

@@ -17,6 +17,7 @@ from collections.abc import Callable
 from typing import Any
 
 from adapters.box2d_engine import Box2dDefault, Box2dTuned
+from adapters.ccd_variants import Box2dBullet, PyBulletCcd, RapierCcd
 from adapters.coal_engine import CoalDefault, CoalTuned
 from adapters.fcl_engine import Fcl, FclCcdNaive, FclCcdPolynomial, FclCcdRayShooting
 from adapters.mujoco_engine import MujocoDefault, MujocoStiff
@@ -97,6 +98,7 @@ WRITERS: dict[type[Adapter], Writer] = {
     FclCcdPolynomial: _fcl,
     PyBulletTuned: _pybullet,
     PyBulletDefault: _pybullet,
+    PyBulletCcd: _pybullet,
     PymunkTuned: _pymunk,
     PymunkDefault: _pymunk,
     MujocoStiff: _mujoco,
@@ -105,8 +107,10 @@ WRITERS: dict[type[Adapter], Writer] = {
     CoalDefault: _pairs_only(coal_code),
     Box2dTuned: box2d_writer,
     Box2dDefault: box2d_writer,
+    Box2dBullet: box2d_writer,
     RapierTuned: rapier_writer,
     RapierDefault: rapier_writer,
+    RapierCcd: rapier_writer,
 }
 """The script writer of each adapter class (exact classes: a subclass may call otherwise)."""
 
