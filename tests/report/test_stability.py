@@ -208,7 +208,8 @@ def test_float32_breaks_at_a_smaller_offset_than_float64(points: pd.DataFrame,
 
 
 def test_points_cover_every_sweep_with_finite_relative_errors(points: pd.DataFrame) -> None:
-    assert set(points["param"]) == set(stability.AXES)
+    # every axis of cases/sweeps.toml; step_travel is swept by the scenes of cases/fast.toml
+    assert set(points["param"]) == set(stability.AXES) - {"step_travel"}
     scored = points[points["status"].isin(["agree", "disagree"])]
     assert scored["rel_error"].notna().all() and (scored["rel_error"] >= 0).all()
 
