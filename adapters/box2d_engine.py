@@ -341,6 +341,7 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
         negative_extents="",
         toi_target=box2d_toi.TOI_TARGET,
         toi_tolerance=box2d_toi.TOI_TOLERANCE,
+        toi_min_centre_distance=box2d_toi.LINEAR_SLOP,
         notes=_NOTES + box2d_toi.TOI_NOTES + settings,
         sources=SOURCES + box2d_toi.SOURCES + (B2 + "Dynamics/b2World.cpp",),
     )

@@ -27,9 +27,9 @@ b2_linearSlop`` of ``target = max(b2_linearSlop, totalRadius - 3 b2_linearSlop)`
 (``b2_linearSlop`` = 0.005 m, compiled in): the surfaces then overlap by ``3 b2_linearSlop``
 = 0.015 m, the overlap its contact solver keeps.  Declared ``toi_target`` = -0.015 and
 ``toi_tolerance`` = 0.00125.  For a radius sum below ``4 b2_linearSlop`` = 0.02 the target
-is the centre distance ``b2_linearSlop`` instead (surface separation ``0.005 - R``, not the
-declared -0.015: said in the notes).  A pair that never overlaps by that much reads as no
-contact.  Float32 throughout (the adapter's ``rtol``, 2^-21).
+is the centre distance ``b2_linearSlop`` instead (surface separation ``0.005 - R``):
+declared ``toi_min_centre_distance`` = ``b2_linearSlop``.  A pair that never overlaps by
+that much reads as no contact.  Float32 throughout (the adapter's ``rtol``, 2^-21).
 """
 
 from __future__ import annotations
@@ -63,7 +63,8 @@ TOI_NOTES = (
     "sweeps' transforms at t. Box2D stops at an overlap of 3 b2_linearSlop = 0.015 "
     "(target = max(b2_linearSlop, totalRadius - 3 b2_linearSlop) between the centres, "
     "tolerance 0.25 b2_linearSlop): declared toi_target -0.015, toi_tolerance 0.00125; for a "
-    "radius sum below 0.02 the centres stop at b2_linearSlop instead. A pair that never "
+    "radius sum below 0.02 the centres stop at b2_linearSlop instead (declared "
+    "toi_min_centre_distance 0.005). A pair that never "
     "overlaps by that much reads as no contact. e_failed and e_unknown raise (error rows). ")
 
 

@@ -158,7 +158,11 @@ def _conventions(settings: str, dt: float) -> Conventions:
         damping=0.0,
         zero_mass="",
         negative_extents="absolute",
-        notes=_NOTES + settings,
+        sampled_contacts=True,
+        notes=_NOTES + settings + (
+            " No continuous collision detection: each step moves the bodies, then looks for "
+            "overlapping shapes (sampled_contacts); pymunk's Body.velocity_func docs suggest "
+            "limiting velocity 'to prevent tunneling'."),
         sources=SOURCES,
     )
 

@@ -89,7 +89,9 @@ class Conventions:
     overlap; 0: touching, as the exact first contact), ``toi_tolerance`` how far from it
     the query may stop (its declared termination tolerance, a length) and
     ``toi_time_tolerance`` the same as a fraction of the interval (a solver that stops
-    once its time step is that small).  ``toi_samples`` is 0 for a continuous query, or
+    once its time step is that small); ``toi_min_centre_distance`` a distance between the
+    centres closer than which the query never aims (Box2D: ``linearSlop``).  ``toi_samples``
+    is 0 for a continuous query, or
     the number ``n`` of discrete tests at ``t = i T / (n - 1)`` that a sampling query makes
     (2: the interval's two ends); ``toi_end_excluded`` is True for a query that counts no
     contact exactly at the interval's end.
@@ -118,6 +120,7 @@ class Conventions:
     toi_target: float = 0.0
     toi_tolerance: float = 0.0
     toi_time_tolerance: float = 0.0
+    toi_min_centre_distance: float = 0.0
     toi_samples: int = 0
     toi_end_excluded: bool = False
     notes: str = ""

@@ -192,24 +192,48 @@ def _overlap_steps(case: SceneCase) -> tuple[list[int], list[int]]:
     return approaching, receding
 
 
+def _along(case: SceneCase, pair: object, first: float) -> float:
+    """B's position (or velocity) relative to A's along the contact normal of the exact
+    first impact (at time ``first``): positive on the side B touched from (moving apart),
+    negative past A (still approaching)."""
+    a, b = case.bodies
+    d = [(q + w * first) - (p + v * first) for p, v, q, w
+         in zip(a.center, a.velocity, b.center, b.velocity, strict=True)]
+    if not (isinstance(pair, tuple) and len(pair) == 2) or norm(d) == 0:
+        return math.nan
+    pa, pb = cast(tuple[Vec, Vec], pair)
+    return math.fsum((y - x) * n for x, y, n in zip(pa, pb, d, strict=True)) / norm(d)
+
+
 def _passed_through(case: SceneCase, conventions: Conventions, quantity: str, err: float,
-                    observed: Observation, impacts: int | None) -> tuple[str, str] | None:
-    """A missed impact: the engine's velocities are still the initial ones (no impact
-    resolved) where the exact run has impacts.  Named, with the travel, never a small
-    position error."""
-    velocities = observed.velocities
-    if (not impacts or len(case.bodies) < 2 or not isinstance(velocities, tuple)
+                    observed: Observation, truth: Observation) -> tuple[str, str] | None:
+    """A missed impact of a two-body scene: the engine resolved no impact (its velocities
+    are still the initial ones, to its precision and damping) or the bodies end past each
+    other along the exact contact normal while the exact run keeps them apart.  Named,
+    with the travel, never a small position error."""
+    velocities, impacts = observed.velocities, truth.impacts
+    if (not impacts or len(case.bodies) != 2 or not isinstance(velocities, tuple)
             or quantity not in QUANTITIES):
         return None
+    if quantity != "positions" and err <= PRECISION_FACTOR * conventions.rtol:
+        return None  # right to the engine's precision: a conserved quantity
     unchanged = relative_error(case, "velocities", velocities, _free_flight(case))
-    if unchanged > max(PRECISION_FACTOR * conventions.rtol, DEFAULT_TOL_FLOOR,
-                       damping_bound(case, conventions)):
+    mine, exact = (_along(case, observed.positions, impacts[0]),
+                   _along(case, truth.positions, impacts[0]))
+    closing = _along(case, velocities, impacts[0])
+    free = unchanged <= max(PRECISION_FACTOR * conventions.rtol, DEFAULT_TOL_FLOOR,
+                            damping_bound(case, conventions))
+    if not (free or (exact > 0 and mine < 0 and closing < 0)):
         return None
     travel = step_travel(case)
+    what = (f"the engine resolved none of the {len(impacts)} impact(s) of the exact run "
+            f"(final velocities the initial ones, to {unchanged:.2g})" if free else
+            f"B ends {-mine:.3g} past A along the exact contact normal, still closing at "
+            f"{-closing:.3g} m/s along it, where the exact run leaves it {exact:.3g} on its side "
+            f"(velocities changed by {unchanged:.3g} of the top speed on the way)")
     head = (f"{quantity} off by {err:.3g} {_UNITS[quantity]}: the bodies passed through each "
             f"other at step travel {travel:.3g} (|vb - va| dt / 2(ra + rb), dt = "
-            f"{case.dt or DEFAULT_DT:.3g} s): the engine resolved none of the {impacts} "
-            f"impact(s) of the exact run (final velocities the initial ones, to {unchanged:.2g})")
+            f"{case.dt or DEFAULT_DT:.3g} s): {what}")
     seen, past = _overlap_steps(case)
     sampled = ("no step start finds the two overlapping while approaching"
                + (f" (at the start of step {past[0]} they overlap, but with their centres "
@@ -232,22 +256,27 @@ default scene tolerance, :data:`~crosscheck.truth.score.DEFAULT_RTOL`)."""
 
 
 def scene_speed_cap(case: SceneCase, conventions: Conventions) -> float | None:
-    """The declared cap that acts at every step, at the scene's ``dt`` (None: none).
+    """The declared speed cap at the scene's ``dt`` (None: none).
 
-    Such a cap is a translation per step (Box2D's ``b2_maxTranslation``): declared as
-    ``max_speed`` at the engine's ``time_step``, it is ``max_speed x time_step / dt`` at
-    the scene's step.
+    A cap that acts at the end of every step (``"step"``) is a translation per step
+    (Box2D's ``b2_maxTranslation``): declared as ``max_speed`` at the engine's
+    ``time_step``, it is ``max_speed x time_step / dt`` at the scene's step.  A cap that
+    acts before the bounce (``"before restitution"``, Rapier's ``max_linear_velocity``)
+    is a speed: a bounce may exceed it within a step, and the next step brings it back, so
+    two spheres exchanging speeds stay under it.
     """
-    if conventions.max_speed is None or conventions.max_speed_at != "step":
+    if conventions.max_speed is None:
         return None
+    if conventions.max_speed_at == "before restitution":
+        return conventions.max_speed
     per_step = conventions.max_speed * (conventions.time_step or (case.dt or DEFAULT_DT))
     return per_step / (case.dt or DEFAULT_DT)
 
 
 def capped(case: SceneCase, conventions: Conventions) -> SceneCase | None:
-    """``case`` with every initial speed clipped to a declared cap that acts at every step
-    (None: no such cap, or no body over it).  Box2D clips the velocity it integrates with
-    and keeps it, so starting capped is the same motion."""
+    """``case`` with every initial speed clipped to the declared cap (None: no cap, or no
+    body over it).  Box2D clips the velocity it integrates with and keeps it, and Rapier
+    clamps it before integrating, so starting capped is the same motion."""
     cap = scene_speed_cap(case, conventions)
     if cap is None:
         return None
@@ -278,19 +307,63 @@ def _speed_cap(case: SceneCase, conventions: Conventions, quantity: str, err: fl
     return Category.CONVENTION, (
         f"{quantity} off by {err:.3g} {_UNITS[quantity]}: the engine caps speeds at "
         f"{scene_speed_cap(case, conventions):.4g} m/s at dt = {case.dt or DEFAULT_DT:.3g} s "
-        f"(declared max_speed x time_step per step), and the top "
+        f"(declared max_speed {conventions.max_speed:.4g}, acting "
+        f"{conventions.max_speed_at}), and the top "
         f"initial speed is {top:.4g}; against the exact run with the capped speeds the error "
         f"is {there:.3g}")
+
+
+def _first_approach(case: SceneCase, first: float) -> float:
+    """The normal approach speed of the exact run's first impact (at time ``first``): the
+    initial velocities still hold then, so it is found from the bodies that touch."""
+    bodies = case.bodies
+    for i, a in enumerate(bodies):
+        for b in bodies[i + 1:]:
+            d = [(q + w * first) - (p + v * first) for p, v, q, w
+                 in zip(a.center, a.velocity, b.center, b.velocity, strict=True)]
+            length = norm(d)
+            if abs(length - (a.radius + b.radius)) <= 1e-9 * (a.radius + b.radius):
+                dv = [w - v for v, w in zip(a.velocity, b.velocity, strict=True)]
+                return -math.fsum(x * y for x, y in zip(dv, d, strict=True)) / length
+    return math.nan
+
+
+def _threshold(case: SceneCase, conventions: Conventions, quantity: str, err: float,
+               value: Value, tol: float, impacts: Sequence[float] | None) -> (
+                   tuple[str, str] | None):
+    """The error explained by the declared restitution threshold: the first impact closes
+    slower than it, and the engine's answer is the exact run's with no bounce (e = 0)."""
+    threshold = conventions.restitution_threshold
+    if not (threshold > 0 and case.restitution > 0 and impacts):
+        return None
+    speed = _first_approach(case, impacts[0])
+    if not speed < threshold:
+        return None
+    want = truth(case.model_copy(update={"restitution": 0.0})).get(quantity)
+    if want is None or isinstance(want, Undefined):
+        return None
+    there = relative_error(case, quantity, value, want)
+    lag = lag_bound(case, len(impacts)) if quantity in ("positions", "velocities") else 0.0
+    if there > max(tol, lag, PRECISION_FACTOR * conventions.rtol):
+        return None
+    late = f" (within the step lag {lag:.3g})" if there > tol and there <= lag else ""
+    return Category.CONVENTION, (
+        f"{quantity} off by {err:.3g} {_UNITS[quantity]}: the first impact closes at "
+        f"{speed:.3g} m/s along the line of centres, below the engine's restitution threshold "
+        f"{threshold:g} m/s (declared: no bounce below it); against the exact run with e = 0 "
+        f"the error is {there:.3g}{late}")
 
 
 def _category(case: SceneCase, conventions: Conventions, quantity: str, err: float,
               impacts: int | None, positions_err: float) -> tuple[str, str]:
     steps = f"{case.step_count} steps of dt = {case.dt or DEFAULT_DT:.3g} s"
     damp = damping_bound(case, conventions)
-    if quantity in ("momentum", "energy") and conventions.damping > 0:
+    damped = damp * (2.0 - damp) if quantity == "energy" else damp
+    if quantity in ("momentum", "energy") and conventions.damping > 0 and err <= damped:
         return Category.CONVENTION, (
             f"{quantity} off by {err:.3g} {_UNITS[quantity]}: the engine damps velocities "
-            f"(declared {conventions.damping:g} per s, up to {damp:.3g} of a speed over the run)")
+            f"(declared {conventions.damping:g} per s, up to {damp:.3g} of a speed over the "
+            f"run, {damped:.3g} of the {quantity})")
     if impacts is not None and quantity in ("positions", "velocities"):
         lag = lag_bound(case, impacts)
         if err <= lag and positions_err <= lag:
@@ -362,6 +435,7 @@ def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value
     impacts = truth.impacts
     count = None if impacts is None else len(impacts)
     named = (_speed_cap(case, conventions, quantity, err, value, tol, count)
-             or _passed_through(case, conventions, quantity, err, observed, count))
+             or _threshold(case, conventions, quantity, err, value, tol, impacts)
+             or _passed_through(case, conventions, quantity, err, observed, truth))
     category, reason = named or _category(case, conventions, quantity, err, count, moved)
     return Status.DISAGREE, err, tol, category, reason + _aligned(case, impacts)

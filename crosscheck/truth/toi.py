@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
@@ -50,6 +51,8 @@ from reference_impl.toi import time_of_impact
 K_TOI = 16
 """Operation-count factor of the time bound (a dozen roundings of ``f``, with room)."""
 QUANTITIES = ("hit", "toi", "normal")
+UNIT = 1e-6
+"""How far from 1 a normal's length may be (as for detection normals)."""
 NO_CONTACT = "no contact in the interval"
 
 
@@ -135,6 +138,10 @@ def judge(case: ToiCase, conv: Conventions, quantity: str, value: Value, truth: 
     want = truth.get(quantity)
     assert want is not None and not isinstance(want, Undefined)
     tol = bound(case, quantity, truth)
+    length = norm(cast(Vec, value)) if quantity == "normal" and isinstance(value, tuple) else 1.0
+    if _finite(value) and abs(length - 1.0) > UNIT:
+        return (Status.DISAGREE, math.inf, tol, Category.ERROR,
+                f"engine normal is not a unit vector (length {length:.7g})")
     err = math.inf if isinstance(value, Undefined) else error_of(quantity, value, want)
     if err <= tol and _finite(value):
         return Status.AGREE, err, tol, "", ""
@@ -171,6 +178,10 @@ def explain(case: ToiCase, conv: Conventions, quantity: str, value: Value,
         category, why = rule
         return category, (f"normal right for the engine's time {when:.17g} (off by "
                           f"{right_then:.3g} rad from the direction then): {why}")
+    if rule and norm(motion.at(when)) <= precision(conv, case) and not _finite(value):
+        category, why = rule
+        return category, (f"no normal: at the engine's time {when:.17g} the centres coincide "
+                          f"(to its precision), so no direction is defined there: {why}")
     return Category.ERROR, _unexplained(motion, when, exact, err, "normal")
 
 
@@ -192,32 +203,53 @@ def _normal_then(motion: Motion, value: Value, when: float) -> float | None:
     return error_of("normal", value, tuple(x / length for x in d))
 
 
-def _separation(conv: Conventions, case: ToiCase, truth: Observation) -> tuple[float, float]:
-    """The declared target separation and its allowance (tolerance plus ``rtol`` of sizes)."""
-    motion = Motion.of(case)
-    t = truth.toi if isinstance(truth.toi, float) else case.duration
-    sizes = norm(motion.dp) + norm(motion.dv) * t + motion.radius
-    return conv.toi_target, conv.toi_tolerance + max(U, conv.rtol) * sizes * K_TOI
+def target_separation(conv: Conventions, case: ToiCase) -> float:
+    """The separation of the surfaces the engine's query aims for: ``toi_target``, but never
+    closer than ``toi_min_centre_distance`` between the centres (Box2D's ``linearSlop``)."""
+    radius = case.a.radius + case.b.radius
+    return max(conv.toi_target, conv.toi_min_centre_distance - radius)
+
+
+def precision(conv: Conventions, case: ToiCase) -> float:
+    """What the engine's arithmetic precision ``rtol`` allows a separation to be off by:
+    ``K_TOI rtol`` of the magnitudes it holds (the coordinates, as an engine in float32
+    rounds them, the travel over the interval and the radii)."""
+    a, b = case.a, case.b
+    magnitude = (max(norm(a.center), norm(b.center))
+                 + (norm(a.velocity) + norm(b.velocity)) * case.duration + a.radius + b.radius)
+    return K_TOI * max(U, conv.rtol) * magnitude
+
+
+def _separation(conv: Conventions, case: ToiCase) -> tuple[float, float]:
+    """The declared target separation and its allowance (tolerance plus precision)."""
+    return target_separation(conv, case), conv.toi_tolerance + precision(conv, case)
 
 
 def _at_time(case: ToiCase, conv: Conventions, motion: Motion, when: float,
              truth: Observation) -> tuple[str, str] | None:
     """A reported time explained by a declared target, tolerance or sampling, else None."""
-    target, slack = _separation(conv, case, truth)
+    target, slack = _separation(conv, case)
     gap = motion.gap(when)
+    aim = (f"the declared target separation {target:.3g}" if target
+           else "touching (separation 0)")
+    category = Category.CONVENTION if target != 0 else Category.TOLERANCE
+    within = (f"within {slack:.3g} (declared toi_tolerance {conv.toi_tolerance:.3g} plus rtol "
+              f"{max(U, conv.rtol):.3g} of the case's magnitudes)")
     if abs(gap - target) <= slack:
-        category = Category.CONVENTION if target != 0 else Category.TOLERANCE
-        aim = (f"the declared target separation {target:.3g}" if target
-               else "touching (separation 0)")
         return category, (f"at the engine's time {when:.17g} the surfaces are {gap:.3g} apart, "
-                          f"within {slack:.3g} (declared toi_tolerance {conv.toi_tolerance:.3g} "
-                          f"plus rtol {conv.rtol:.3g} of the lengths) of {aim}")
+                          f"{within} of {aim}")
+    if when == 0.0 and gap <= target + slack:
+        return category, (f"at the start the surfaces are {gap:.3g} apart, already {within} "
+                          f"of {aim} or closer: the query reports a contact at 0")
     exact = truth.toi if isinstance(truth.toi, float) else math.nan
     allowed = conv.toi_time_tolerance * case.duration
-    if allowed and abs(when - exact) <= allowed:
+    short = conv.toi_time_tolerance * norm(motion.dv) * case.duration
+    if allowed and (abs(when - exact) <= allowed or 0.0 <= gap <= short + slack):
         return Category.TOLERANCE, (
-            f"time {when:.17g} within {allowed:.3g} of the exact {exact!r}: the declared "
-            f"toi_time_tolerance {conv.toi_time_tolerance:g} of the {case.duration:g} s interval")
+            f"time {when:.17g} against the exact {exact!r}, surfaces {gap:.3g} apart then: "
+            f"within the declared toi_time_tolerance {conv.toi_time_tolerance:g} of the "
+            f"{case.duration:g} s interval ({allowed:.3g} s, or {short:.3g} of closing travel "
+            "short of contact)")
     times = sample_times(case, conv)
     earlier = [t for t in times if t < when and motion.gap(t) <= 0]
     if (any(math.isclose(when, t, rel_tol=1e-12, abs_tol=0.0) for t in times)
@@ -243,7 +275,7 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
     end = case.duration
     closest = motion.closest(end)
     nearest = motion.gap(closest)
-    target, slack = conv.toi_target, conv.toi_tolerance
+    target, slack = _separation(conv, case)
     if reported is None:
         return Category.ERROR, "the engine reported no contact verdict"
     if reported and exact is None:
@@ -251,7 +283,7 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
             category = Category.CONVENTION if target else Category.TOLERANCE
             return category, (f"the surfaces come within {nearest:.3g} at t = {closest:.6g} "
                               f"(no exact contact), inside the declared target separation "
-                              f"{target:.3g} plus toi_tolerance {slack:.3g}")
+                              f"{target:.3g} plus toi_tolerance and precision {slack:.3g}")
         return Category.ERROR, (f"reported a contact, but the surfaces stay {nearest:.3g} apart "
                                 f"at the closest (t = {closest:.6g}); no declared rule reaches it")
     # the engine saw no contact; the exact pair touches at `exact`
@@ -261,10 +293,12 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
             f"the first contact is an exact touch at the sample t = {exact!r} (distance 0): "
             "the engine's test counts touching spheres as apart, the time of impact as "
             "contact")
-    if target < 0 and nearest > target - slack:
-        return Category.CONVENTION, (
-            f"the spheres overlap at most {max(0.0, -nearest):.3g} (t = {closest:.6g}), less "
-            f"than the engine's declared target overlap {-target:.3g}: it reports no contact")
+    if nearest > target - slack:
+        category = Category.CONVENTION if target < 0 else Category.TOLERANCE
+        return category, (
+            f"the spheres overlap at most {max(0.0, -nearest):.3g} (t = {closest:.6g}), within "
+            f"{slack:.3g} (toi_tolerance and precision) of the engine's target separation "
+            f"{target:.3g}: it reports no contact")
     if exact == end and conv.toi_end_excluded:
         return Category.CONVENTION, (
             f"the first contact is exactly at the interval's end t = {exact!r}, which the "

@@ -82,3 +82,39 @@ def test_a_declared_per_step_speed_cap_explains_the_capped_run() -> None:
     uncapped = judge(case, Conventions(), "positions", engine.positions, oracle.truth(case),
                      engine)
     assert uncapped.category != Category.CONVENTION
+
+
+def test_a_pass_that_only_slows_down_is_named_from_the_side_the_bodies_end_on() -> None:
+    case = points(step_travel=[2.0], phase=[0.5])[0]
+    truth = oracle.truth(case)
+    t = float(scenes.simulated_time(case))
+    slowed = [tuple(0.9 * v for v in b.velocity) for b in case.bodies]
+    engine = scenes.observation(
+        [tuple(c + 0.9 * v * t for c, v in zip(b.center, b.velocity, strict=True))
+         for b in case.bodies], slowed, [b.mass for b in case.bodies])
+    verdict = judge(case, Conventions(), "velocities", engine.velocities, truth, engine)
+    assert "passed through each other" in verdict.reason and "past A" in verdict.reason
+    bounced = judge(case, Conventions(), "velocities", truth.velocities, truth, truth)
+    assert bounced.status is Status.AGREE
+
+
+def test_a_slow_impact_under_a_declared_restitution_threshold_is_a_convention() -> None:
+    case = points(step_travel=[0.1], phase=[0.5])[0]  # closing at 1.2 m/s
+    stuck = oracle.truth(case.model_copy(update={"restitution": 0.0}))
+    below = Conventions(restitution_threshold=2.0)
+    verdict = judge(case, below, "velocities", stuck.velocities, oracle.truth(case), stuck)
+    assert verdict.category == Category.CONVENTION and "restitution threshold" in verdict.reason
+    above = Conventions(restitution_threshold=1.0)  # the impact closes faster: it must bounce
+    assert judge(case, above, "velocities", stuck.velocities, oracle.truth(case),
+                 stuck).category != Category.CONVENTION
+
+
+def test_declared_damping_explains_no_more_energy_than_it_can_remove() -> None:
+    case = points(step_travel=[0.1], phase=[0.5])[0]
+    truth = oracle.truth(case)
+    assert isinstance(truth.energy, float)
+    damped = Conventions(damping=0.04)
+    small = judge(case, damped, "energy", truth.energy * (1 - 1e-4), truth, truth)
+    assert small.category == Category.CONVENTION
+    large = judge(case, damped, "energy", truth.energy * 0.5, truth, truth)
+    assert large.category != Category.CONVENTION

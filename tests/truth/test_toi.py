@@ -116,3 +116,32 @@ def test_a_normal_right_for_the_engines_own_time_takes_that_times_category() -> 
     verdict = judge(oblique, declared, "normal", normal, truth, engine)
     assert verdict.category == Category.CONVENTION
     assert "normal right for the engine's time" in verdict.reason
+
+
+def test_a_query_that_starts_inside_its_target_separation_reports_zero_by_its_rule() -> None:
+    tiny = crossing(a={"center": [-0.001, 0.0], "radius": 1e-4, "velocity": [0.002, 0.0]},
+                    b={"center": [0.001, 0.0], "radius": 1e-4, "velocity": [-0.002, 0.0]})
+    truth = oracle.truth(tiny)
+    engine = Observation(hit=True, toi=0.0, normal=(1.0, 0.0))
+    slop = Conventions(toi_target=-0.015, toi_tolerance=0.00125, toi_min_centre_distance=0.005)
+    verdict = judge(tiny, slop, "toi", 0.0, truth, engine)
+    assert verdict.category == Category.CONVENTION and "at the start" in verdict.reason
+    assert judge(tiny, Conventions(), "toi", 0.0, truth, engine).category == Category.ERROR
+
+
+def test_a_normal_that_is_not_a_unit_vector_is_an_error_whatever_its_direction() -> None:
+    case = crossing()
+    verdict = judge(case, Conventions(), "normal", (1.0000109, 0.0), oracle.truth(case))
+    assert verdict.category == Category.ERROR and "not a unit vector" in verdict.reason
+
+
+def test_a_declared_time_tolerance_explains_a_solver_that_stops_short() -> None:
+    graze = crossing(b={"center": [1.0, 0.1], "radius": 0.05, "velocity": [-2.0, 0.0]},
+                     a={"center": [-1.0, 0.0], "radius": 0.05, "velocity": [2.0, 0.0]})
+    truth = oracle.truth(graze)
+    assert truth.toi == 0.5
+    early = 0.49985
+    engine = Observation(hit=True, toi=early, normal=(0.0, 1.0))
+    stops = Conventions(toi_time_tolerance=1e-4)
+    assert judge(graze, stops, "toi", early, truth, engine).category == Category.TOLERANCE
+    assert judge(graze, Conventions(), "toi", early, truth, engine).category == Category.ERROR
