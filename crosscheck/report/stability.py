@@ -19,7 +19,9 @@ has a grey "no verdict" cell.  The charts are :mod:`crosscheck.report.stability_
 
 A fast-body scene point (``step_travel`` at one ``dt``, with its impact ``phase``) is a point
 of the ``step_travel`` sweep of that ``dt``; its headline quantity is ``velocities`` (a
-pass-through exchanges none).
+pass-through exchanges none), and it breaks only where the impact is missed
+(:func:`_missed_impacts_only`): the threshold is the travel at which the engine first lets
+the bodies pass through each other, at any phase.
 
 Over 400 lines: the walk, the threshold table and the matrix read the same point records
 and are kept together so the cell rule has one home.
@@ -41,6 +43,7 @@ from crosscheck.core.model import Status
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
 from crosscheck.results.store import read_run
 from crosscheck.truth.categories import length_scale, velocity_scale
+from crosscheck.truth.scenes import PASSED_THROUGH
 
 _GAP = "gap or overlap relative to size"
 AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale", "gap": _GAP,
@@ -132,6 +135,23 @@ def _single_parameter(coords: str) -> tuple[str, float, str] | None:
     return (param, float(value), context) if param in DIRECTIONS else None
 
 
+def _missed_impacts_only(rows: pd.DataFrame) -> pd.DataFrame:
+    """On the ``step_travel`` axis a point breaks only where the impact is missed: a row
+    whose reason names the bodies passing through each other (:data:`PASSED_THROUGH`), or
+    a failed one.  Any other disagreement there (the step lag of an impact resolved a step
+    late, a speed cap, a restitution threshold) counts as the impact caught: it is
+    ``agree`` in the walk, its category cleared."""
+    fast = rows["param"] == "step_travel"
+    if not fast.any():
+        return rows
+    missed = rows["reason"].fillna("").str.contains(PASSED_THROUGH, regex=False)
+    caught = fast & (rows["status"] == "disagree") & ~missed
+    out = rows.copy()
+    out.loc[caught, "status"] = "agree"
+    out.loc[caught, "category"] = ""
+    return out
+
+
 def _family(case_id: str, origin: str, cases: Mapping[str, AnyCase]) -> str:
     """The sweep column a point is shown in: a 2-D twin's is its 3-D case's sweep.
 
@@ -168,6 +188,7 @@ def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
     for column, of in (("rel_error", "error"), ("rel_tolerance", "tolerance")):
         rows[column] = [relative_error(q, float(x), scales[c]) for q, x, c
                         in zip(rows["quantity"], rows[of], rows["case_id"], strict=True)]
+    rows = _missed_impacts_only(rows)
     walks = [rows[(rows["param"] == p) & rows["value"].between(d.low, d.high)].assign(
         direction=d.name) for p, ds in DIRECTIONS.items() for d in ds]
     points = pd.concat(walks).sort_index(kind="stable").reset_index(drop=True)

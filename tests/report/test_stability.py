@@ -22,6 +22,7 @@ from crosscheck.report import stability, stability_charts
 from crosscheck.report.style import templates
 from crosscheck.results.store import ResultsStore, read_cases, read_results
 from crosscheck.run.launch import launch, new_info
+from crosscheck.truth import scenes
 from tests.conftest import ROOT
 
 EVIL = "<script>alert('pwned')</script>"
@@ -302,3 +303,21 @@ def test_command_without_a_directory_runs_the_sweeps(tmp_path: Path,
     for name in ("results.jsonl", "run.json", "report.html", "stability.csv"):
         assert (out / name).exists(), name
     assert set(pd.read_csv(out / "stability.csv")["state"]) == {"none"}
+
+
+def test_the_step_travel_threshold_is_the_first_missed_impact_at_any_phase() -> None:
+    """A step-late impact disagrees but is caught; the walk breaks at the first pass-through."""
+    def point(travel: float, phase: float, reason: str) -> dict[str, Any]:
+        return {"case_id": f"f.dt=0.01.step_travel={travel},phase={phase}", "origin": "f",
+                "coords": json.dumps({"dt": 0.01, "step_travel": travel, "phase": phase}),
+                "twin_of": "", "kind": "sphere_scene", "dim": 2, "engine": "e",
+                "quantity": "velocities", "status": "disagree", "category": "timestep",
+                "reason": reason, "error": 1.0, "tolerance": 1e-9, "value": "[]"}
+    late = "velocities off by 0.1, within the 0.4 that resolving each impact a step late allows"
+    missed = f"velocities off by 2: {scenes.PASSED_THROUGH} at step travel 2"
+    frame = pd.DataFrame([point(0.5, 0.5, late), point(1.0, 0.1, late),
+                          point(1.0, 0.9, missed), point(2.0, 0.5, missed)])
+    points = stability.sweep_points(frame, {})
+    assert set(points["sweep"]) == {"f (dt=0.01)"}
+    row = only(stability.thresholds(points), engine="e", quantity="velocities")
+    assert row["threshold"] == 1.0 and row["category"] == "timestep"
