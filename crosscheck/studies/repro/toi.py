@@ -17,6 +17,7 @@ from adapters import fcl_toi
 from adapters.sphere_toi import refusal
 from crosscheck.core.schema import ToiCase
 from crosscheck.studies.repro.code import EngineCode, literal, raising, vector
+from crosscheck.studies.repro.engines import REFERENCE_HELPERS
 
 Input = tuple[str, str, str, str]
 
@@ -50,9 +51,9 @@ result = fcl.ContinuousCollisionResult()  # fresh: python-fcl keeps the minimum 
 returned = fcl.continuousCollide(a, end_a, b, end_b, request, result)
 print("# continuousCollide returned", returned, "is_collide", result.is_collide,
       "time_of_contact", result.time_of_contact)
-if returned == -1.0:
-    raise RuntimeError("fcl.continuousCollide returned -1: not computed for these geometries")
-if result.is_collide:
+if returned == -1.0:  # FCL's "not computed" (ray shooting; the polynomial solver on spheres)
+    hit = toi = normal = "undefined"
+elif result.is_collide:
     # FCL's time is normalised to [0, 1]; the binding gives no contact normal
     hit, toi = True, float(result.time_of_contact) * DURATION
     normal = centre_normal(toi)
@@ -153,6 +154,35 @@ def box2d_toi_code(case: ToiCase) -> EngineCode:
                        code)
     return EngineCode(("import math", "import Box2D as b2"), _guarded(case, "Box2D", code),
                       ("Box2D is float32: every input is rounded to float32 by the binding.",),
+                      inputs=toi_inputs(case))
+
+
+REFERENCE = """\
+# The textbook's discrete sphere test at the interval's two ends (the reference variants'
+# time of impact): centres c + v t in float64, then the formula in F.
+hit, toi, normal = False, "undefined", "undefined"
+for t in (0.0, DURATION):
+    ca = [c + v * t for c, v in zip(A_CENTER, A_VELOCITY, strict=True)]
+    cb = [c + v * t for c, v in zip(B_CENTER, B_VELOCITY, strict=True)]
+    p1, p2 = [F(x) for x in ca], [F(x) for x in cb]
+    d = [a - b for a, b in zip(p1, p2, strict=True)]  # d = s1.pos - s2.pos
+    length = np.sqrt(dot(d, d))
+    if length < F(A_RADIUS) + F(B_RADIUS):  # touching is not a hit
+        hit, toi = True, t
+        normal = ("undefined" if all(a == b for a, b in zip(p1, p2, strict=True))
+                  else tuple(float(-x / length) for x in d))  # from A to B
+        break
+"""
+
+
+def reference_toi_code(precision: str, case: ToiCase) -> EngineCode:
+    """The reference variants' discrete baseline (:func:`crosscheck.truth.oracle.sampled_impact`)
+    in numpy scalars of the variant's precision."""
+    dtype = {"f64": "float64", "f32": "float32"}[precision]
+    return EngineCode(("import numpy as np",),
+                      REFERENCE_HELPERS.substitute(dtype=dtype) + REFERENCE,
+                      (f"The textbook's sphere test in numpy {dtype} at t = 0 and t = DURATION "
+                       "only: a contact between the two samples is not seen.",),
                       inputs=toi_inputs(case))
 
 

@@ -35,7 +35,7 @@ from crosscheck.studies.repro.scenes import pybullet_scene_code, pymunk_scene_co
 from crosscheck.studies.repro.scenes_box2d import box2d_writer
 from crosscheck.studies.repro.scenes_mujoco import mujoco_writer
 from crosscheck.studies.repro.scenes_rapier import rapier_writer
-from crosscheck.studies.repro.toi import fcl_toi_code
+from crosscheck.studies.repro.toi import fcl_toi_code, reference_toi_code
 
 Writer = Callable[[Any, AnyCase, frozenset[str]], EngineCode]
 """A script writer: (adapter, case, quantities the run recorded as a declared hang)."""
@@ -84,14 +84,22 @@ def _pymunk(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
     return pymunk_code(adapter, case)
 
 
+def _reference(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
+    if isinstance(case, SceneCase):
+        raise NoScene(f"{adapter.name} does not step scenes")
+    if isinstance(case, ToiCase):
+        return reference_toi_code(adapter.precision, case)
+    return reference_code(adapter, case)
+
+
 def _mujoco(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
     _no_toi(adapter.name, case)
     return mujoco_writer(adapter, case, hung)
 
 
 WRITERS: dict[type[Adapter], Writer] = {
-    ReferenceF64: _pairs_only(reference_code),
-    ReferenceF32: _pairs_only(reference_code),
+    ReferenceF64: _reference,
+    ReferenceF32: _reference,
     Fcl: _fcl,
     FclCcdNaive: _fcl,
     FclCcdRayShooting: _fcl,
