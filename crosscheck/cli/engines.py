@@ -111,8 +111,10 @@ def _row(entry: adapters.Entry, settings: bool) -> tuple[list[Text], str | None]
 
 def cmd_engines(args: argparse.Namespace) -> int:
     table = Table(title="engines")
+    longest = max((len(entry.name) for entry in adapters.entries()), default=4)
     for column in ("name", "from", "version", "available", "kinds"):  # kinds: capabilities
-        table.add_column(column, no_wrap=column in ("name", "from"))
+        table.add_column(column, no_wrap=column in ("name", "from"),
+                         min_width=longest if column == "name" else None)
     lines, settings = [], []
     for entry in adapters.entries():
         row, problem = _row(entry, True)

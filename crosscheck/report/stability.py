@@ -43,7 +43,7 @@ from crosscheck.core.model import Status
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
 from crosscheck.results.store import read_run
 from crosscheck.truth.categories import length_scale, velocity_scale
-from crosscheck.truth.scenes import PASSED_THROUGH
+from crosscheck.truth.scene_rules import PASSED_THROUGH
 
 _GAP = "gap or overlap relative to size"
 AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale", "gap": _GAP,

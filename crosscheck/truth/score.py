@@ -31,7 +31,7 @@ from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import AnyCase, SceneCase, ToiCase
-from crosscheck.truth import scenes, toi
+from crosscheck.truth import scene_rules, toi
 from crosscheck.truth.bounds import bound, error_of
 from crosscheck.truth.categories import categorize
 from crosscheck.truth.no_value import failed
@@ -75,7 +75,7 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
         why = want.reason if isinstance(want, Undefined) else "no truth"
         return Verdict(Status.UNDEFINED, reason=f"no defined value: {why}")
     if isinstance(case, SceneCase):
-        status, err, tol, category, reason = scenes.judge(
+        status, err, tol, category, reason = scene_rules.judge(
             case, conventions, quantity, value, want, truth,
             observation or Observation(), DEFAULT_RTOL)
         return Verdict(status, err, tol, category, reason)

@@ -22,7 +22,7 @@ from crosscheck.report import stability, stability_charts
 from crosscheck.report.style import templates
 from crosscheck.results.store import ResultsStore, read_cases, read_results
 from crosscheck.run.launch import launch, new_info
-from crosscheck.truth import scenes
+from crosscheck.truth import scene_rules
 from tests.conftest import ROOT
 
 EVIL = "<script>alert('pwned')</script>"
@@ -314,7 +314,7 @@ def test_the_step_travel_threshold_is_the_first_missed_impact_at_any_phase() -> 
                 "quantity": "velocities", "status": "disagree", "category": "timestep",
                 "reason": reason, "error": 1.0, "tolerance": 1e-9, "value": "[]"}
     late = "velocities off by 0.1, within the 0.4 that resolving each impact a step late allows"
-    missed = f"velocities off by 2: {scenes.PASSED_THROUGH} at step travel 2"
+    missed = f"velocities off by 2: {scene_rules.PASSED_THROUGH} at step travel 2"
     frame = pd.DataFrame([point(0.5, 0.5, late), point(1.0, 0.1, late),
                           point(1.0, 0.9, missed), point(2.0, 0.5, missed)])
     points = stability.sweep_points(frame, {})
