@@ -180,13 +180,15 @@ def _speed_cap(case: SceneCase, conventions: Conventions, quantity: str, err: fl
     if there > max(tol, lag, PRECISION_FACTOR * conventions.rtol):
         return None
     top = max(norm(b.velocity) for b in case.bodies)
+    cap, step = conventions.max_speed or 0.0, conventions.time_step
+    declared = (f"declared max_speed {cap:.4g} m/s at its time step {step:.3g} s: "
+                f"{cap * step:.3g} m per step" if conventions.max_speed_at == "step" and step
+                else f"declared max_speed {cap:.4g} m/s, acting {conventions.max_speed_at}")
     return Category.CONVENTION, (
         f"{quantity} off by {err:.3g} {UNITS[quantity]}: the engine caps speeds at "
         f"{scene_speed_cap(case, conventions):.4g} m/s at dt = {case.dt or DEFAULT_DT:.3g} s "
-        f"(declared max_speed {conventions.max_speed:.4g}, acting "
-        f"{conventions.max_speed_at}), and the top "
-        f"initial speed is {top:.4g}; against the exact run with the capped speeds the error "
-        f"is {there:.3g}")
+        f"({declared}), and the top initial speed is {top:.4g}; against the exact run with "
+        f"the capped speeds the error is {there:.3g}")
 
 
 def _first_approach(case: SceneCase, first: float) -> float:
@@ -253,10 +255,14 @@ def _category(case: SceneCase, conventions: Conventions, quantity: str, err: flo
                 f"{quantity} off by {err:.3g} {UNITS[quantity]}{also}, within the {lag:.3g} "
                 f"that resolving each of the {impacts} impacts up to one step late allows "
                 f"({steps})")
-        if conventions.damping > 0 and err <= lag + damp * (1.0 + lag):
+        reach = lag + damp * (1.0 + lag)
+        if conventions.damping > 0 and err <= reach and positions_err <= reach:
+            also = "" if quantity == "positions" else (
+                f" (positions too: {positions_err:.3g} mean radii)")
             return Category.CONVENTION, (
-                f"{quantity} off by {err:.3g} {UNITS[quantity]}, within the step lag {lag:.3g} "
-                f"plus the declared damping ({conventions.damping:g} per s: up to {damp:.3g})")
+                f"{quantity} off by {err:.3g} {UNITS[quantity]}{also}, within the step lag "
+                f"{lag:.3g} plus the declared damping ({conventions.damping:g} per s: up to "
+                f"{damp:.3g})")
     precision = PRECISION_FACTOR * conventions.rtol
     if quantity in ("velocities", "momentum", "energy") and err <= precision:
         return Category.TOLERANCE, (

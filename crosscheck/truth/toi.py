@@ -293,12 +293,6 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
             f"the first contact is an exact touch at the sample t = {exact!r} (distance 0): "
             "the engine's test counts touching spheres as apart, the time of impact as "
             "contact")
-    if nearest > target - slack:
-        category = Category.CONVENTION if target < 0 else Category.TOLERANCE
-        return category, (
-            f"the spheres overlap at most {max(0.0, -nearest):.3g} (t = {closest:.6g}), within "
-            f"{slack:.3g} (toi_tolerance and precision) of the engine's target separation "
-            f"{target:.3g}: it reports no contact")
     if exact == end and conv.toi_end_excluded:
         return Category.CONVENTION, (
             f"the first contact is exactly at the interval's end t = {exact!r}, which the "
@@ -311,6 +305,17 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
             f"the engine samples the interval at {len(times)} evenly spaced times (declared "
             f"toi_samples); the exact contact at t = {exact!r} falls between them: no sample "
             f"finds the spheres overlapping (at the end they are {motion.gap(end):.3g} apart)")
+    overlap = max(0.0, -nearest)
+    if target < 0 and nearest > target - slack:
+        return Category.CONVENTION, (
+            f"the spheres overlap at most {overlap:.3g} (t = {closest:.6g}), never the "
+            f"engine's declared target overlap {-target:.3g} (less its toi_tolerance and "
+            f"precision, {slack:.3g}): it reports no contact")
+    if nearest > target - slack:
+        return Category.TOLERANCE, (
+            f"the spheres overlap at most {overlap:.3g} (t = {closest:.6g}): within "
+            f"{slack:.3g} (the engine's toi_tolerance and precision) of only touching, and "
+            "it reports no contact")
     return Category.ERROR, (f"reported no contact; the exact first contact is at t = {exact!r}"
                             f" (the spheres overlap by up to {max(0.0, -nearest):.3g})")
 

@@ -118,3 +118,16 @@ def test_declared_damping_explains_no_more_energy_than_it_can_remove() -> None:
     assert small.category == Category.CONVENTION
     large = judge(case, damped, "energy", truth.energy * 0.5, truth, truth)
     assert large.category != Category.CONVENTION
+
+
+def test_step_lag_and_damping_explain_velocities_only_with_positions_within_them() -> None:
+    case = points(step_travel=[8.0], phase=[0.5])[0]
+    truth = oracle.truth(case)
+    t = float(scenes.simulated_time(case))
+    half = [tuple(0.5 * v for v in b.velocity) for b in case.bodies]  # never reached each other
+    engine = scenes.observation(
+        [tuple(c + 0.5 * v * t for c, v in zip(b.center, b.velocity, strict=True))
+         for b in case.bodies], half, [b.mass for b in case.bodies])
+    verdict = judge(case, Conventions(damping=0.04), "velocities", engine.velocities, truth,
+                    engine)
+    assert verdict.category == Category.ERROR

@@ -145,3 +145,17 @@ def test_a_declared_time_tolerance_explains_a_solver_that_stops_short() -> None:
     stops = Conventions(toi_time_tolerance=1e-4)
     assert judge(graze, stops, "toi", early, truth, engine).category == Category.TOLERANCE
     assert judge(graze, Conventions(), "toi", early, truth, engine).category == Category.ERROR
+
+
+def test_a_declared_rule_is_named_before_the_precision_that_would_also_cover_it() -> None:
+    graze = crossing(a={"center": [-1.0, 0.0], "radius": 0.05, "velocity": [2.0, 0.0]},
+                     b={"center": [1.0, 0.1], "radius": 0.05, "velocity": [-2.0, 0.0]})
+    none = Undefined("no contact")
+    engine = Observation(hit=False, toi=none, normal=none)
+    sampled = judge(graze, Conventions(toi_samples=2), "hit", False, oracle.truth(graze), engine)
+    assert sampled.category == Category.TIMESTEP  # between its samples, not "only a touch"
+    end = crossing(duration=0.75, a={"center": [-1.0, 0.0], "radius": 0.25, "velocity": [1.0, 0.0]},
+                   b={"center": [1.0, 0.0], "radius": 0.25, "velocity": [-1.0, 0.0]})
+    excluded = judge(end, Conventions(toi_end_excluded=True), "hit", False, oracle.truth(end),
+                     engine)
+    assert excluded.category == Category.CONVENTION and "interval's end" in excluded.reason
