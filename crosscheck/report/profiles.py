@@ -1,4 +1,4 @@
-"""The verdict on common ground: four standard scene profiles, each judged over the rows
+"""The verdict on common ground: the standard scene profiles, each judged over the rows
 that every ranked engine answers.
 
 A share of agreeing rows taken over whatever each engine supports favours the engines
