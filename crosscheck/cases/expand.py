@@ -204,13 +204,13 @@ def _swept(case: TwoBodyCase) -> list[TwoBodyCase]:
     """The block itself, or one case per combination of its sweep parameters."""
     if case.sweep is None:
         return [case]
+    for name in SCENE_PARAMETERS:
+        if getattr(case.sweep, name) is not None:
+            raise SweepError(f"sweep.{name}", f"{name} applies to sphere_scene cases only")
     grid = [(name, values_of(spec)) for name in PARAMETERS
             if (spec := getattr(case.sweep, name)) is not None]
     if not grid:
         raise SweepError("sweep", "a sweep needs at least one parameter")
-    for name in SCENE_PARAMETERS:
-        if getattr(case.sweep, name) is not None:
-            raise SweepError(f"sweep.{name}", f"{name} applies to sphere_scene cases only")
     for name, _ in grid:
         kinds = MOVING_ONLY.get(name)
         if kinds is not None and case.kind not in kinds:
