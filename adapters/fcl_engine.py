@@ -319,7 +319,7 @@ class FclCcdNaive(Fcl):
 
 
 class FclCcdRayShooting(FclCcdNaive):
-    """FCL's ray-shooting CCD: not implemented in FCL 0.7.0 (returns -1: ``error`` rows)."""
+    """FCL's ray-shooting CCD: not implemented in FCL 0.7.0 (returns -1: Undefined answers)."""
 
     name: ClassVar[str] = "fcl-ccd-ray-shooting"
     settings: ClassVar[str] = (
@@ -328,11 +328,12 @@ class FclCcdRayShooting(FclCcdNaive):
     solver: ClassVar[str] = "ray shooting"
     conventions: ClassVar[Conventions] = _ccd_conventions(
         "ray shooting", "Not implemented for two geometries (an empty branch): FCL returns -1 "
-                        "and leaves is_collide False; the adapter raises (error rows).")
+                        "and leaves is_collide False; the adapter answers Undefined with that "
+                        "reason (disagree rows, category error).")
 
 
 class FclCcdPolynomial(FclCcdNaive):
-    """FCL's polynomial-solver CCD: BVH meshes only (returns -1 for spheres: ``error`` rows)."""
+    """FCL's polynomial-solver CCD: BVH meshes only (returns -1 for spheres: Undefined)."""
 
     name: ClassVar[str] = "fcl-ccd-polynomial"
     settings: ClassVar[str] = (
@@ -341,5 +342,5 @@ class FclCcdPolynomial(FclCcdNaive):
     solver: ClassVar[str] = "polynomial"
     conventions: ClassVar[Conventions] = _ccd_conventions(
         "polynomial", "BVH meshes only: for spheres FCL prints 'Warning! Invalid continuous "
-                      "collision checking' to stderr and returns -1; the adapter raises "
-                      "(error rows).")
+                      "collision checking' to stderr and returns -1; the adapter answers "
+                      "Undefined with that reason (disagree rows, category error).")

@@ -39,9 +39,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from adapters.sphere_toi import NO_CONTACT, refusal
+from adapters.sphere_toi import no_contact, refusal
 from crosscheck.core.geometry import to3
-from crosscheck.core.model import Observation, Undefined
+from crosscheck.core.model import Observation
 from crosscheck.core.schema import ToiCase
 
 if TYPE_CHECKING:
@@ -101,7 +101,7 @@ def query(p: PreparedToi) -> Observation:
     """The one ``cast_shape`` call, mapped to the harness's conventions."""
     found: Any = p.pipeline.cast_shape(p.pose, p.velocity, p.shape, p.options)
     if found is None:
-        return Observation(hit=False, toi=Undefined(NO_CONTACT), normal=Undefined(NO_CONTACT))
+        return no_contact()
     _, hit = found
     n = hit.normal1.to_tuple()
     return Observation(hit=True, toi=float(hit.time_of_impact),

@@ -4,8 +4,8 @@ A ``sphere_toi`` case (:class:`~crosscheck.core.schema.ToiCase`) is two spheres 
 motion over ``[0, duration]``; an adapter answers ``hit`` (they touch in the interval),
 ``toi`` (the first contact time, seconds from the start) and ``normal`` (the unit vector
 from A's centre to B's at that time).  Without a contact ``toi`` and ``normal`` are
-``Undefined(NO_CONTACT)``.  The engine parts are :mod:`adapters.fcl_toi`,
-:mod:`adapters.box2d_toi` and :mod:`adapters.rapier_toi`.
+``Undefined(NO_CONTACT)`` (:func:`no_contact`, the truth's own).  The engine parts are
+:mod:`adapters.fcl_toi`, :mod:`adapters.box2d_toi` and :mod:`adapters.rapier_toi`.
 
 >>> from crosscheck.core.schema import ToiCase
 >>> case = ToiCase(id="x", kind="sphere_toi", description="d", dim=2, duration=2.0,
@@ -24,16 +24,11 @@ from __future__ import annotations
 import math
 
 from crosscheck.core.geometry import Vec, norm
-from crosscheck.core.model import Observation, Undefined
+from crosscheck.core.model import Undefined
 from crosscheck.core.schema import ToiCase
+from crosscheck.truth.toi import NO_CONTACT, Motion, no_contact
 
-NO_CONTACT = "no contact in the interval"
-"""The reason of ``toi`` and ``normal`` when the engine reports no contact."""
-
-
-def no_contact() -> Observation:
-    """The answer of an engine that reports no contact in the interval."""
-    return Observation(hit=False, toi=Undefined(NO_CONTACT), normal=Undefined(NO_CONTACT))
+__all__ = ["NO_CONTACT", "centre_normal", "end_centres", "no_contact", "refusal"]
 
 
 def end_centres(case: ToiCase) -> tuple[Vec, Vec]:
@@ -46,8 +41,7 @@ def end_centres(case: ToiCase) -> tuple[Vec, Vec]:
 def centre_normal(case: ToiCase, t: float) -> Vec | Undefined:
     """The unit vector from A's centre to B's at time ``t`` (float64), from the case's motion:
     ``d = (cb - ca) + (vb - va) t``.  Undefined when the centres coincide then."""
-    d = tuple((cb - ca) + (vb - va) * t for ca, cb, va, vb in zip(
-        case.a.center, case.b.center, case.a.velocity, case.b.velocity, strict=True))
+    d = Motion.of(case).at(t)
     length = norm(d)
     if not length > 0:
         return Undefined("the centres coincide at the reported time")

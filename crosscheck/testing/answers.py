@@ -16,6 +16,7 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Kind, Observation, Undefined, quantities_of
 from crosscheck.testing import samples
 from crosscheck.testing.samples import Sample
+from crosscheck.truth.bounds import UNIT_LENGTH
 
 REQUIRED: dict[Kind, tuple[str, ...]] = {
     Kind.AABB: ("hit",), Kind.SPHERE: ("hit",), Kind.SPHERE_RESPONSE: ("v1", "v2"),
@@ -26,7 +27,7 @@ EXTRAS: dict[Kind, frozenset[str]] = {
     Kind.SPHERE_RESPONSE: frozenset({"resolved_at"}),
     Kind.SPHERE_SCENE: frozenset({"wall_s", "impacts"}), Kind.SPHERE_TOI: frozenset()}
 """Observation fields besides the kind's quantities that an adapter may set."""
-UNIT_TOLERANCE = 1e-6
+UNIT_TOLERANCE = UNIT_LENGTH
 """How far from 1 a normal's length may be (the scoring's own test of a unit vector)."""
 
 Fail = Callable[[str, str, str, object], None]

@@ -39,18 +39,22 @@ True
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Sequence
 from fractions import Fraction
 from typing import cast
 
 from crosscheck.core.geometry import difference, norm
-from crosscheck.core.model import Value
+from crosscheck.core.model import Undefined, Value
 from crosscheck.core.schema import AabbCase, PairCase, ResponseCase
 
 U = 2.0**-53
 """The unit roundoff of float64."""
 TINY = 2.0**-1074
 """The smallest positive (subnormal) float64."""
+UNIT_LENGTH = 1e-6
+"""How far from 1 the length of a reported normal may be (a unit vector to float32 and
+then some); a longer or shorter one is an ``error`` whatever its direction."""
 K_LENGTH = 8
 K_ANGLE = 16
 K_VELOCITY = 32
@@ -131,6 +135,36 @@ def bound(case: PairCase, quantity: str, gap: float = math.nan) -> float:
     if own and own.normal is not None:
         return own.normal
     return _normal_bound(case, length, gap)
+
+
+SENTINEL = sys.float_info.max
+"""The largest double: an engine's 'no answer', never a distance of any case."""
+
+
+def failed(value: Value | None) -> bool:
+    """Whether ``value`` is an answer without a finite value (None is no answer at all):
+    Undefined, a number that is not finite, or :data:`SENTINEL`.  No such answer is ever
+    within a bound (:mod:`crosscheck.truth.no_value` says which engines give none by rule).
+
+    >>> failed(float("nan")), failed(-1.7976931348623157e308), failed((0.0, 1.0))
+    (True, True, False)
+    """
+    if isinstance(value, Undefined):
+        return True
+    if isinstance(value, bool) or value is None:
+        return False
+    numbers = value if isinstance(value, tuple) else (value,)
+    return any(isinstance(x, float) and (not math.isfinite(x) or abs(x) == SENTINEL)
+               for x in numbers)
+
+
+def is_unit(v: Sequence[float]) -> bool:
+    """Whether ``v`` is a unit vector, to :data:`UNIT_LENGTH`.
+
+    >>> is_unit((0.6, 0.8)), is_unit((1.0000109, 0.0))
+    (True, False)
+    """
+    return abs(norm(v) - 1.0) <= UNIT_LENGTH
 
 
 def error_of(quantity: str, value: Value, truth: Value) -> float:

@@ -18,32 +18,18 @@ that came with it read alike.
 
 from __future__ import annotations
 
-import math
-import sys
 from collections.abc import Callable
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Observation, Undefined, Value
 from crosscheck.core.schema import PairCase
 from crosscheck.truth import oracle
+from crosscheck.truth.bounds import SENTINEL, failed
 
-__all__ = ["RULES", "declared", "failed", "failure"]
+__all__ = ["RULES", "SENTINEL", "declared", "failed", "failure"]
 
-SENTINEL = sys.float_info.max
-"""The largest double: an engine's 'no answer', never a distance of any case."""
 ANSWERED = ("distance", "normal", "v1", "v2")
 """The quantities that carry a number (a verdict always has a value)."""
-
-
-def failed(value: Value | None) -> bool:
-    """Whether ``value`` is an answer without a finite value (None is no answer at all)."""
-    if isinstance(value, Undefined):
-        return True
-    if isinstance(value, bool) or value is None:
-        return False
-    numbers = value if isinstance(value, tuple) else (value,)
-    return any(isinstance(x, float) and (not math.isfinite(x) or abs(x) == SENTINEL)
-               for x in numbers)
 
 
 def _shown(quantity: str, value: Value) -> str:

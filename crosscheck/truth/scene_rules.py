@@ -248,17 +248,15 @@ def _category(case: SceneCase, conventions: Conventions, quantity: str, err: flo
             f"run, {damped:.3g} of the {quantity})")
     if impacts is not None and quantity in ("positions", "velocities"):
         lag = lag_bound(case, impacts)
+        also = "" if quantity == "positions" else (
+            f" (positions too: {positions_err:.3g} mean radii)")
         if err <= lag and positions_err <= lag:
-            also = "" if quantity == "positions" else (
-                f" (positions too: {positions_err:.3g} mean radii)")
             return Category.TIMESTEP, (
                 f"{quantity} off by {err:.3g} {UNITS[quantity]}{also}, within the {lag:.3g} "
                 f"that resolving each of the {impacts} impacts up to one step late allows "
                 f"({steps})")
         reach = lag + damp * (1.0 + lag)
         if conventions.damping > 0 and err <= reach and positions_err <= reach:
-            also = "" if quantity == "positions" else (
-                f" (positions too: {positions_err:.3g} mean radii)")
             return Category.CONVENTION, (
                 f"{quantity} off by {err:.3g} {UNITS[quantity]}{also}, within the step lag "
                 f"{lag:.3g} plus the declared damping ({conventions.damping:g} per s: up to "

@@ -32,7 +32,7 @@ from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import AnyCase, SceneCase, ToiCase
 from crosscheck.truth import scene_rules, toi
-from crosscheck.truth.bounds import bound, error_of
+from crosscheck.truth.bounds import bound, error_of, is_unit
 from crosscheck.truth.categories import categorize
 from crosscheck.truth.no_value import failed
 
@@ -51,10 +51,6 @@ class Verdict:
     reason: str = ""
     error_at_contact: float = math.nan
     """Responses: the error against the truth where the engine first reported the contact."""
-
-
-def _is_unit(v: Vec) -> bool:
-    return abs(norm(v) - 1.0) <= 1e-6
 
 
 def _gap(truth: Observation) -> float:
@@ -85,7 +81,7 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
         return Verdict(status, err, tol, category, reason)
     tol = bound(case, quantity, _gap(truth))
     if (quantity == "normal" and isinstance(value, tuple) and not failed(value)
-            and not _is_unit(vec := cast(Vec, value))):
+            and not is_unit(vec := cast(Vec, value))):
         return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
                        f"engine normal is not a unit vector (length {norm(vec):.3g})")
     err = math.inf if isinstance(value, Undefined) else error_of(quantity, value, want)

@@ -43,17 +43,28 @@ from typing import cast
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
-from crosscheck.core.model import Category, Observation, Status, Undefined, Value
+from crosscheck.core.model import (
+    Category,
+    Kind,
+    Observation,
+    Status,
+    Undefined,
+    Value,
+    quantities_of,
+)
 from crosscheck.core.schema import ToiCase
-from crosscheck.truth.bounds import K_ANGLE, TINY, U, error_of
+from crosscheck.truth.bounds import K_ANGLE, TINY, U, error_of, failed, is_unit
 from reference_impl.toi import time_of_impact
 
 K_TOI = 16
 """Operation-count factor of the time bound (a dozen roundings of ``f``, with room)."""
-QUANTITIES = ("hit", "toi", "normal")
-UNIT = 1e-6
-"""How far from 1 a normal's length may be (as for detection normals)."""
 NO_CONTACT = "no contact in the interval"
+"""The reason of ``toi`` and ``normal`` without a contact (the truth's and the engines')."""
+
+
+def no_contact() -> Observation:
+    """The answer without a contact in the interval: ``toi`` and ``normal`` have no value."""
+    return Observation(hit=False, toi=Undefined(NO_CONTACT), normal=Undefined(NO_CONTACT))
 
 
 def truth(case: ToiCase) -> Observation:
@@ -63,9 +74,9 @@ def truth(case: ToiCase) -> Observation:
         impact = time_of_impact(a.center, a.velocity, a.radius, b.center, b.velocity,
                                 b.radius, case.duration)
     except ValueError as exc:
-        return Observation.undefined(QUANTITIES, str(exc))
+        return Observation.undefined(quantities_of(Kind.SPHERE_TOI), str(exc))
     if not impact.hit:
-        return Observation(hit=False, toi=Undefined(NO_CONTACT), normal=Undefined(NO_CONTACT))
+        return no_contact()
     normal = (Undefined("the centres coincide at contact") if impact.normal is None
               else impact.normal)
     return Observation(hit=True, toi=impact.toi, normal=normal)
@@ -138,23 +149,15 @@ def judge(case: ToiCase, conv: Conventions, quantity: str, value: Value, truth: 
     want = truth.get(quantity)
     assert want is not None and not isinstance(want, Undefined)
     tol = bound(case, quantity, truth)
-    length = norm(cast(Vec, value)) if quantity == "normal" and isinstance(value, tuple) else 1.0
-    if _finite(value) and abs(length - 1.0) > UNIT:
+    if (quantity == "normal" and isinstance(value, tuple) and not failed(value)
+            and not is_unit(vec := cast(Vec, value))):
         return (Status.DISAGREE, math.inf, tol, Category.ERROR,
-                f"engine normal is not a unit vector (length {length:.7g})")
+                f"engine normal is not a unit vector (length {norm(vec):.7g})")
     err = math.inf if isinstance(value, Undefined) else error_of(quantity, value, want)
-    if err <= tol and _finite(value):
+    if err <= tol and not failed(value):
         return Status.AGREE, err, tol, "", ""
     category, reason = explain(case, conv, quantity, value, truth, observed, err)
     return Status.DISAGREE, err, tol, category, reason
-
-
-def _finite(value: Value) -> bool:
-    if isinstance(value, Undefined):
-        return False
-    if isinstance(value, tuple):
-        return all(isinstance(x, float | int) and math.isfinite(x) for x in value)
-    return not isinstance(value, float) or math.isfinite(value)
 
 
 def explain(case: ToiCase, conv: Conventions, quantity: str, value: Value,
@@ -178,7 +181,7 @@ def explain(case: ToiCase, conv: Conventions, quantity: str, value: Value,
         category, why = rule
         return category, (f"normal right for the engine's time {when:.17g} (off by "
                           f"{right_then:.3g} rad from the direction then): {why}")
-    if rule and norm(motion.at(when)) <= precision(conv, case) and not _finite(value):
+    if rule and norm(motion.at(when)) <= precision(conv, case) and failed(value):
         category, why = rule
         return category, (f"no normal: at the engine's time {when:.17g} the centres coincide "
                           f"(to its precision), so no direction is defined there: {why}")
