@@ -127,6 +127,8 @@ class RapierCcd(RapierTuned):
                "non-bullet bodies, never against another bullet, rigid_body.rs), on the "
                "tuned variant's soft CCD (predictive contacts whatever the travel).  "
                "Measured in adapters/rapier_scene.py: ccd_enabled changes no fast-body "
-               "result; soft CCD catches them"),
+               "result; soft CCD catches them.  Gravity and walls as the tuned variant's "
+               "(half-spaces; resting gap and elastic drops measured equal to it, "
+               "adapters/rapier_walls.py)"),
         sources=RapierTuned.conventions.sources + RAPIER_CCD_SOURCES,
     )

@@ -7,7 +7,8 @@ Kinds: ``aabb``, ``sphere``, ``sphere_response`` in 3-D, and in 2-D run in the p
 :func:`crosscheck.core.geometry.z_half` (z is never the axis of least overlap nor a gap), a
 2-D response locks z translation; answers come back as 2-tuples.  Scenes (``sphere_scene``,
 2-D and 3-D) are stepped by :mod:`adapters.rapier_scene` with the variant's ``scene_tuning``
-(its conventions are measured and declared there).  Times of impact (``sphere_toi``, 2-D and
+(its conventions are measured and declared there; gravity and walls:
+:mod:`adapters.rapier_walls`).  Times of impact (``sphere_toi``, 2-D and
 3-D) are a shape cast, :mod:`adapters.rapier_toi` (``toi_target`` 0, ``toi_tolerance`` 0).
 
 Detection.  The bindings expose no pairwise parry query (no ``contact``/``distance`` of two
@@ -111,7 +112,7 @@ from dataclasses import dataclass, replace
 from importlib import metadata
 from typing import TYPE_CHECKING, Any, ClassVar
 
-from adapters import rapier_scene, rapier_toi, stepping
+from adapters import rapier_scene, rapier_toi, rapier_walls, stepping
 from adapters.rapier_response import (
     APPROACH_RTOL,
     Response,
@@ -295,9 +296,13 @@ TUNED = Conventions(
     negative_extents="",
     toi_target=0.0,
     toi_tolerance=0.0,
-    notes=_NOTES + rapier_toi.TOI_NOTES + "Tuned: prediction 0, soft CCD, friction 0, no "
-                                          "speed cap.",
-    sources=SOURCES + rapier_toi.SOURCES,
+    # gravity and walls (adapters/rapier_walls.py): no slop, a 60 Hz spring at the wall,
+    # no sleeping, the scene's e on the wall under the variant's rule (Max: e)
+    rest_gap=(0.0, 0.0), rest_sink_steps=0.0, rest_sink_s2=rapier_walls.REST_SINK_S2,
+    sleeps=False, wall_restitution="",
+    notes=_NOTES + rapier_toi.TOI_NOTES + rapier_walls.TUNED_NOTES
+    + "Tuned: prediction 0, soft CCD, friction 0, no speed cap.",
+    sources=SOURCES + rapier_toi.SOURCES + rapier_walls.SOURCES,
 )
 DEFAULT = replace(
     TUNED,
@@ -307,7 +312,8 @@ DEFAULT = replace(
     restitution="rapier's default rule Average, both colliders e: (e + e) / 2 = e exactly",
     time_step=DEFAULT_DT,
     friction=0.5,
-    notes=_NOTES + rapier_toi.TOI_NOTES + (
+    sleeps=True,  # RigidBodyActivation defaults; walls otherwise as tuned (Average: e)
+    notes=_NOTES + rapier_toi.TOI_NOTES + rapier_walls.DEFAULT_NOTES + (
                     "Defaults: prediction 0.02 (touching and gaps below it are contact), "
                     "friction 0.5 (ColliderBuilder default, combined by Average) and free "
                     "rotation: oblique responses lose tangential speed to friction (declared), "

@@ -1,20 +1,25 @@
 """Rapier (rapier3d 0.36.1) stepping a scene of N spheres, for comparison with an exact run.
 
-What it is for: the scene runners step a whole scene (N spheres, one restitution, no
-gravity, no ground) with a fixed ``dt`` and return the final state, to be scored against the
-exact event-driven reference; :mod:`adapters.rapier_engine` answers single pair cases.
-Types and input checks are shared with the other scene runners in :mod:`adapters.scene`.
+What it is for: the scene runners step a whole scene (N spheres, one restitution, in open
+space or under gravity between static walls) with a fixed ``dt`` and return the final state
+(and, if asked, the states every k steps), to be scored against the exact event-driven
+reference; :mod:`adapters.rapier_engine` answers single pair cases.  Types and input checks
+are shared with the other scene runners in :mod:`adapters.scene`.
 
 Building (``prepare_scene``, untimed): a new ``PhysicsWorld`` per scene (gravity 0;
 :func:`adapters.rapier_response.new_world`) with the scene's ``dt`` and, if given,
 ``num_solver_iterations`` (else rapier's 4); one dynamic body per sphere at its centre with
 its velocity (``in_plane``: a 2-D scene lies in z = 0 with z translation locked, as the
-responses do) carrying ``Collider.ball(r).mass(m)`` with restitution e; only the declared
-bodies.  The builders are the response adapter's (:mod:`adapters.rapier_response`).
+responses do: a 3-D build in the plane, 2-D walls are half-spaces with a normal in it)
+carrying ``Collider.ball(r).mass(m)`` with restitution e; then the ``surroundings``' gravity
+and walls (:mod:`adapters.rapier_walls`: one fixed body with a ``HalfSpace`` collider per
+wall, the variant's material with restitution e; open space adds nothing, so its worlds are
+unchanged).  The builders are the response adapter's (:mod:`adapters.rapier_response`).
 Numbers float32 cannot hold raise ``OverflowError`` (rapier would read them as infinite).
-``run_scene`` times only ``PhysicsWorld.step`` in a loop and reads ``translation`` /
-``linvel`` after it (raising if rapier quarantined a non-finite body); ``release_scene``
-empties the world.
+``run_scene`` times only ``PhysicsWorld.step`` (:func:`adapters.scene.step_and_record`,
+reading ``translation`` / ``linvel`` untimed between runs of steps) and raises if rapier
+quarantined a non-finite body; ``release_scene`` empties the world.  Resting contact,
+sleeping and bounces on walls, with what was measured: :mod:`adapters.rapier_walls`.
 
 Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None): tuned
 (``rapier``) passes the pair adapter's ``IntegrationParameters`` (normalized prediction
@@ -56,8 +61,8 @@ rigid_body_components.rs):
   enables it on every body of the tuned variant.
 - sleeping: tuned none.  Default: a body slower than about 0.1 m/s (bisected: 0.1000017 at dt
   1e-3; ``linear_threshold`` reads 0.05, ``time_until_sleep`` 0.5) falls asleep, its velocity
-  set to 0, after 0.5 to 1.2 s (depending on dt): momentum is lost.  No convention field says
-  so: such rows are errors of the default variant.
+  set to 0, after 0.5 to 1.2 s (depending on dt): momentum is lost.  Declared ``sleeps``
+  True (False tuned), sources in :mod:`adapters.rapier_walls`.
 - soft contact and margins: contacts are predictive (formed within the prediction distance,
   0 tuned plus soft CCD's reach, 0.02 default) and push only what the step would bring into
   overlap: a pair 0.01 apart closing at 1 at dt 1e-3 is untouched in a step in both
@@ -99,7 +104,18 @@ from adapters.rapier_response import (
     tuned_body,
     tuned_collider,
 )
-from adapters.scene import Body, SceneRun, check_scene, check_steps, in_scene_dim
+from adapters.rapier_walls import add_surroundings
+from adapters.rapier_walls import check_f32 as check_f32_surroundings
+from adapters.scene import (
+    Body,
+    SceneRun,
+    State,
+    Surroundings,
+    check_scene,
+    check_surroundings,
+    in_scene_dim,
+    step_and_record,
+)
 from crosscheck.core.geometry import to3
 
 __all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
@@ -176,39 +192,46 @@ def add_sphere(world: Any, body: Body, dim: int, restitution: float,
 
 
 def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuning: Tuning | None) -> Any:
+                  iterations: int | None, tuning: Tuning | None,
+                  surroundings: Surroundings | None = None) -> Any:
     """Build the scene in a new ``PhysicsWorld`` (untimed).
 
-    ``tuning``: the variant's settings (see :class:`Tuning`), or None for rapier's defaults.
+    ``tuning``: the variant's settings (see :class:`Tuning`), or None for rapier's defaults;
+    ``surroundings``: gravity and walls (:mod:`adapters.rapier_walls`), None for open space.
     """
     check_scene(bodies, dim, restitution, dt)
+    around = check_surroundings(surroundings, dim)
     check_f32(bodies, restitution)
+    check_f32_surroundings(around, F32_MAX)
     if iterations is not None and iterations < 1:
         raise ValueError(f"iterations must be >= 1, got {iterations}")
     world = new_world(parameters(dt, iterations, tuning))
     handles = tuple(add_sphere(world, body, dim, restitution, tuning) for body in bodies)
+    add_surroundings(world, around, restitution, tuning is not None,
+                     tuning.rule if tuning is not None else "AVERAGE")
     return Prepared(world, dim, handles)
 
 
-def run_scene(prepared: Any, steps: int,
-              clock: Callable[[], float] = time.perf_counter) -> SceneRun:
-    """Step the scene ``steps`` times (only this loop is timed, read from ``clock``
-    just before and just after it) and read its final state."""
+def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_counter,
+              record_every: int = 0) -> SceneRun:
+    """Step the scene ``steps`` times (only the stepping is timed, read from ``clock`` just
+    before and just after each run of steps) and read its final state; with ``record_every``
+    > 0 also the state every that many steps (:func:`adapters.scene.step_and_record`)."""
     scene: Prepared = prepared
-    check_steps(steps)
-    step = scene.world.step
-    start = clock()
-    for _ in range(steps):
-        step()
-    wall = clock() - start
-    if not scene.world.quarantine.is_empty():
-        raise FloatingPointError(f"rapier quarantined a body whose state became non-finite "
-                                 f"({scene.world.quarantine})")
-    bodies = [scene.world.rigid_bodies[h] for h in scene.handles]
-    positions = [b.translation.to_tuple() for b in bodies]
-    velocities = [b.linvel.to_tuple() for b in bodies]
-    return SceneRun(in_scene_dim(scene.dim, positions, "position"),
-                    in_scene_dim(scene.dim, velocities, "velocity"), wall, steps)
+    world = scene.world
+
+    def read() -> State:
+        if not world.quarantine.is_empty():
+            raise FloatingPointError(f"rapier quarantined a body whose state became "
+                                     f"non-finite ({world.quarantine})")
+        bodies = [world.rigid_bodies[h] for h in scene.handles]
+        return (in_scene_dim(scene.dim, (b.translation.to_tuple() for b in bodies), "position"),
+                in_scene_dim(scene.dim, (b.linvel.to_tuple() for b in bodies), "velocity"))
+
+    wall, samples = step_and_record(world.step, read, steps, record_every, clock)
+    positions, velocities = read()
+    return SceneRun(tuple(map(tuple, positions)), tuple(map(tuple, velocities)), wall, steps,
+                    samples)
 
 
 def release_scene(prepared: Any) -> None:
