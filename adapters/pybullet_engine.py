@@ -182,10 +182,35 @@ SOURCES = (
     GH + "src/BulletDynamics/Featherstone/btMultiBody.h",
     GH + "src/BulletDynamics/Dynamics/btDiscreteDynamicsWorld.cpp",
     GH + "examples/SharedMemory/PhysicsServerCommandProcessor.cpp",
+    GH + "src/BulletCollision/CollisionDispatch/btConvexPlaneCollisionAlgorithm.cpp",
+    GH + "src/BulletCollision/NarrowPhaseCollision/btPersistentManifold.cpp",
+    GH + "src/BulletDynamics/ConstraintSolver/btSequentialImpulseConstraintSolver.cpp",
+    GH + "src/BulletCollision/CollisionDispatch/btCollisionDispatcher.cpp",
+    GH + "src/BulletCollision/CollisionShapes/btCollisionShape.cpp",
 )
 BOX_MARGIN = 0.001
 MAX_STEPS = 64
 APPROACH_RTOL = 1e-12
+
+DEFAULT_SLOP = 1e-5
+"""pybullet's default contactSlop (``m_linearSlop`` in PhysicsServerCommandProcessor.cpp)."""
+WALLS_NOTE = (
+    "Walls (sphere_scene with surroundings): a static GEOM_PLANE per wall (btStaticPlaneShape, "
+    "a half-space: any depth is a contact, nothing tunnels), restitution sqrt(e) like the "
+    "spheres, so the product is e (wall_restitution ''), friction as the variant's spheres.  "
+    "Sphere-plane contacts are speculative: btConvexPlaneCollisionAlgorithm adds a point "
+    "below the relative breaking threshold 0.02 sqrt(3) r (gContactBreakingThreshold 0.02, "
+    "btPersistentManifold.cpp, times the sphere's angular motion disc, btCollisionShape.cpp, "
+    "CD_USE_RELATIVE_CONTACT_BREAKING_THRESHOLD in btCollisionDispatcher.cpp; bisected) and "
+    "the solver lets the gap close in one step (velocity error - distance / dt, "
+    "btMultiBodyConstraintSolver.cpp), with the bounce e |v| already in its target, so a "
+    "sphere reaching a wall from within that band loses part of its bounce or stops; one "
+    "crossing it within a step lands up to a step's travel deep.  Sphere-sphere "
+    "points exist only from touching, so a sphere resting on another sinks up to one step's "
+    "|g| dt^2 (rest_sink_steps 1).  No sleeping: createMultiBody without "
+    "URDF_ENABLE_SLEEPING makes a multibody that cannot sleep and a rigid body "
+    "DISABLE_DEACTIVATION (URDF2Bullet.cpp; measured: 0.1 m/s kept 5 s).")
+"""What every variant declares about gravity and walls (see adapters/pybullet_scene.py)."""
 
 IDENTITY = (0.0, 0.0, 0.0, 1.0)
 GROUP, MASK = 1, -1
@@ -404,6 +429,11 @@ class PyBulletTuned(Adapter):
         zero_mass="static",
         negative_extents="",
         sampled_contacts=True,
+        rest_gap=(0.0, 0.0),
+        rest_sink_steps=1.0,
+        rest_sink_s2=0.0,
+        sleeps=False,
+        wall_restitution="",
         notes=("hit = contact points exist after performCollisionDetection between static "
                "(mass 0) bodies (touching spheres and face-touching boxes are contacts); the "
                "0.001 box margin rounds edges and corners: edge/corner-touching boxes read "
@@ -426,7 +456,14 @@ class PyBulletTuned(Adapter):
                "Multibody velocity coordinates are clamped to +-100 m/s every step "
                "(btMultiBody m_maxCoordinateVelocity 100, applyDeltaVeeMultiDof; per axis, "
                "not the norm; measured in scenes): not declared as max_speed, whose 'step' "
-               "cap is a travel per step"),
+               "cap is a travel per step.  " + WALLS_NOTE + "  Tuned: contactSlop 0 and "
+               "contactERP 0, so the solver's rest target is distance 0 (rest_gap 0, 0) and "
+               "a penetration (a landing depth) is never pushed out; "
+               "restitutionVelocityThreshold 0 gives a resting contact the bounce e |g| dt, "
+               "so a sphere on a wall with e > 0 rests "
+               "floating e |g| dt^2 above it (its speculative target), and one on a sphere "
+               "hops; a column of spheres creeps into the ground (no positional correction; "
+               "measured in adapters/pybullet_scene.py)"),
         sources=SOURCES,
     )
 
@@ -567,8 +604,12 @@ class PyBulletDefault(PyBulletTuned):
         restitution_threshold=0.2,
         damping=0.04,
         friction=0.25,
-        notes=PyBulletTuned.conventions.notes
-        + ".  Default damping 0.04 (dv/dt = -0.04 (1 + |v|) v, btMultiBody.cpp; measured in "
+        rest_gap=(-DEFAULT_SLOP, 0.0),
+        notes=PyBulletTuned.conventions.notes.split("  Tuned: contactSlop 0")[0]
+        + "  Default: the rest target is distance + contactSlop = 0 (contactSlop 1e-5 and "
+          "contact ERP 0.08 in PhysicsServerCommandProcessor.cpp; the slop is the allowed "
+          "penetration), so rest_gap (-1e-5, 0); approaches slower than 0.2 do not bounce."
+        + "  Default damping 0.04 (dv/dt = -0.04 (1 + |v|) v, btMultiBody.cpp; measured in "
           "adapters/pybullet_scene.py), friction 0.5 per body (btCollisionObject.cpp; "
           "combined as the product 0.25 in btManifoldResult::calculateCombinedFriction) "
           "and contactSlop 1e-5 act on responses",

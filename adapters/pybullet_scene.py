@@ -1,22 +1,86 @@
 """PyBullet 3.2.7 stepping a scene of N spheres, for comparison with an exact event-driven run.
 
-What it is for: the scene runners step a whole scene (N spheres, one restitution, no
-gravity, no ground) with a fixed ``dt`` and return the final state, to be scored against the
-exact reference; :mod:`adapters.pybullet_engine` answers single pair cases instead.  Types
-and input checks are shared with :mod:`adapters.pymunk_scene` in :mod:`adapters.scene`.
+What it is for: the scene runners step a whole scene (N spheres, one restitution, in open
+space or in :class:`adapters.scene.Surroundings`: gravity and static walls) with a fixed
+``dt`` and return the final state (and, with ``record_every``, the trajectory), to be scored
+against the exact reference; :mod:`adapters.pybullet_engine` answers single pair cases
+instead.  Types and input checks are shared with :mod:`adapters.pymunk_scene` in
+:mod:`adapters.scene`.
 
 Building (``prepare_scene``, untimed): a new DIRECT client per scene (``connect`` of
 :mod:`adapters.pybullet_setup`, never the pooled clients of ``pybullet_engine``; the same
 module's ``engine()`` and ``quiet()`` import pybullet and keep its C-level output off
-stdout/stderr), gravity 0, ``setPhysicsEngineParameter`` with
+stdout/stderr), gravity 0 (the scene's gravity, ``setGravity``, when it has one: open
+space makes no extra call), ``setPhysicsEngineParameter`` with
 ``fixedTimeStep`` dt, ``numSubSteps`` 0 (one step advances exactly dt: a free sphere at
 speed 1 is at 1.0000000000000007 after 1000 steps of 1e-3) and ``numSolverIterations`` if
 given (else pybullet's 50, read back with ``getPhysicsEngineParameters``).  One base-only
 multibody per sphere (``createCollisionShape(GEOM_SPHERE)``, shared per radius, and
 ``createMultiBody``), its velocity set with ``resetBaseVelocity`` (no spin); only the
-declared bodies, no ground plane.  ``run_scene`` times only ``stepSimulation`` in a loop
-(~3 us for 0 steps) and reads ``getBasePositionAndOrientation`` / ``getBaseVelocity``
-after it; ``release_scene`` disconnects the client (bodies and shapes go with it).
+declared bodies, and one static body per wall (below).  ``run_scene`` times only
+``stepSimulation`` (a ``functools.partial``: no Python frame per step) through
+``adapters.scene.step_and_record`` and reads ``getBasePositionAndOrientation`` /
+``getBaseVelocity`` after it (and between recorded runs of steps, untimed);
+``release_scene`` disconnects the client (bodies and shapes go with it).
+
+Walls, as pybullet users model a ground (``plane.urdf`` is a plane): each wall is a
+``createCollisionShape(GEOM_PLANE, planeNormal=n)`` (a ``btStaticPlaneShape``, plane constant
+0: pybullet.c sends 0) on a mass-0 base at ``offset x n`` (``isFixedBase``: static, never
+moved), in the spheres' coordinates (multibody; rigid in the CCD variant).  A plane is a
+half-space, not a box: the sphere-plane distance is signed, so any depth is a contact and
+nothing tunnels through it, with no size to choose and no float32 concern (Bullet is double
+here).  A 2-D wall is the plane with the wall's in-plane normal (z component 0).  Static
+bodies get StaticFilter, whose mask excludes static bodies: walls never collide with each
+other.  The wall's restitution is sqrt(e), like every sphere's, so the product rule gives
+the pair e; its friction is what the variant gives spheres (``wall_settings``: tuned
+lateral/rolling/spinning 0, default pybullet's 0.5 lateral, no rolling or spinning), no
+damping to set.  Margins, slop and sleeping stay the variant's:
+
+- contact points: btConvexPlaneCollisionAlgorithm adds a sphere-plane point below the
+  manifold's breaking threshold: a speculative contact.  That threshold is relative
+  (btCollisionDispatcher's default ``CD_USE_RELATIVE_CONTACT_BREAKING_THRESHOLD``): the
+  smaller shape's ``getAngularMotionDisc() x contactBreakingThreshold`` (0.02,
+  ``gContactBreakingThreshold`` in btPersistentManifold.cpp), for a sphere its AABB's
+  half-diagonal, so 0.02 sqrt(3) r (bisected: 0.0034641 for r = 0.1, 0.034641 for r = 1, in
+  every variant).  A sphere that starts a step farther out and crosses the wall in it lands
+  a step's travel deep (tuned, 1 m drop, dt 1/240: 2.9e-4 from 0.2 m, up to 2.5e-3). The
+  solver then allows the gap to close within the step (velocity error ``-distance / dt`` for
+  a positive distance, btMultiBodyConstraintSolver.cpp ``setupMultiBodyContactConstraint``;
+  btSequentialImpulseConstraintSolver.cpp for rigid bodies) with the bounce ``e |v_n|``
+  already in its target, so a sphere seen within the band leaves the wall slower than e
+  says, or stops short of it.
+  Measured (2-D, one ball between walls 1.8 apart, zero gravity, e = 1, 10 s, tuned): dt
+  1/60 keeps 0.3, 1 and 3 m/s exactly (the path to a wall, 0.9, is a whole number of
+  steps: every step starts touching or outside the band); dt 1/240
+  stops 0.3 m/s at 0.0012 from the wall and lets 1 m/s fall to 0.63 by the 6th hit; dt 1e-3
+  stops all three at the first wall.  With ``contactBreakingThreshold`` 0 (not a variant's
+  setting) all keep their speed. Sphere-sphere contacts are unaffected (points only from
+  touching).
+- rest, tuned (contactSlop 0, contactERP 0): the target distance is 0 and no depth is ever
+  pushed out (a landing depth stays).  A sphere placed on the ground stays at gap 0 with e =
+  0, but restitutionVelocityThreshold 0 bounces the step's own |g| dt, so with e > 0 it
+  rests at the speculative target, e |g| dt^2 above the ground (2.7e-3 at dt 1/60, e = 1),
+  still. A column of three spheres creeps into the ground at ~3e-4 m/s (the iterative
+  solver's residual, uncorrected), and with e = 1 it hops.  Default: target distance
+  -contactSlop, corrected with contact ERP 0.08: a sphere rests at -1e-5 exactly; a column's
+  bottom at -4e-5 (dt 1/60) / -1.8e-5 (dt 1/240), its sphere-sphere gaps within -slop - 0.11
+  |g| dt^2.
+- the CCD variant's walls are rigid bodies like its spheres (``useMaximalCoordinates``), so
+  sphere-wall contacts are solved by the rigid-body solver, which takes the bounce from the
+  velocity before the step's gravity (``getVelocityInLocalPoint``; the multibody solver sees
+  it after): a sphere rests on a wall at gap 0 whatever e.  Bullet's CCD sweeps against the
+  static plane (a dropped sphere at up to 300 m/s, dt 1/60, stops within 0.01 of it) and its
+  predictive contact has restitution 0, as between spheres.
+- sleeping: none.  createMultiBody without ``URDF_ENABLE_SLEEPING`` builds a multibody that
+  cannot sleep, or a rigid body forced to DISABLE_DEACTIVATION [URDF2Bullet.cpp]; measured:
+  a free sphere at 0.1 m/s (below both sleep thresholds) keeps it for 5 s, tuned and CCD.
+- 2-D: gravity and wall normals lie in the plane, so z stays 0 (measured with friction,
+  default variant, 25 discs in a walled box under gravity for 20 s).
+
+Measured outside the suite with throwaway scripts calling this module, e.g. the resting
+sphere: ``p = prepare_scene([((0, 0, 0.1), 0.1, 1.0, (0, 0, 0))], 3, e, dt, None, tuning,
+Surroundings((0, 0, -9.81), (Wall((0, 0, 1), 0.0),)))`` then ``run_scene(p, round(10 / dt),
+record_every=1).samples`` (likewise the drop, a column, a ball between two walls, a gas).
 
 Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None): tuned
 (``pybullet``) passes ``Tuning(TUNED_WORLD, TUNED_BODY)`` of ``pybullet_setup``, the world
@@ -90,6 +154,7 @@ Conventions, measured with this module (sources as cited in ``pybullet_engine.SO
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -97,11 +162,20 @@ from dataclasses import dataclass
 from typing import Any
 
 from adapters.pybullet_setup import connect, engine, quiet
-from adapters.scene import Body, SceneRun, check_scene, check_steps, in_scene_dim
+from adapters.scene import (
+    Body,
+    SceneRun,
+    Surroundings,
+    Wall,
+    check_scene,
+    check_surroundings,
+    in_scene_dim,
+    step_and_record,
+)
 from crosscheck.core.geometry import Vec3, to3
 
 __all__ = ["Body", "SceneRun", "Tuning", "body_settings", "prepare_scene", "release_scene",
-           "run_scene"]
+           "run_scene", "wall_settings"]
 
 ZERO: Vec3 = (0.0, 0.0, 0.0)
 
@@ -138,13 +212,29 @@ def body_settings(radius: float, tuning: Tuning | None) -> dict[str, float]:
     return settings
 
 
+def wall_settings(tuning: Tuning | None) -> dict[str, float]:
+    """The ``changeDynamics`` settings of a wall (restitution apart): the variant's
+    friction settings (tuned: 0; default: pybullet's own), nothing else (a static body
+    has no damping or CCD to set).
+
+    >>> wall_settings(Tuning({}, {"lateralFriction": 0.0, "linearDamping": 0.0}))
+    {'lateralFriction': 0.0}
+    >>> wall_settings(None)
+    {}
+    """
+    body = tuning.body if tuning is not None else {}
+    return {key: value for key, value in body.items() if key.endswith("Friction")}
+
+
 @dataclass(frozen=True, eq=False)
 class Prepared:
-    """A built scene: its own DIRECT client, the body ids (scene order) and the dimension."""
+    """A built scene: its own DIRECT client, the body ids (scene order), the dimension
+    and the static walls' body ids."""
 
     cid: int
     dim: int
     bodies: tuple[int, ...]
+    walls: tuple[int, ...] = ()
 
 
 def world_settings(dt: float, iterations: int | None,
@@ -188,21 +278,43 @@ def add_sphere(cid: int, shapes: dict[float, int], body: Body, restitution: floa
     return uid
 
 
+def add_wall(cid: int, wall: Wall, restitution: float, tuning: Tuning | None) -> int:
+    """One static wall: a ``GEOM_PLANE`` (``btStaticPlaneShape``, plane constant 0) with the
+    wall's normal, on a mass-0 base at ``offset x normal``, restitution sqrt(e)."""
+    bt = engine()
+    normal = to3(wall.normal)
+    maximal = tuning is not None and tuning.maximal
+    with quiet():
+        shape = bt.createCollisionShape(bt.GEOM_PLANE, planeNormal=normal, physicsClientId=cid)
+        uid: int = bt.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape,
+                                      basePosition=tuple(wall.offset * n for n in normal),
+                                      useMaximalCoordinates=maximal, physicsClientId=cid)
+        bt.changeDynamics(uid, -1, restitution=math.sqrt(restitution),
+                          **wall_settings(tuning), physicsClientId=cid)
+    return uid
+
+
 def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuning: Tuning | None) -> Any:
+                  iterations: int | None, tuning: Tuning | None,
+                  surroundings: Surroundings | None = None) -> Any:
     """Build the scene in a new DIRECT client (untimed); ``release_scene`` disconnects it.
 
-    ``tuning``: the variant's settings (see :class:`Tuning`), or None for engine defaults.
+    ``tuning``: the variant's settings (see :class:`Tuning`), or None for engine defaults;
+    ``surroundings``: gravity and static walls (None: open space, gravity 0, no walls).
     """
     check_scene(bodies, dim, restitution, dt)
+    around = check_surroundings(surroundings, dim)
     cid = connect(world_settings(dt, iterations, tuning))
     shapes: dict[float, int] = {}
     try:
+        if any(around.gravity):
+            engine().setGravity(*to3(around.gravity), physicsClientId=cid)
+        walls = tuple(add_wall(cid, wall, restitution, tuning) for wall in around.walls)
         ids = tuple(add_sphere(cid, shapes, body, restitution, tuning) for body in bodies)
     except Exception:
         release_scene(Prepared(cid, dim, ()))
         raise
-    return Prepared(cid, dim, ids)
+    return Prepared(cid, dim, ids, walls)
 
 
 def state(prepared: Any) -> tuple[list[Vec3], list[Vec3]]:
@@ -215,20 +327,23 @@ def state(prepared: Any) -> tuple[list[Vec3], list[Vec3]]:
     return positions, velocities
 
 
-def run_scene(prepared: Any, steps: int,
-              clock: Callable[[], float] = time.perf_counter) -> SceneRun:
-    """Step the scene ``steps`` times (only this loop is timed, read from ``clock``
-    just before and just after it) and read its final state."""
+def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_counter,
+              record_every: int = 0) -> SceneRun:
+    """Step the scene ``steps`` times (only the stepping is timed, read from ``clock``
+    around each run of steps) and read its final state; with ``record_every > 0`` also
+    the state at the start and every ``record_every`` steps (``SceneRun.samples``)."""
     scene: Prepared = prepared
-    check_steps(steps)
-    step, cid = engine().stepSimulation, scene.cid
-    start = clock()
-    for _ in range(steps):
-        step(physicsClientId=cid)
-    wall = clock() - start
-    positions, velocities = state(scene)
-    return SceneRun(in_scene_dim(scene.dim, positions, "position"),
-                    in_scene_dim(scene.dim, velocities, "velocity"), wall, steps)
+    # one stepSimulation call per step, as a C partial: no Python frame in the timed loop
+    step = functools.partial(engine().stepSimulation, physicsClientId=scene.cid)
+
+    def read() -> tuple[tuple[tuple[float, ...], ...], tuple[tuple[float, ...], ...]]:
+        positions, velocities = state(scene)
+        return (in_scene_dim(scene.dim, positions, "position"),
+                in_scene_dim(scene.dim, velocities, "velocity"))
+
+    wall, samples = step_and_record(step, read, steps, record_every, clock)
+    positions, velocities = read()
+    return SceneRun(positions, velocities, wall, steps, samples)
 
 
 def release_scene(prepared: Any) -> None:
