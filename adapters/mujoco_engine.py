@@ -37,7 +37,10 @@ Detection (``aabb``, ``sphere``; ``mujoco-default`` only, see below): ``query`` 
 
 Responses (``sphere_response``, 2-D and 3-D): stepped by :mod:`adapters.mujoco_response`
 until no contact is active and the spheres no longer approach.  Scenes (``sphere_scene``,
-2-D and 3-D) are stepped by :mod:`adapters.mujoco_scene` with the variant's ``scene_tuning``.
+2-D and 3-D) are stepped by :mod:`adapters.mujoco_scene` with the variant's ``scene_tuning``;
+their gravity and walls (plane geoms with the spheres' contact parameters) and each
+variant's resting conventions (``rest_gap``, ``rest_sink_*``, no sleeping, wall
+restitution) are derived in :mod:`adapters.mujoco_walls` from MuJoCo's solref/solimp rules.
 
 Conventions (sources in ``SOURCES``: docs of 4.0.0; source files linked at main and read at
 commit a7255075, a 3.12.1 development snapshot, the newest one mirrored here; each rule
@@ -109,6 +112,7 @@ import numpy as np
 from adapters import mujoco_response as response
 from adapters import mujoco_scene, stepping
 from adapters.mujoco_setup import Mass, Pair, compile_pair, engine, guarded, refusal, set_sizes
+from adapters.mujoco_walls import DEFAULT_REST, TUNED_REST, Rest
 from crosscheck.core.contract import (
     Adapter,
     Capability,
@@ -141,6 +145,11 @@ SOURCES = (
     DOCS + "programming/simulation.html#sidefaulthandler",  # legacy handler: no log file
     DOCS + "python.html#pyerror",  # mju_error -> mujoco.FatalError
     "https://arxiv.org/abs/2204.10917",  # linear dashpot, force stopped at zero
+    DOCS + "modeling.html#csolverreference",  # solref formats, penetration at rest
+    DOCS + "computation/index.html#soparameters",  # a1 = d aref + (1 - d) a0
+    DOCS + "XMLreference.html#body-geom-type",  # plane: infinite for collisions
+    DOCS + "XMLreference.html#option-flag-refsafe",  # timeconst >= 2 dt
+    DOCS + "XMLreference.html#option-flag-sleep",  # sleeping: opt-in, off by default
 )
 DISTMAX = 1e30
 """``distmax`` of ``mj_geomDistance``: above any distance in the suite."""
@@ -233,7 +242,7 @@ def place(p: Detection) -> None:
 
 
 def _conventions(rtol: float, restitution: str, time_step: float | None,
-                 notes: str, *, soft: bool = False, friction: float = 0.0,
+                 notes: str, rest: Rest, *, soft: bool = False, friction: float = 0.0,
                  response_rtol: float | None = None, sampled: bool = False) -> Conventions:
     return Conventions(
         box_extents="half (a box geom's size is its half-sizes)",
@@ -253,7 +262,12 @@ def _conventions(rtol: float, restitution: str, time_step: float | None,
         sampled_contacts=sampled,
         zero_mass="",
         negative_extents="",
-        notes=notes,
+        rest_gap=rest.rest_gap,
+        rest_sink_steps=rest.rest_sink_steps,
+        rest_sink_s2=rest.rest_sink_s2,
+        sleeps=rest.sleeps,
+        wall_restitution=rest.wall_restitution,
+        notes=notes + rest.notes,
         sources=SOURCES,
     )
 
@@ -296,8 +310,8 @@ class MujocoDefault(Adapter):
             "Default contact: a 1 m/s head-on bounce of equal spheres leaves at about +-0.14 "
             "whatever e the case or scene asks; friction 1 acts on oblique impacts.  Contacts are "
             "sampled at step starts and make force only below the margin (0): a grazing "
-            "contact shorter than a step gets none."),
-        soft=True, friction=1.0, sampled=True)
+            "contact shorter than a step gets none.  "),
+        DEFAULT_REST, soft=True, friction=1.0, sampled=True)
     stiff: ClassVar[response.Stiff | None] = None
     scene_tuning: ClassVar[mujoco_scene.Tuning | None] = None
     """What scenes are built with (see adapters/mujoco_scene.py); None: MuJoCo's defaults."""
@@ -399,8 +413,8 @@ class MujocoStiff(MujocoDefault):
             "the velocities' precision, the worst error over the largest velocity component "
             "on random touching pairs outside the suite (python -m tools.stiff_precision "
             "--cases 10000), rounded up.  Detection is the same engine call as "
-            "mujoco-default's and is scored there only."),
-        response_rtol=STIFF_RTOL)
+            "mujoco-default's and is scored there only.  "),
+        TUNED_REST, response_rtol=STIFF_RTOL)
     stiff: ClassVar[response.Stiff | None] = response.Stiff()
     scene_tuning: ClassVar[mujoco_scene.Tuning | None] = mujoco_scene.Tuning()
     condim: ClassVar[str] = ' condim="1"'

@@ -1,16 +1,21 @@
 """MuJoCo 4.0.0 stepping a scene of N spheres, for comparison with an exact event-driven run.
 
-What it is for: the scene runners step a whole scene (N spheres, one restitution, no
-gravity, no ground) with a fixed ``dt`` and return the final state, to be scored against the
-exact reference; :mod:`adapters.mujoco_engine` answers single pair cases instead.  Types and
-input checks are shared with the other scene runners in :mod:`adapters.scene`.
+What it is for: the scene runners step a whole scene (N spheres, one restitution, in open
+space or under gravity between static walls) with a fixed ``dt`` and return the final state
+(and, asked, the recorded trajectory), to be scored against the exact reference;
+:mod:`adapters.mujoco_engine` answers single pair cases instead.  Types and input checks are
+shared with the other scene runners in :mod:`adapters.scene`.
 
 Building (``prepare_scene``, untimed): one model per scene, compiled from MJCF
-(``mujoco_setup.scene_mjcf``: the pair's world, gravity 0, one free body with an explicit
-inertial and one sphere geom per body), its ``MjData`` given the centres (2-D: z = 0) and
-velocities (2-D: vz = 0, no spin).  ``run_scene`` times only ``mj_step`` (``nstep`` = steps x
-substeps in one call) and reads ``qpos`` / ``qvel`` after it; a MuJoCo warning (a bad value
-makes ``mj_step`` reset the state) is raised; ``release_scene`` drops the model.
+(``mujoco_setup.scene_mjcf``: the pair's world, one free body with an explicit inertial and
+one sphere geom per body, and one static ``plane`` geom per wall, :mod:`adapters.mujoco_walls`),
+``opt.gravity`` the scene's (open space: 0, the model unchanged), its ``MjData`` given the
+centres (2-D: z = 0) and velocities (2-D: vz = 0, no spin).  ``run_scene`` times only
+``mj_step`` through ``adapters.scene.step_and_record``: without recording the whole run is
+its one step (one call with ``nstep`` = steps x substeps, as before); with ``record_every``
+each scene step is one call of ``substeps``, the state read (untimed) between them.  A
+MuJoCo warning (a bad value makes ``mj_step`` reset the state) is raised; ``release_scene``
+drops the model.
 
 MuJoCo has no coefficient of restitution (see :mod:`adapters.mujoco_response`): a contact is
 a soft constraint, a spring-damper acting over many steps.
@@ -65,6 +70,12 @@ Conventions, measured with this module on 4.0.0 (sources in ``mujoco_engine.SOUR
   0.240, 0.248 (momentum 1 to rounding, energy 0.22 of it).  Not the textbook cradle.
 - soft contact: a contact lasts one scene step (tuned) or the default solref's 0.02 s time
   constant (default), so centres lag the exact run by about the closing speed x that time.
+- walls and gravity (:mod:`adapters.mujoco_walls`): a wall is an infinite plane geom (a
+  half-space for collisions) with the spheres' contact parameters in each variant (tuned:
+  the scene's e, frictionless; default: MuJoCo's defaults); a resting sphere sinks by the
+  soft contact's steady penetration, declared from MuJoCo's solref/solimp formulas.  A 2-D
+  scene's plane check scales with the larger of the start's and the current in-plane
+  magnitudes (gravity speeds bodies up); 2-D walls have their normal in the plane.
 """
 
 from __future__ import annotations
@@ -74,9 +85,22 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from adapters.mujoco_response import PLANE, damping_dashpot, tune_stiff_model
 from adapters.mujoco_setup import WARNINGS, Mass, engine, scene_mjcf
-from adapters.scene import Body, SceneRun, check_scene, check_steps, in_scene_dim
+from adapters.mujoco_walls import plane_of
+from adapters.scene import (
+    Body,
+    SceneRun,
+    State,
+    Surroundings,
+    check_scene,
+    check_steps,
+    check_surroundings,
+    in_scene_dim,
+    step_and_record,
+)
 
 __all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
 
@@ -108,6 +132,8 @@ class Prepared:
     count: int
     scales: tuple[float, float]
     """Position and velocity scales of a 2-D scene's plane check (see the module docstring)."""
+    radius: float = 0.0
+    """The largest radius (the plane check's position scale adds it to a centre)."""
 
 
 def stiff_solref(restitution: float, dt: float) -> tuple[float, float]:
@@ -126,35 +152,42 @@ def stiff_solref(restitution: float, dt: float) -> tuple[float, float]:
 
 
 def model_of(bodies: Sequence[Body], restitution: float, dt: float, iterations: int | None,
-             tuning: Tuning | None) -> Any:
+             tuning: Tuning | None, surroundings: Surroundings | None = None) -> Any:
     """The scene's compiled model with the variant's settings (see the module docstring)."""
     def mass(radius: float, m: float) -> Mass:
         return (m, (m,) * 3) if tuning is not None else (m, (0.4 * m * radius * radius,) * 3)
 
     extra = ' condim="1"' if tuning is not None else ""
     spheres = [(radius, mass(radius, m)) for _, radius, m, _ in bodies]
+    walls = surroundings.walls if surroundings is not None else ()
+    planes = [plane_of(wall) for wall in walls]
     try:
-        model = engine().MjModel.from_xml_string(scene_mjcf(spheres, extra))
+        model = engine().MjModel.from_xml_string(scene_mjcf(spheres, extra, planes, extra))
     except ValueError as exc:
         raise ValueError(f"MuJoCo's compiler refuses this scene: {exc}") from None
     if iterations is not None:
         model.opt.iterations = iterations
     model.opt.timestep = dt
+    if surroundings is not None:
+        model.opt.gravity[:] = (*surroundings.gravity, 0.0, 0.0)[:3]
     if tuning is not None:
-        tune_stiff_model(model)
+        tune_stiff_model(model)  # every geom, the planes too
         model.opt.timestep = dt / tuning.substeps
         model.geom_solref[:] = stiff_solref(restitution, dt)
     return model
 
 
 def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuning: Tuning | None) -> Any:
+                  iterations: int | None, tuning: Tuning | None,
+                  surroundings: Surroundings | None = None) -> Any:
     """Build the scene's model and data (untimed).
 
     ``tuning``: the variant's settings (see :class:`Tuning`), or None for MuJoCo's defaults.
+    ``surroundings``: gravity and static walls (None: open space, the model as before).
     """
     check_scene(bodies, dim, restitution, dt)
-    model = model_of(bodies, restitution, dt, iterations, tuning)
+    around = check_surroundings(surroundings, dim)
+    model = model_of(bodies, restitution, dt, iterations, tuning, around)
     data = engine().MjData(model)
     pad = (0.0,) * (3 - dim)
     for i, (center, _, _, velocity) in enumerate(bodies):
@@ -164,30 +197,58 @@ def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: floa
     substeps = tuning.substeps if tuning is not None else 1
     reach = max((abs(x) + r for c, r, _, _ in bodies for x in c), default=0.0)
     speed = max((abs(x) for _, _, _, v in bodies for x in v), default=0.0)
-    return Prepared(model, data, substeps, dim, len(bodies), (reach, speed))
+    radius = max((r for _, r, _, _ in bodies), default=0.0)
+    return Prepared(model, data, substeps, dim, len(bodies), (reach, speed), radius)
 
 
-def run_scene(prepared: Any, steps: int,
-              clock: Callable[[], float] = time.perf_counter) -> SceneRun:
+def read_state(scene: Prepared) -> State:
+    """Every centre and velocity in the scene's dimension (a copy, float64).
+
+    A 2-D scene's plane check (see the module docstring) scales with the larger of the
+    start's and the current state's in-plane magnitudes: gravity speeds bodies up.
+    """
+    d, dim = scene.data, scene.dim
+    qpos = d.qpos.reshape(scene.count, 7)[:, :3]
+    qvel = d.qvel.reshape(scene.count, 6)[:, :3]
+    reach, speed = scene.scales
+    if dim == 2 and scene.count:
+        reach = max(reach, float(np.abs(qpos[:, :2]).max()) + scene.radius)
+        speed = max(speed, float(np.abs(qvel[:, :2]).max()))
+    return (in_scene_dim(dim, qpos, "position", PLANE * reach),
+            in_scene_dim(dim, qvel, "velocity", PLANE * speed))
+
+
+def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_counter,
+              record_every: int = 0) -> SceneRun:
     """Step the scene ``steps`` times (only ``mj_step`` is timed, read from ``clock`` just
-    before and just after it) and read its final state."""
+    before and just after it) and read its final state.
+
+    ``record_every`` > 0: also record the state at the start and every ``record_every``
+    steps (:func:`adapters.scene.step_and_record`; reading is not timed).  Without it the
+    whole run is one ``mj_step(m, d, steps x substeps)`` call, as before.
+    """
     scene: Prepared = prepared
     check_steps(steps)
     mujoco, m, d = engine(), scene.model, scene.data
     WARNINGS.clear()
-    nstep = steps * scene.substeps
-    start = clock()
-    if nstep:
-        mujoco.mj_step(m, d, nstep)
-    wall = clock() - start
+    if record_every > 0:
+        def step() -> None:
+            mujoco.mj_step(m, d, scene.substeps)
+
+        wall, samples = step_and_record(step, lambda: read_state(scene), steps, record_every,
+                                        clock)
+    else:
+        def whole() -> None:
+            mujoco.mj_step(m, d, steps * scene.substeps)
+
+        wall, samples = step_and_record(whole, lambda: read_state(scene), min(steps, 1), 0,
+                                        clock)
     if d.warning.number.any():
         raise RuntimeError(f"MuJoCo warned while stepping, and a bad value resets the state: "
                            f"{' | '.join(WARNINGS) or 'no message'}")
-    qpos = d.qpos.reshape(scene.count, 7)[:, :3]
-    qvel = d.qvel.reshape(scene.count, 6)[:, :3]
-    reach, speed = scene.scales
-    return SceneRun(in_scene_dim(scene.dim, qpos, "position", PLANE * reach),
-                    in_scene_dim(scene.dim, qvel, "velocity", PLANE * speed), wall, steps)
+    positions, velocities = read_state(scene)
+    return SceneRun(tuple(map(tuple, positions)), tuple(map(tuple, velocities)), wall, steps,
+                    samples)
 
 
 def release_scene(prepared: Any) -> None:

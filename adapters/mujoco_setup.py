@@ -34,8 +34,8 @@ from typing import Any
 
 from crosscheck.core.geometry import Vec3
 
-__all__ = ["MINVAL", "WARNINGS", "Mass", "Pair", "compile_pair", "engine", "guarded", "refusal",
-           "scene_mjcf", "set_masses", "set_sizes"]
+__all__ = ["MINVAL", "WARNINGS", "Mass", "Pair", "Plane", "compile_pair", "engine", "guarded",
+           "refusal", "scene_mjcf", "set_masses", "set_sizes"]
 
 MINVAL = 1e-15
 """mjMINVAL: the smallest mass and inertia MuJoCo's compiler accepts for a moving body."""
@@ -104,16 +104,30 @@ SCENE_BODY = """    <body name="s{i}"><freejoint/>
       <geom name="s{i}" type="sphere" size="{r}"{extra}/></body>
 """
 """One sphere of a scene model (:func:`scene_mjcf`): a free body like the pair's."""
+SCENE_PLANE = """    <geom name="w{k}" type="plane" size="0 0 1" pos="{pos}" quat="{quat}"{extra}/>
+"""
+"""One static wall of a scene model: a plane geom of the world body, whose local z axis is
+its normal (MuJoCo's plane is a half-space for collisions: ``mjraw_PlaneSphere``)."""
+Plane = tuple[Vec3, tuple[float, float, float, float]]
+"""A plane geom's position and orientation quaternion (w, x, y, z)."""
 
 
-def scene_mjcf(spheres: Sequence[tuple[float, Mass]], extra: str) -> str:
+def scene_mjcf(spheres: Sequence[tuple[float, Mass]], extra: str,
+               planes: Sequence[Plane] = (), plane_extra: str = "") -> str:
     """The model of a scene: :data:`MJCF`'s world with one free sphere per (radius, mass)
-    (bodies ``s0``, ``s1``, ...; their poses go into ``qpos`` after compiling)."""
+    (bodies ``s0``, ``s1``, ...; their poses go into ``qpos`` after compiling) and one
+    static plane geom per (position, quaternion) (geoms ``w0``, ``w1``, ... of the world
+    body, with ``plane_extra`` attributes: the compiler numbers the world's geoms first, so
+    they are geoms 0, 1, ... and the spheres follow); without planes, the open-space model
+    as before."""
     head, tail = MJCF.split("  <worldbody>\n")[0], "  </worldbody>\n</mujoco>"
     bodies = "".join(SCENE_BODY.format(i=i, m=repr(float(mass)), i3=_text(inertia),
                                        r=repr(float(radius)), extra=extra)
                      for i, (radius, (mass, inertia)) in enumerate(spheres))
-    return head.replace("crosscheck-pair", "crosscheck-scene") + "  <worldbody>\n" + bodies + tail
+    walls = "".join(SCENE_PLANE.format(k=k, pos=_text(pos), quat=_text(quat), extra=plane_extra)
+                    for k, (pos, quat) in enumerate(planes))
+    return (head.replace("crosscheck-pair", "crosscheck-scene") + "  <worldbody>\n" + bodies
+            + walls + tail)
 
 
 def compile_pair(geom: str, extra: str = "") -> Pair:
