@@ -1,7 +1,9 @@
-"""Types and checks shared by the scene runners in ``pybullet_scene`` and ``pymunk_scene``.
+"""Types and checks shared by the scene runners (``pybullet_scene``, ``pymunk_scene``, ...).
 
-A scene is N spheres (discs in 2-D) in open space: no gravity, no ground, one restitution
-for every contact.  Each engine module builds it (``prepare_scene``, untimed), steps it with
+A scene is N spheres (discs in 2-D) with one restitution for every contact, in open space
+or in :class:`Surroundings`: a uniform gravity and static axis-aligned walls (a ground, or
+the walls of a box), which every contact with a wall also bounces with.  Each engine module
+builds it (``prepare_scene``, untimed), steps it with
 a fixed time step (``run_scene``: only the stepping loop is timed) and frees it
 (``release_scene``).  Both return a :class:`SceneRun`, which the harness compares with an
 exact event-driven reference.  :func:`check_scene` rejects, with ``ValueError``, what an
@@ -12,11 +14,106 @@ pybullet makes a mass-0 body static and raises ``pybullet.error`` on a radius <=
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
 
 Body = tuple[tuple[float, ...], float, float, tuple[float, ...]]
 """A sphere of the scene: (centre, radius, mass, velocity), vectors of the scene's dim."""
+
+
+@dataclass(frozen=True)
+class Wall:
+    """A static wall: the half-space ``normal . x <= offset`` is solid, its surface is
+    ``normal . x == offset`` and ``normal`` (a unit axis vector, +1 or -1 in one component)
+    points into the free side.  A ground at height 0 in 3-D: ``Wall((0, 0, 1), 0)``.
+
+    >>> Wall((0.0, 1.0), -2.0).gap((3.0, 0.5), 0.5)  # a disc's gap above the ground y = -2
+    2.0
+    """
+
+    normal: tuple[float, ...]
+    offset: float
+
+    def gap(self, center: Sequence[float], radius: float) -> float:
+        """A sphere's signed gap to the wall's surface (negative: penetrating)."""
+        return math.fsum(n * x for n, x in zip(self.normal, center, strict=True)) \
+            - self.offset - radius
+
+    @property
+    def axis(self) -> int:
+        """The index of the axis the wall is perpendicular to."""
+        return next(k for k, n in enumerate(self.normal) if n != 0.0)
+
+
+@dataclass(frozen=True)
+class Surroundings:
+    """What a scene has besides its spheres: a uniform gravity (m/s^2, one component per
+    dimension) and static walls.  ``Surroundings.none(dim)`` is open space."""
+
+    gravity: tuple[float, ...]
+    walls: tuple[Wall, ...] = ()
+
+    @classmethod
+    def none(cls, dim: int) -> Surroundings:
+        """Open space: no gravity, no walls."""
+        return cls((0.0,) * dim, ())
+
+
+@dataclass(frozen=True)
+class Samples:
+    """The state of every body after steps ``0, every, 2 every, ...`` (step 0: the start).
+
+    ``positions`` and ``velocities`` have shape ``(samples, bodies, dim)`` (float64).
+    """
+
+    every: int
+    positions: np.ndarray = field(repr=False)
+    velocities: np.ndarray = field(repr=False)
+
+
+State = tuple[Sequence[Sequence[float]], Sequence[Sequence[float]]]
+"""Every body's centre and velocity, in the scene's dimension, as an engine reads them."""
+
+
+def step_and_record(step: Callable[[], None], read: Callable[[], State], steps: int,
+                    record_every: int, clock: Callable[[], float] = time.perf_counter,
+                    ) -> tuple[float, Samples | None]:
+    """Call ``step`` ``steps`` times; with ``record_every > 0`` also ``read`` the state at
+    the start and after every ``record_every`` steps (and after the last).
+
+    Returns the wall time of the stepping alone (reading the state is not timed: the clock
+    is read around each run of steps between two records) and the samples, or None.
+
+    >>> box = {"x": 0.0}
+    >>> def step(): box["x"] += 1.0
+    >>> wall, samples = step_and_record(step, lambda: ([(box["x"],)], [(1.0,)]), 5, 2)
+    >>> samples.positions[:, 0, 0].tolist(), samples.every
+    ([0.0, 2.0, 4.0, 5.0], 2)
+    """
+    check_steps(steps)
+    if record_every <= 0:
+        start = clock()
+        for _ in range(steps):
+            step()
+        return clock() - start, None
+    positions, velocities = [], []
+    wall, done = 0.0, 0
+    while True:
+        p, v = read()
+        positions.append(np.asarray(p, dtype=np.float64))
+        velocities.append(np.asarray(v, dtype=np.float64))
+        if done >= steps:
+            break
+        chunk = min(record_every, steps - done)
+        start = clock()
+        for _ in range(chunk):
+            step()
+        wall += clock() - start
+        done += chunk
+    return wall, Samples(record_every, np.stack(positions), np.stack(velocities))
 
 
 @dataclass(frozen=True)
@@ -31,6 +128,35 @@ class SceneRun:
     """Wall-clock seconds of the stepping loop only (no setup, no state read-back)."""
     steps: int
     """Steps taken."""
+    samples: Samples | None = None
+    """The recorded trajectory (``run_scene(..., record_every=k)``), else None.  With
+    ``record_every`` the last sample is the final state and need not be ``every`` steps
+    after the one before it."""
+
+
+def check_surroundings(surroundings: Surroundings | None, dim: int) -> Surroundings:
+    """The surroundings to build (open space for None), or ``ValueError`` for gravity or a
+    wall of the wrong dimension, a wall normal that is not a unit axis vector, or a
+    non-finite value.
+
+    >>> check_surroundings(None, 2)
+    Surroundings(gravity=(0.0, 0.0), walls=())
+    >>> check_surroundings(Surroundings((0.0, -9.81), (Wall((0.5, 0.5), 0.0),)), 2)
+    Traceback (most recent call last):
+    ...
+    ValueError: wall 0: the normal must be a unit axis vector, got (0.5, 0.5)
+    """
+    if surroundings is None:
+        return Surroundings.none(dim)
+    if len(surroundings.gravity) != dim or not all(map(math.isfinite, surroundings.gravity)):
+        raise ValueError(f"gravity must be {dim} finite components, got {surroundings.gravity}")
+    for k, wall in enumerate(surroundings.walls):
+        unit = sorted(abs(n) for n in wall.normal) == [0.0] * (dim - 1) + [1.0]
+        if len(wall.normal) != dim or not unit:
+            raise ValueError(f"wall {k}: the normal must be a unit axis vector, got {wall.normal}")
+        if not math.isfinite(wall.offset):
+            raise ValueError(f"wall {k}: the offset must be finite, got {wall.offset}")
+    return surroundings
 
 
 def check_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float) -> None:

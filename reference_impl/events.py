@@ -38,6 +38,11 @@ correctness and are read together; the generators at the end are short.)
   cradle of touching balls passes the momentum pair by pair, ``(0, 1), (1, 2),
   ...`` at one instant: with equal masses and ``e = 1`` ball 0 stops and the
   last ball leaves with its velocity.
+* **Walls** (``walls``: static axis-aligned half-spaces, :class:`WallSpec`): a ball meets
+  wall ``w`` when its gap ``sign * x[axis] - offset - r`` (linear in time) reaches 0 while
+  closing, at the correctly rounded time; the bounce sets ``v[axis] -> -e v[axis]``
+  exactly.  Its event is ``Event(t, i, N + w)``.  Walls break momentum conservation, not
+  the energy's at ``e = 1``.  Under gravity, see :mod:`reference_impl.gravity`.
 * The run ends at ``duration`` (exact); events at exactly ``duration`` are
   handled.  More than ``max_events`` events (inelastic collapse, say) raise
   :class:`RuntimeError`.
@@ -105,6 +110,28 @@ class Event:
     time: Fraction
     i: int
     j: int
+
+
+@dataclass(frozen=True, slots=True)
+class FloatState:
+    """A state correctly rounded to doubles: the time, every centre and velocity."""
+
+    time: float
+    positions: tuple[tuple[float, ...], ...]
+    velocities: tuple[tuple[float, ...], ...]
+
+
+@dataclass(frozen=True, slots=True)
+class WallSpec:
+    """A static wall: solid where ``sign * x[axis] < offset``.
+
+    >>> WallSpec(1, -1, -2.0)  # the ceiling y = 2 (free below it)
+    WallSpec(axis=1, sign=-1, offset=-2.0)
+    """
+
+    axis: int
+    sign: int
+    offset: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -275,8 +302,10 @@ class _Scene:
     Velocity ``k`` is ``vel[k] / den`` and position ``k`` is ``pos[k] / (den << shift)``.
     """
 
-    def __init__(self, balls: Sequence[Ball], e: Fraction) -> None:
+    def __init__(self, balls: Sequence[Ball], e: Fraction,
+                 walls: Sequence[WallSpec] = ()) -> None:
         start = initial_state(balls)
+        self.walls = [(w.axis, w.sign, Fraction(w.offset)) for w in walls]
         self.mass, self.e, self.now = start.masses, e, Fraction()
         self.radius = [Fraction(b.radius) for b in balls]
         self.den = max((x.denominator for v in start.velocities for x in v), default=1)
@@ -284,11 +313,13 @@ class _Scene:
         self.shift = max(0, pden.bit_length() - self.den.bit_length())
         self.vel = [[int(x * self.den) for x in v] for v in start.velocities]
         self.pos = [[int(x * self.pden) for x in p] for p in start.positions]
-        self.version, self.events = [0] * len(balls), list[Event]()
+        self.version, self.events = [0] * (len(balls) + len(walls)), list[Event]()
         self.heap: list[tuple[float, int, int, int, int]] = []
+        self.n = len(balls)
         for i in range(len(balls)):
             for j in range(i + 1, len(balls)):
                 self.predict(i, j)
+            self.predict_walls(i)
 
     @property
     def pden(self) -> int:
@@ -321,6 +352,34 @@ class _Scene:
         t = self.impact(i, j)
         if t is not None:
             heapq.heappush(self.heap, (float(t), i, j, self.version[i], self.version[j]))
+
+    def wall_impact(self, i: int, w: int) -> Fraction | None:
+        """Rounded time at which ball ``i`` meets wall ``w`` (linear gap), or None."""
+        axis, sign, offset = self.walls[w]
+        b = sign * self.vel[i][axis]
+        if b >= 0:
+            return None
+        gap = Fraction(sign * self.pos[i][axis], self.pden) - offset - self.radius[i]
+        if gap <= 0:
+            return self.now
+        return _as_time(to_float(self.now + gap * self.den / -b), self.now)
+
+    def predict_walls(self, i: int) -> None:
+        for w in range(len(self.walls)):
+            t = self.wall_impact(i, w)
+            if t is not None:
+                heapq.heappush(self.heap, (float(t), i, self.n + w, self.version[i], 0))
+
+    def bounce(self, i: int, w: int) -> bool:
+        """Reverse ball ``i``'s normal velocity at wall ``w`` (times e), if it closes."""
+        axis, sign, _ = self.walls[w]
+        if sign * self.vel[i][axis] >= 0:
+            return False
+        num, den = self.e.numerator, self.e.denominator
+        if den != 1:
+            self.rescale(den)  # every numerator x den: this one divides exactly below
+        self.vel[i][axis] = -(self.vel[i][axis] // den) * num
+        return True
 
     def advance(self, t: Fraction) -> None:
         """Move every ball to the double ``t >= now``."""
@@ -364,18 +423,32 @@ class _Scene:
             if (vi, vj) != (self.version[i], self.version[j]):
                 continue
             self.advance(Fraction(t))
-            if not self.respond(i, j):
+            if not (self.respond(i, j) if j < self.n else self.bounce(i, j - self.n)):
                 continue
             if len(self.events) >= max_events:
                 raise RuntimeError(f"more than {max_events} events by t = {t!r} (collapse?)")
             self.events.append(Event(self.now, i, j))
-            self.version[i] += 1
-            self.version[j] += 1
-            for k in range(len(self.pos)):
-                if k not in (i, j):
-                    self.predict(min(i, k), max(i, k))
-                    self.predict(min(j, k), max(j, k))
-            self.predict(i, j)
+            moved = (i, j) if j < self.n else (i,)
+            for b in moved:
+                self.version[b] += 1
+            for k in range(self.n):
+                for b in moved:
+                    if k not in moved:
+                        self.predict(min(b, k), max(b, k))
+            if j < self.n:
+                self.predict(i, j)
+            for b in moved:
+                self.predict_walls(b)
+
+    def floats(self, t: Fraction) -> FloatState:
+        """The state at ``t >= now`` correctly rounded to doubles, without building a
+        Fraction (an int / int quotient is correctly rounded): cheap at thousands of bits."""
+        (num, den), pden = (t - self.now).as_integer_ratio(), self.pden
+        positions = tuple(tuple((x * den + (y * num << self.shift)) / (pden * den)
+                                for x, y in zip(p, v, strict=True))
+                          for p, v in zip(self.pos, self.vel, strict=True))
+        velocities = tuple(tuple(x / self.den for x in v) for v in self.vel)
+        return FloatState(float(t), positions, velocities)
 
     def state(self, end: Fraction) -> SceneState:
         """The exact state at ``end >= now`` (any rational)."""
@@ -396,14 +469,26 @@ def simulate(
     restitution: float,
     duration: float | Fraction,
     max_events: int = 1_000_000,
+    walls: Sequence[WallSpec] = (),
+    sample_times: Sequence[Fraction] = (),
+    samples: list[FloatState] | None = None,
 ) -> SceneState:
-    """Run the scene from time 0 to ``duration``; see the module docstring."""
+    """Run the scene from time 0 to ``duration``; see the module docstring.
+
+    The states at ``sample_times`` (ascending, within the run), correctly rounded, are
+    appended to ``samples``."""
     if not (math.isfinite(restitution) and restitution >= 0):
         raise ValueError(f"restitution must be finite and >= 0, got {restitution!r}")
     if not math.isfinite(duration) or duration < 0:
         raise ValueError(f"duration must be finite and >= 0, got {duration!r}")
     end = Fraction(duration)
-    scene = _Scene(balls, Fraction(restitution))
+    scene = _Scene(balls, Fraction(restitution), walls)
+    for t in sample_times:
+        if not scene.now <= t <= end:
+            raise ValueError(f"sample time {float(t)} is not ascending within the run")
+        scene.run(t, max_events)
+        if samples is not None:
+            samples.append(scene.floats(t))
     scene.run(end, max_events)
     return scene.state(end)
 

@@ -43,6 +43,7 @@ from typing import Any
 
 import numpy as np
 
+from crosscheck.cases.world_sweep import WORLD_PARAMETERS, world_swept
 from crosscheck.core.schema import (
     DEFAULT_DT,
     TWIN_SUFFIX,
@@ -57,6 +58,7 @@ from crosscheck.core.schema import (
     TwoBodyCase,
     Values,
 )
+from crosscheck.truth.scene_measures import surrounded
 from crosscheck.truth.scenes import step_travel
 from reference_impl.toi import time_of_impact
 
@@ -117,6 +119,15 @@ def _scene_swept(case: SceneCase) -> list[SceneCase]:
     ``phase`` of its sweep (:func:`fast_scene`)."""
     if case.sweep is None:
         return [case]
+    world = {n: getattr(case.sweep, n) for n in WORLD_PARAMETERS
+             if getattr(case.sweep, n) is not None}
+    if world and surrounded(case):
+        rest = [n for n in (*PARAMETERS, "step_travel", "phase", "direction")
+                if n not in world and getattr(case.sweep, n, None) is not None]
+        if rest:
+            raise SweepError(f"sweep.{rest[0]}", "a scene with gravity or walls is swept over "
+                                                 "scale and offset only")
+        return world_swept(case, world, values_of)
     others = [name for name in PARAMETERS if getattr(case.sweep, name) is not None]
     if others or case.sweep.direction is not None:
         field = others[0] if others else "direction"

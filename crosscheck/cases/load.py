@@ -48,6 +48,7 @@ from crosscheck.cases.expand import (
     with_swaps,
 )
 from crosscheck.cases.messages import plain
+from crosscheck.cases.world_sweep import world_problems
 from crosscheck.core.model import Undefined, Value, quantities_of
 from crosscheck.core.schema import (
     CASE_ADAPTER,
@@ -402,8 +403,10 @@ def _scene_problems(case: SceneCase) -> Iterator[tuple[str, str]]:
     if fast and case.duration is not None and not case.origin:
         yield "duration", ("the block sweeps step_travel or phase: each case runs twice its "
                            "time to impact, so leave duration out")
-    if len(case.bodies) < 2:
-        yield "bodies", "a scene needs at least two bodies (list them or give a generator)"
+    if len(case.bodies) < (1 if case.walls or case.gravity else 2):
+        yield "bodies", ("a scene needs at least two bodies, or one with gravity or walls "
+                         "(list them or give a generator)")
+    yield from world_problems(case)
     for i, body in enumerate(case.bodies):
         if not body.radius > 0:
             yield f"bodies[{i}].radius", f"must be > 0 in a scene, got {body.radius!r}"

@@ -95,6 +95,17 @@ class Conventions:
     the number ``n`` of discrete tests at ``t = i T / (n - 1)`` that a sampling query makes
     (2: the interval's two ends); ``toi_end_excluded`` is True for a query that counts no
     contact exactly at the interval's end.
+
+    Gravity and walls (:mod:`crosscheck.truth.scene_measures`): ``rest_gap`` is the band
+    ``(lo, hi)`` of signed gaps (m; negative: penetration) at which the engine's contact
+    model holds a sphere resting on a wall or on another sphere (its slop, skin or
+    margin), from its documentation or source; ``rest_sink_steps`` how far below that band
+    a resting sphere may sink because of the step, in units of ``|g| dt**2`` (an engine
+    that integrates gravity before it resolves the contact); ``rest_sink_s2`` the same
+    for a soft contact whose steady penetration is ``|g|`` times a time squared (s**2;
+    MuJoCo's ``solref``).  ``sleeps`` is True for an engine that zeroes the velocity of a
+    body at rest after a while (sleeping); ``wall_restitution`` says how a wall's bounce
+    is set (``""``: with the scene's e, as between the spheres).
     """
 
     box_extents: str = "half"
@@ -123,6 +134,11 @@ class Conventions:
     toi_min_centre_distance: float = 0.0
     toi_samples: int = 0
     toi_end_excluded: bool = False
+    rest_gap: tuple[float, float] = (0.0, 0.0)
+    rest_sink_steps: float = 0.0
+    rest_sink_s2: float = 0.0
+    sleeps: bool = False
+    wall_restitution: str = ""
     notes: str = ""
     sources: tuple[str, ...] = field(default=())
 

@@ -149,7 +149,8 @@ _QUANTITIES: dict[Kind, tuple[str, ...]] = {
     Kind.AABB: ("hit", "distance", "normal"),
     Kind.SPHERE: ("hit", "distance", "normal"),
     Kind.SPHERE_RESPONSE: ("v1", "v2"),
-    Kind.SPHERE_SCENE: ("positions", "velocities", "momentum", "energy"),
+    Kind.SPHERE_SCENE: ("positions", "velocities", "momentum", "energy", "settle", "jitter",
+                        "energy_drift", "apex", "bounce_time", "divergence"),
     Kind.SPHERE_TOI: ("hit", "toi", "normal"),
 }
 
@@ -161,6 +162,19 @@ def quantities_of(kind: Kind) -> tuple[str, ...]:
 
 Value = bool | float | Vec | tuple[Vec, ...] | Undefined
 """One reported quantity: a verdict, a distance, a vector (or one per body), or Undefined."""
+
+
+@dataclass(frozen=True, slots=True)
+class Trajectory:
+    """A scene's recorded states: every body's centre and velocity at ``times``.
+
+    ``energy`` is the total energy at each time (kinetic plus ``-m g . (x - x0)``).
+    """
+
+    times: tuple[float, ...]
+    positions: tuple[tuple[Vec, ...], ...]
+    velocities: tuple[tuple[Vec, ...], ...]
+    energy: tuple[float, ...]
 
 
 @dataclass(frozen=True, slots=True)
@@ -200,6 +214,22 @@ class Observation:
     """Scenes: wall-clock seconds of the stepping loop alone (the scene's timing)."""
     impacts: tuple[float, ...] | None = None
     """Scenes (the exact reference only): the times of the impacts the exact run resolved."""
+    settle: Vec | Undefined | None = None
+    """Scenes with a ground: every body's signed gap to the ground at the end (m)."""
+    jitter: float | Undefined | None = None
+    """Scenes with a ground: the largest speed of any body over the run's second half (m/s)."""
+    energy_drift: float | Undefined | None = None
+    """Scenes: the change of total energy (kinetic, plus potential under gravity) from the
+    start to the end, per second, over the initial total energy (1/s)."""
+    apex: Vec | Undefined | None = None
+    """Scenes with a ground: body 0's apex heights above the ground between bounces (m)."""
+    bounce_time: Vec | Undefined | None = None
+    """Scenes with a ground: the times of body 0's bounces on the ground (s)."""
+    divergence: float | Undefined | None = None
+    """Scenes: the first recorded time at which a centre is further from the exact one than
+    the stated tolerance (s; the simulated time when it never is)."""
+    trajectory: Trajectory | None = None
+    """Scenes: the recorded states the measures are read from (not a quantity, not stored)."""
 
     def get(self, quantity: str) -> Value | None:
         """The value of ``quantity`` (one of :func:`quantities_of`), or None if absent."""

@@ -246,8 +246,17 @@ class SceneGenerator(_Frozen):
     offset: Num | None = Field(None, description="Billiards: the cue ball's sideways offset.")
 
 
+class WallSpec(_Frozen):
+    """A static wall of a scene: solid where ``normal . x < offset``; ``normal`` is a unit
+    axis vector pointing into the free side (a ground at y = 0 in 2-D: normal [0, 1])."""
+
+    normal: Vector
+    offset: Num = 0.0
+
+
 class SceneCase(_CaseBase):
-    """N spheres in open space stepped for ``duration``, against an exact event-driven run."""
+    """N spheres stepped for ``duration``, in open space or under gravity between static walls,
+    against an exact event-driven run."""
 
     kind: Literal["sphere_scene"]
     bodies: tuple[MovingSphere, ...] = ()
@@ -262,6 +271,14 @@ class SceneCase(_CaseBase):
     swap: Annotated[bool, Strict()] = Field(False, description="Scenes are never swapped.")
     approach_steps: Annotated[int, Strict(), Field(ge=1, le=1000)] = Field(4, description=(
         "Swept over `step_travel` or `phase`: whole steps before the first impact."))
+    gravity: Vector | None = Field(None, description=(
+        "Uniform gravity (m/s^2, one component per dimension); absent: none."))
+    walls: tuple[WallSpec, ...] = Field((), description=(
+        "Static axis-aligned walls (a ground, or a box's walls); every contact with one "
+        "bounces with the scene's restitution."))
+    diverge_at: Num = Field(0.01, description=(
+        "The `divergence` measure's tolerance: the distance, in mean radii, a centre may be "
+        "from the exact one before the trajectory counts as having left it."))
 
     @model_validator(mode="before")
     @classmethod

@@ -39,7 +39,7 @@ from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome, case_options
 from crosscheck.run.worker import LocalLanes
-from crosscheck.truth import oracle
+from crosscheck.truth import measure_rules, oracle
 from crosscheck.truth.columnar import judge_batch
 from crosscheck.truth.score import Verdict, judge
 
@@ -48,6 +48,9 @@ def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
                truth: Observation) -> list[Record]:
     """The records of one case x engine: one per quantity, judged against the case as declared."""
     records = []
+    if isinstance(case, SceneCase) and outcome.observation is not None:
+        outcome = replace(outcome, observation=measure_rules.complete(
+            case, outcome.observation, truth))
     for quantity in quantities_of(case.kind_enum):
         if outcome.observation is None:
             assert outcome.status is not None

@@ -25,7 +25,8 @@ REQUIRED: dict[Kind, tuple[str, ...]] = {
 EXTRAS: dict[Kind, frozenset[str]] = {
     Kind.AABB: frozenset(), Kind.SPHERE: frozenset(),
     Kind.SPHERE_RESPONSE: frozenset({"resolved_at"}),
-    Kind.SPHERE_SCENE: frozenset({"wall_s", "impacts"}), Kind.SPHERE_TOI: frozenset()}
+    Kind.SPHERE_SCENE: frozenset({"wall_s", "impacts", "trajectory"}),
+    Kind.SPHERE_TOI: frozenset()}
 """Observation fields besides the kind's quantities that an adapter may set."""
 UNIT_TOLERANCE = UNIT_LENGTH
 """How far from 1 a normal's length may be (the scoring's own test of a unit vector)."""

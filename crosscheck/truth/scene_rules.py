@@ -25,6 +25,8 @@ from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
+from crosscheck.truth import measure_rules
+from crosscheck.truth.scene_measures import MEASURES, surrounded
 from crosscheck.truth.scenes import (
     PRECISION_FACTOR,
     QUANTITIES,
@@ -88,8 +90,8 @@ def _passed_through(case: SceneCase, conventions: Conventions, quantity: str, er
     other along the exact contact normal while the exact run keeps them apart.  Named,
     with the travel, never a small position error."""
     velocities, impacts = observed.velocities, truth.impacts
-    if (not impacts or len(case.bodies) != 2 or not isinstance(velocities, tuple)
-            or quantity not in QUANTITIES):
+    if (not impacts or len(case.bodies) != 2 or surrounded(case)
+            or not isinstance(velocities, tuple) or quantity not in QUANTITIES):
         return None
     if quantity != "positions" and err <= PRECISION_FACTOR * conventions.rtol:
         return None  # right to the engine's precision: a conserved quantity
@@ -216,7 +218,8 @@ def _threshold(case: SceneCase, conventions: Conventions, quantity: str, err: fl
     many impacts (inelastic collapse), and one impact's speed does not settle the others.
     """
     threshold = conventions.restitution_threshold
-    if not (threshold > 0 and case.restitution > 0 and impacts and len(case.bodies) == 2):
+    if not (threshold > 0 and case.restitution > 0 and impacts and len(case.bodies) == 2
+            and not surrounded(case)):
         return None
     speed = _first_approach(case, impacts[0])
     if not speed < threshold:
@@ -289,6 +292,9 @@ def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value
     A velocity error counts as step lag only when the positions are within the lag too:
     a late contact tilts velocities no more than it displaces the bodies.
     """
+    if quantity in MEASURES:
+        return measure_rules.judge(case, conventions, quantity, value, want, truth, observed,
+                                   default_tol)
     tol = tolerance(case, quantity, default_tol)
     if isinstance(value, Undefined):
         return (Status.DISAGREE, math.inf, tol, Category.ERROR,

@@ -23,7 +23,6 @@ The tolerance is :data:`~crosscheck.truth.score.DEFAULT_RTOL` unless the case se
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Sequence
 from dataclasses import replace
@@ -32,11 +31,14 @@ from typing import Any, cast
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
-from crosscheck.core.model import Observation, Value
+from crosscheck.core.model import Observation, Trajectory, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
-from reference_impl import events
+from crosscheck.truth import scene_measures as sm
+from reference_impl import events, gravity
+from reference_impl.rounding import to_float
 
 QUANTITIES = ("positions", "velocities", "momentum", "energy")
+"""The final-state quantities (the measures are :data:`scene_measures.MEASURES`)."""
 
 
 def simulated_time(case: SceneCase) -> Fraction:
@@ -44,28 +46,91 @@ def simulated_time(case: SceneCase) -> Fraction:
     return case.step_count * Fraction(case.dt or DEFAULT_DT)
 
 
-def _key(case: SceneCase) -> tuple[Any, ...]:
-    bodies = tuple((b.center, b.radius, b.mass, b.velocity) for b in case.bodies)
-    return (bodies, case.restitution, simulated_time(case))
-
-
 def truth(case: SceneCase) -> Observation:
-    """The exact event-driven state at :func:`simulated_time`, as floats."""
-    return _truth(_key(case))
+    """The exact event-driven state at :func:`simulated_time`, as floats, and the measures."""
+    key = case.model_dump_json(include={"bodies", "restitution", "dt", "duration", "gravity",
+                                        "walls", "diverge_at", "dim"})
+    if key not in _CACHE:
+        if len(_CACHE) >= 256:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = _truth(case)
+    return _CACHE[key]
 
 
-@functools.lru_cache(maxsize=256)
-def _truth(key: tuple[Any, ...]) -> Observation:
-    bodies, e, t = key
-    balls = [events.Ball(c, r, m, v) for c, r, m, v in bodies]
+_CACHE: dict[str, Observation] = {}
+
+
+OPEN_SPACE = "open space: no ground and no recorded trajectory"
+
+
+def _truth(case: SceneCase) -> Observation:
+    balls = [events.Ball(b.center, b.radius, b.mass, b.velocity) for b in case.bodies]
+    end = simulated_time(case)
+    dt = Fraction(case.dt or DEFAULT_DT)
+    times = [k * dt for k in sm.sample_steps(case)]
+    g = sm.gravity(case)
     try:
-        state = events.simulate(balls, e, t)
+        if any(g):
+            walls = [gravity.Wall(w.normal, w.offset) for w in case.walls]
+            run = gravity.simulate(balls, walls, g, case.restitution, end, times)
+            state, bounced, rest_since = run.state, run.bounces, run.rest_since
+            samples = [events.FloatState(float(x.time), x.positions_float(),
+                                         x.velocities_float()) for x in run.samples]
+        else:
+            specs = [events.WallSpec(*_axis(w.normal), w.offset) for w in case.walls]
+            samples = []
+            state = events.simulate(balls, case.restitution, end, walls=specs,
+                                    sample_times=times, samples=samples)
+            bounced, rest_since = (), None
     except (RuntimeError, ValueError, ArithmeticError) as exc:
-        return Observation.undefined(QUANTITIES, f"no reference: {exc}")
+        return Observation.undefined(QUANTITIES + sm.MEASURES, f"no reference: {exc}")
     positions, velocities = state.positions_float(), state.velocities_float()
-    masses = [m for _, _, m, _ in bodies]
-    return replace(observation(positions, velocities, masses),
-                   impacts=tuple(float(e.time) for e in state.events))
+    start = [b.center for b in case.bodies]
+    exact_drift = (gravity.energy(state, g, start) - events.kinetic_energy(balls)) / (
+        Fraction(sm.energy_scale(case) or 1.0) * (end or 1))
+    measures: dict[str, Any] = {
+        "impacts": tuple(float(e.time) for e in state.events),
+        "energy_drift": to_float(exact_drift)}
+    measures.update(_exact_measures(case, state, bounced, rest_since, end))
+    if samples:
+        measures["trajectory"] = Trajectory(
+            tuple(s.time for s in samples), tuple(s.positions for s in samples),
+            tuple(s.velocities for s in samples),
+            tuple(sm.total_energy(case, s.positions, s.velocities) for s in samples))
+    return replace(observation(positions, velocities, [b.mass for b in case.bodies]),
+                   **measures)
+
+
+def _axis(normal: Sequence[float]) -> tuple[int, int]:
+    axis = next(k for k, n in enumerate(normal) if n != 0.0)
+    return axis, 1 if normal[axis] > 0 else -1
+
+
+def _exact_measures(case: SceneCase, state: events.SceneState,
+                    bounced: Sequence[tuple[Fraction, int, int, Fraction]],
+                    rest_since: Fraction | None, end: Fraction) -> dict[str, Value]:
+    """The exact settle, jitter, apex, bounce_time and divergence (or why undefined)."""
+    floor = sm.ground(case)
+    if not sm.surrounded(case):
+        return {q: Undefined(OPEN_SPACE) for q in sm.MEASURES if q != "energy_drift"}
+    out: dict[str, Value] = {"divergence": float(end)}
+    if floor is None or rest_since is None:
+        out["settle"] = Undefined("not every body rests on a ground at the end of the exact run")
+    else:
+        wall = case.walls[floor]
+        out["settle"] = tuple(
+            to_float(sum((Fraction(n) * x for n, x in zip(wall.normal, p, strict=True)),
+                         Fraction()) - Fraction(wall.offset) - Fraction(b.radius))
+            for p, b in zip(state.positions, case.bodies, strict=True))
+    out["jitter"] = (0.0 if rest_since is not None and 2 * rest_since <= end else
+                     Undefined("the exact run does not rest over the run's second half"))
+    ground_bounces = [(t, i, u) for t, i, w, u in bounced if w == floor]
+    if floor is None or not any(i == 0 for _, i, _ in ground_bounces):
+        out["apex"] = out["bounce_time"] = Undefined("body 0 never bounces on a ground")
+    else:
+        apexes, times = sm.exact_bounces(case, ground_bounces)
+        out["apex"], out["bounce_time"] = apexes, times
+    return out
 
 
 def observation(positions: Sequence[Vec], velocities: Sequence[Vec],
@@ -135,7 +200,7 @@ def lag_bound(case: SceneCase, impacts: int) -> float:
     late: at most the top speed x dt each, in units of the mean radius.
     """
     scale = _scales(case)
-    top = max((norm(b.velocity) for b in case.bodies), default=0.0)
+    top = sm.top_speed(case)
     return (impacts + 1) * top * (case.dt or DEFAULT_DT) / scale["positions"]
 
 

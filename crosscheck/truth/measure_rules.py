@@ -1,0 +1,250 @@
+"""Why a scene measure disagrees (``settle``, ``jitter``, ``energy_drift``, ``apex``,
+``bounce_time``, ``divergence``): its error, tolerance, category and reason.
+
+The measures are defined in :mod:`crosscheck.truth.scene_measures`.  Each error is compared
+with a float64 tolerance (what a float64 simulation of the exact run can be off by); a
+disagreement gets a category from the engine's declared conventions, each cited with the
+number it allows:
+
+- ``settle``: the declared rest band ``rest_gap`` (per contact below the body) and the soft
+  contact's sink ``rest_sink_s2 |g|`` (``convention``), then the step's sink
+  ``rest_sink_steps |g| dt**2`` (``timestep``);
+- ``jitter``: one step of gravity, ``|g| dt``, for an engine that declares a step sink or
+  sampled contacts (``timestep``);
+- ``energy_drift``, ``apex``: the declared damping, restitution threshold or soft
+  restitution (``convention``), then each impact resolved up to one step late
+  (``timestep``: a bounce reversed up to ``v dt + |g| dt**2`` below the wall);
+- ``bounce_time``: two steps per bounce so far (``timestep``: seen a step late, and a flight
+  a step longer or shorter);
+- ``divergence``: the step lag of the impacts before it (``timestep``).
+
+Anything else is an ``error``, with what was read.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import cast
+
+from crosscheck.core.contract import Conventions
+from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.model import Category, Observation, Status, Undefined, Value
+from crosscheck.core.schema import DEFAULT_DT, SceneCase
+from crosscheck.truth import scene_measures as sm
+from crosscheck.truth.scenes import damping_bound, simulated_time
+
+ULPS = 8.0
+"""A float64 simulation's rounding, in units of the ulp of the scene's largest coordinate."""
+
+Judged = tuple[Status, float, float, str, str]
+
+
+def _extent(case: SceneCase) -> float:
+    coords = [abs(x) for b in case.bodies for x in b.center]
+    coords += [abs(w.offset) for w in case.walls]
+    return max(coords, default=1.0)
+
+
+def _mean_radius(case: SceneCase) -> float:
+    return math.fsum(b.radius for b in case.bodies) / max(1, len(case.bodies))
+
+
+def tolerance(case: SceneCase, quantity: str, default: float) -> float:
+    """The float64 tolerance of a measure: ``default`` relative, and never below
+    :data:`ULPS` ulps of the scene's coordinates for a length."""
+    g = norm(sm.gravity(case))
+    duration = float(simulated_time(case))
+    length = max(default * _mean_radius(case), ULPS * math.ulp(_extent(case)))
+    return {"settle": length,
+            "jitter": max(default * math.sqrt(2 * g * _mean_radius(case)),
+                          length / (case.dt or DEFAULT_DT)),
+            "energy_drift": default,
+            "apex": max(default, length / _mean_radius(case)),
+            "bounce_time": max(default * duration, ULPS * math.ulp(duration)),
+            "divergence": default}[quantity]
+
+
+def error(case: SceneCase, quantity: str, value: Value, want: Value) -> float:
+    """The error of one measure (see :mod:`crosscheck.truth.scene_measures`)."""
+    if isinstance(value, Undefined):
+        return math.inf
+    if quantity in ("settle", "bounce_time", "apex"):
+        mine, exact = cast(Vec, value), cast(Vec, want)
+        pairs = list(zip(mine, exact, strict=False))
+        if not pairs:
+            return 0.0 if not exact else math.inf
+        if quantity == "apex":
+            return max(abs(x / y - 1.0) if y > 0 else abs(x - y) for x, y in pairs)
+        return max(abs(x - y) for x, y in pairs)
+    if quantity == "divergence":
+        end = float(simulated_time(case))
+        return 1.0 - float(cast(float, value)) / end if end > 0 else 0.0
+    return abs(float(cast(float, value)) - float(cast(float, want)))
+
+
+def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value, want: Value,
+          truth: Observation, observed: Observation, default_tol: float) -> Judged:
+    """Status, error, tolerance, category and reason of one scene measure."""
+    tol = tolerance(case, quantity, default_tol)
+    if isinstance(value, Undefined):
+        return (Status.DISAGREE, math.inf, tol, Category.ERROR,
+                f"engine gave undefined ({value.reason}) where the reference is defined")
+    err = error(case, quantity, value, want)
+    if err <= tol:
+        return Status.AGREE, err, tol, "", ""
+    rule = {"settle": _settle, "jitter": _jitter, "energy_drift": _energy, "apex": _energy,
+            "bounce_time": _bounce_time, "divergence": _divergence}[quantity]
+    category, reason = rule(case, conventions, quantity, value, want, err, truth)
+    steps = f"{case.step_count} steps of dt = {case.dt or DEFAULT_DT:.3g} s"
+    return Status.DISAGREE, err, tol, category, f"{reason} ({steps})"
+
+
+def _contacts_below(case: SceneCase) -> list[int]:
+    """For each body, how many resting contacts are stacked below it (1: on the ground)."""
+    floor = sm.ground(case)
+    if floor is None:
+        return [1] * len(case.bodies)
+    heights = [sm.gap(case, floor, b.center, b.radius) for b in case.bodies]
+    order = sorted(range(len(heights)), key=heights.__getitem__)
+    return [order.index(i) + 1 for i in range(len(heights))]
+
+
+def _settle(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+            want: Value, err: float, truth: Observation) -> tuple[str, str]:
+    g, dt, n = norm(sm.gravity(case)), case.dt or DEFAULT_DT, len(case.bodies)
+    lo, hi = conventions.rest_gap
+    soft = conventions.rest_sink_s2 * g
+    step = conventions.rest_sink_steps * g * dt * dt
+    worst, how = 0.0, ""
+    category = Category.CONVENTION
+    for below, mine, exact in zip(_contacts_below(case), cast(Vec, value), cast(Vec, want),
+                                  strict=False):
+        off = mine - exact
+        band = (below * (lo - n * soft), below * hi)
+        if band[0] <= off <= band[1]:
+            continue
+        if band[0] - below * n * step <= off <= band[1]:
+            category = Category.TIMESTEP
+            continue
+        worst, how = off, f"{below} contact(s) below it"
+        category = Category.ERROR
+        break
+    gaps = ", ".join(f"{x:.3g}" for x in cast(Vec, value))
+    declared = (f"declared rest band {lo:.3g} .. {hi:.3g} m per contact, soft sink "
+                f"{conventions.rest_sink_s2:g} s^2 x |g| = {soft:.3g} m per body carried, step "
+                f"sink {conventions.rest_sink_steps:g} |g| dt^2 = {step:.3g} m")
+    if category == Category.ERROR:
+        return category, (f"settle off by {err:.3g} m (gaps to the ground {gaps} m): one body "
+                          f"is {worst:.3g} m from its exact gap with {how}, beyond the "
+                          f"{declared}")
+    word = "step sink" if category == Category.TIMESTEP else "rest band and soft sink"
+    return category, (f"settle off by {err:.3g} m (gaps to the ground {gaps} m), within the "
+                      f"{word} ({declared})")
+
+
+def _jitter(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+            want: Value, err: float, truth: Observation) -> tuple[str, str]:
+    g, dt = norm(sm.gravity(case)), case.dt or DEFAULT_DT
+    stepped = conventions.rest_sink_steps > 0 or conventions.sampled_contacts
+    if stepped and err <= g * dt:
+        return Category.TIMESTEP, (
+            f"jitter {err:.3g} m/s at rest, within one step of gravity |g| dt = {g * dt:.3g} "
+            "m/s (the engine integrates gravity before it resolves the contact: declared "
+            "rest_sink_steps or sampled_contacts)")
+    return Category.ERROR, (f"jitter {err:.3g} m/s at rest, beyond one step of gravity "
+                            f"{g * dt:.3g} m/s" + ("" if stepped else
+                                                   " (no step sink declared)"))
+
+
+def _impact_speeds(case: SceneCase, truth: Observation) -> list[float]:
+    """The exact normal speeds of body 0's recorded bounces (from the exact apexes)."""
+    g = norm(sm.gravity(case))
+    apexes = truth.apex if isinstance(truth.apex, tuple) else ()
+    return [math.sqrt(2 * g * cast(float, h)) for h in apexes]
+
+
+def _energy(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+            want: Value, err: float, truth: Observation) -> tuple[str, str]:
+    what = f"{quantity} off by {err:.3g} {sm.UNITS[quantity]}"
+    speeds = _impact_speeds(case, truth)
+    if conventions.restitution_model == "soft":
+        return Category.CONVENTION, (f"{what}: the engine's contact model sets the bounce "
+                                     "(declared restitution_model soft), not the scene's e")
+    threshold = conventions.restitution_threshold
+    if threshold > 0 and case.restitution > 0 and speeds and min(speeds) < threshold:
+        return Category.CONVENTION, (
+            f"{what}: bounces close at down to {min(speeds):.3g} m/s, below the declared "
+            f"restitution threshold {threshold:g} m/s (no bounce below it)")
+    damp = damping_bound(case, conventions)
+    if conventions.damping > 0 and quantity == "energy_drift":
+        return Category.CONVENTION, (
+            f"{what}: the engine damps velocities (declared {conventions.damping:g} per s, "
+            f"up to {damp:.3g} of a speed over the run)")
+    lag = _lag(case, quantity, truth)
+    if err <= lag:
+        return Category.TIMESTEP, (f"{what}, within the {lag:.3g} that reversing each of the "
+                                   f"exact run's impacts up to one step late allows")
+    return Category.ERROR, (f"{what}: beyond the {lag:.3g} of one step's lag per impact; not "
+                            "explained by a declared damping, threshold or soft contact")
+
+
+def _lag(case: SceneCase, quantity: str, truth: Observation) -> float:
+    """Each impact reversed up to one step late, ``v dt + |g| dt**2`` deep: the energy it
+    can change (``m |g|`` times that depth, plus the kinetic energy of ``|g| dt``), over the
+    energy scale and the run (``energy_drift``), or an apex's share (``apex``)."""
+    g, dt = norm(sm.gravity(case)), case.dt or DEFAULT_DT
+    impacts = len(truth.impacts or ())
+    top = sm.top_speed(case)
+    depth = top * dt + g * dt * dt
+    if quantity == "apex":
+        apexes = [cast(float, h) for h in truth.apex] if isinstance(truth.apex, tuple) else []
+        low = min((h for h in apexes if h > 0), default=math.inf)
+        return len(apexes) * depth / low
+    mass = max((b.mass for b in case.bodies), default=0.0)
+    per_impact = mass * (g * depth + 0.5 * (g * dt) ** 2)
+    scale = sm.energy_scale(case) or 1.0
+    duration = float(simulated_time(case)) or 1.0
+    return impacts * per_impact / (scale * duration)
+
+
+def _bounce_time(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+                 want: Value, err: float, truth: Observation) -> tuple[str, str]:
+    dt = case.dt or DEFAULT_DT
+    mine, exact = cast(Vec, value), cast(Vec, want)
+    counts = f"{len(mine)} bounces recorded, {len(exact)} exact"
+    pairs = list(zip(mine, exact, strict=False))
+    if pairs and all(abs(x - y) <= 2 * (k + 1) * dt for k, (x, y) in enumerate(pairs)):
+        return Category.TIMESTEP, (
+            f"bounce times off by up to {err:.3g} s ({counts}), within two steps per bounce "
+            f"so far (seen a step late, a flight a step longer or shorter; dt = {dt:.3g} s)")
+    if conventions.restitution_model == "soft":
+        return Category.CONVENTION, (f"bounce times off by up to {err:.3g} s ({counts}): the "
+                                     "engine's contact model sets the bounce (declared soft)")
+    return Category.ERROR, (f"bounce times off by up to {err:.3g} s ({counts}), beyond two "
+                            f"steps per bounce (dt = {dt:.3g} s)")
+
+
+def _divergence(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+                want: Value, err: float, truth: Observation) -> tuple[str, str]:
+    t = float(cast(float, value))
+    dt = case.dt or DEFAULT_DT
+    impacts = [x for x in (truth.impacts or ()) if x <= t]
+    top = max((norm(b.velocity) for b in case.bodies), default=0.0)
+    g = norm(sm.gravity(case))
+    top = math.hypot(top, g * t)
+    lag = (len(impacts) + 1) * top * dt / _mean_radius(case)
+    what = (f"the trajectory left {case.diverge_at:g} mean radii of the exact one at t = "
+            f"{t:.4g} s ({err:.3g} of the run)")
+    if case.diverge_at <= lag:
+        return Category.TIMESTEP, (f"{what}, after {len(impacts)} impacts each up to one step "
+                                   f"late: up to {lag:.3g} mean radii")
+    return Category.ERROR, f"{what}, beyond the {lag:.3g} mean radii of the step lag by then"
+
+
+def complete(case: SceneCase, observed: Observation, truth: Observation) -> Observation:
+    """``observed`` with its ``divergence`` from the exact trajectory (else left as it is)."""
+    mine, exact = observed.trajectory, truth.trajectory
+    if mine is None or exact is None:
+        return observed
+    return replace(observed, divergence=sm.divergence(case, mine, exact))
