@@ -32,7 +32,7 @@ from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth import scene_measures as sm
-from crosscheck.truth.scenes import damping_bound, simulated_time
+from crosscheck.truth.scenes import PRECISION_FACTOR, damping_bound, simulated_time
 
 ULPS = 8.0
 """A float64 simulation's rounding, in units of the ulp of the scene's largest coordinate."""
@@ -48,6 +48,12 @@ def _extent(case: SceneCase) -> float:
 
 def _mean_radius(case: SceneCase) -> float:
     return math.fsum(b.radius for b in case.bodies) / max(1, len(case.bodies))
+
+
+def held(case: SceneCase, conventions: Conventions) -> float:
+    """How far (m) the engine's declared precision alone can put a position: ``rtol`` (its
+    ``Real``) of the scene's largest coordinate, :data:`PRECISION_FACTOR` times."""
+    return PRECISION_FACTOR * conventions.rtol * (_extent(case) + _mean_radius(case))
 
 
 def tolerance(case: SceneCase, quantity: str, default: float) -> float:
@@ -95,7 +101,7 @@ def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value
         return Status.AGREE, err, tol, "", ""
     rule = {"settle": _settle, "jitter": _jitter, "energy_drift": _energy, "apex": _energy,
             "bounce_time": _bounce_time, "divergence": _divergence}[quantity]
-    category, reason = rule(case, conventions, quantity, value, want, err, truth)
+    category, reason = rule(case, conventions, quantity, value, want, err, truth, observed)
     steps = f"{case.step_count} steps of dt = {case.dt or DEFAULT_DT:.3g} s"
     return Status.DISAGREE, err, tol, category, f"{reason} ({steps})"
 
@@ -110,41 +116,67 @@ def _contacts_below(case: SceneCase) -> list[int]:
     return [order.index(i) + 1 for i in range(len(heights))]
 
 
-def _settle(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
-            want: Value, err: float, truth: Observation) -> tuple[str, str]:
+def settle_bands(case: SceneCase, conventions: Conventions
+                 ) -> list[tuple[tuple[float, float], tuple[float, float]]]:
+    """Per body, the offsets from its exact gap explained by the declared contact model
+    (the rest band per contact below it, and the soft sink of the weight of up to every body
+    carried) and, wider, by the step (``rest_sink_steps |g| dt**2`` per contact, either way:
+    gravity integrated before or after the contact), each widened by :func:`held`."""
     g, dt, n = norm(sm.gravity(case)), case.dt or DEFAULT_DT, len(case.bodies)
     lo, hi = conventions.rest_gap
     soft = conventions.rest_sink_s2 * g
     step = conventions.rest_sink_steps * g * dt * dt
-    worst, how = 0.0, ""
-    category = Category.CONVENTION
-    for below, mine, exact in zip(_contacts_below(case), cast(Vec, value), cast(Vec, want),
-                                  strict=False):
-        off = mine - exact
-        band = (below * (lo - n * soft), below * hi)
-        if band[0] <= off <= band[1]:
-            continue
-        if band[0] - below * n * step <= off <= band[1]:
-            category = Category.TIMESTEP
-            continue
-        worst, how = off, f"{below} contact(s) below it"
-        category = Category.ERROR
-        break
+    slack = held(case, conventions)
+    out = []
+    for below in _contacts_below(case):
+        model = (below * (lo - n * soft) - slack, below * hi + slack)
+        out.append((model, (model[0] - below * step, model[1] + below * step)))
+    return out
+
+
+def _settle(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+            want: Value, err: float, truth: Observation, observed: Observation
+            ) -> tuple[str, str]:
+    category, worst = _settle_category(case, conventions, value, want)
+    g, dt = norm(sm.gravity(case)), case.dt or DEFAULT_DT
+    lo, hi = conventions.rest_gap
     gaps = ", ".join(f"{x:.3g}" for x in cast(Vec, value))
     declared = (f"declared rest band {lo:.3g} .. {hi:.3g} m per contact, soft sink "
-                f"{conventions.rest_sink_s2:g} s^2 x |g| = {soft:.3g} m per body carried, step "
-                f"sink {conventions.rest_sink_steps:g} |g| dt^2 = {step:.3g} m")
+                f"{conventions.rest_sink_s2:g} s^2 x |g| = {conventions.rest_sink_s2 * g:.3g} m "
+                f"per body carried, step {conventions.rest_sink_steps:g} |g| dt^2 = "
+                f"{conventions.rest_sink_steps * g * dt * dt:.3g} m per contact, precision "
+                f"{held(case, conventions):.3g} m")
+    head = f"settle off by {err:.3g} m (gaps to the ground {gaps} m)"
     if category == Category.ERROR:
-        return category, (f"settle off by {err:.3g} m (gaps to the ground {gaps} m): one body "
-                          f"is {worst:.3g} m from its exact gap with {how}, beyond the "
+        return category, (f"{head}: one body is {worst:.3g} m from its exact gap, beyond the "
                           f"{declared}")
-    word = "step sink" if category == Category.TIMESTEP else "rest band and soft sink"
-    return category, (f"settle off by {err:.3g} m (gaps to the ground {gaps} m), within the "
-                      f"{word} ({declared})")
+    word = {Category.TIMESTEP: "the step's allowance", Category.TOLERANCE: "the precision",
+            Category.CONVENTION: "the rest band and soft sink"}[category]
+    return category, f"{head}, within {word} ({declared})"
+
+
+def _settle_category(case: SceneCase, conventions: Conventions, value: Value, want: Value
+                     ) -> tuple[str, float]:
+    """The settle row's category and the worst offset: every body within the model band
+    (``convention``; within the precision alone: ``tolerance``) or the step's band
+    (``timestep``), else ``error``."""
+    offsets = [x - y for x, y in zip(cast(Vec, value), cast(Vec, want), strict=False)]
+    if all(abs(off) <= held(case, conventions) for off in offsets):
+        return Category.TOLERANCE, max(offsets, key=abs, default=0.0)
+    category = Category.CONVENTION
+    for off, (model, stepped) in zip(offsets, settle_bands(case, conventions), strict=False):
+        if model[0] <= off <= model[1]:
+            continue
+        if stepped[0] <= off <= stepped[1]:
+            category = Category.TIMESTEP
+            continue
+        return Category.ERROR, off
+    return category, max(offsets, key=abs, default=0.0)
 
 
 def _jitter(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
-            want: Value, err: float, truth: Observation) -> tuple[str, str]:
+            want: Value, err: float, truth: Observation, observed: Observation
+            ) -> tuple[str, str]:
     g, dt = norm(sm.gravity(case)), case.dt or DEFAULT_DT
     stepped = conventions.rest_sink_steps > 0 or conventions.sampled_contacts
     if stepped and err <= g * dt:
@@ -165,8 +197,12 @@ def _impact_speeds(case: SceneCase, truth: Observation) -> list[float]:
 
 
 def _energy(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
-            want: Value, err: float, truth: Observation) -> tuple[str, str]:
+            want: Value, err: float, truth: Observation, observed: Observation
+            ) -> tuple[str, str]:
     what = f"{quantity} off by {err:.3g} {sm.UNITS[quantity]}"
+    resting = _resting_energy(case, conventions, quantity, err, truth, observed)
+    if resting is not None:
+        return resting
     speeds = _impact_speeds(case, truth)
     if conventions.restitution_model == "soft":
         return Category.CONVENTION, (f"{what}: the engine's contact model sets the bounce "
@@ -189,6 +225,29 @@ def _energy(case: SceneCase, conventions: Conventions, quantity: str, value: Val
                             "explained by a declared damping, threshold or soft contact")
 
 
+def _resting_energy(case: SceneCase, conventions: Conventions, quantity: str, err: float,
+                    truth: Observation, observed: Observation) -> tuple[str, str] | None:
+    """A resting scene's energy drift explained by where the bodies settled: the potential
+    energy of the settle offsets (and the kinetic energy of the jitter), when the settle
+    row itself is explained."""
+    want, mine = truth.settle, observed.settle
+    if quantity != "energy_drift" or not isinstance(want, tuple) or not isinstance(mine, tuple):
+        return None
+    category, _ = _settle_category(case, conventions, mine, want)
+    if category == Category.ERROR:
+        return None
+    g = norm(sm.gravity(case))
+    speed = observed.jitter if isinstance(observed.jitter, float) else 0.0
+    energy = math.fsum(b.mass * (g * abs(x - y) + 0.5 * speed * speed)
+                       for b, x, y in zip(case.bodies, mine, want, strict=True))
+    reach = energy / ((sm.energy_scale(case) or 1.0) * float(simulated_time(case)))
+    if err > reach * (1.0 + 1e-9):
+        return None
+    return category, (f"energy_drift off by {err:.3g} of the energy scale per s, within the "
+                      f"{reach:.3g} that the settle offsets (m |g| x offset) and the jitter "
+                      f"explain, settled as the rest conventions allow ({category})")
+
+
 def _lag(case: SceneCase, quantity: str, truth: Observation) -> float:
     """Each impact reversed up to one step late, ``v dt + |g| dt**2`` deep: the energy it
     can change (``m |g|`` times that depth, plus the kinetic energy of ``|g| dt``), over the
@@ -209,37 +268,71 @@ def _lag(case: SceneCase, quantity: str, truth: Observation) -> float:
 
 
 def _bounce_time(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
-                 want: Value, err: float, truth: Observation) -> tuple[str, str]:
+                 want: Value, err: float, truth: Observation, observed: Observation
+                 ) -> tuple[str, str]:
     dt = case.dt or DEFAULT_DT
     mine, exact = cast(Vec, value), cast(Vec, want)
     counts = f"{len(mine)} bounces recorded, {len(exact)} exact"
-    pairs = list(zip(mine, exact, strict=False))
-    if pairs and all(abs(x - y) <= 2 * (k + 1) * dt for k, (x, y) in enumerate(pairs)):
+    share = _lag(case, "apex", truth)
+    reach = []
+    for k, t in enumerate(exact):  # two steps per bounce, and each flight so far stretched
+        flights = t - (exact[0] if k else 0.0)  # by the apex lag (a flight ~ sqrt(apex))
+        reach.append(2 * (k + 1) * dt + flights * share / 2)
+    pairs = list(zip(mine, exact, reach, strict=False))
+    if pairs and all(abs(x - y) <= r for x, y, r in pairs):
         return Category.TIMESTEP, (
             f"bounce times off by up to {err:.3g} s ({counts}), within two steps per bounce "
-            f"so far (seen a step late, a flight a step longer or shorter; dt = {dt:.3g} s)")
+            f"so far (dt = {dt:.3g} s) plus the flights stretched by the apex lag "
+            f"{share:.3g}: up to {max(r for _, _, r in pairs):.3g} s")
     if conventions.restitution_model == "soft":
         return Category.CONVENTION, (f"bounce times off by up to {err:.3g} s ({counts}): the "
                                      "engine's contact model sets the bounce (declared soft)")
     return Category.ERROR, (f"bounce times off by up to {err:.3g} s ({counts}), beyond two "
-                            f"steps per bounce (dt = {dt:.3g} s)")
+                            f"steps per bounce and the apex lag {share:.3g} (dt = {dt:.3g} s)")
 
 
 def _divergence(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
-                want: Value, err: float, truth: Observation) -> tuple[str, str]:
+                want: Value, err: float, truth: Observation, observed: Observation
+                ) -> tuple[str, str]:
     t = float(cast(float, value))
     dt = case.dt or DEFAULT_DT
     impacts = [x for x in (truth.impacts or ()) if x <= t]
-    top = max((norm(b.velocity) for b in case.bodies), default=0.0)
-    g = norm(sm.gravity(case))
-    top = math.hypot(top, g * t)
+    top = sm.top_speed(case)
     lag = (len(impacts) + 1) * top * dt / _mean_radius(case)
-    what = (f"the trajectory left {case.diverge_at:g} mean radii of the exact one at t = "
-            f"{t:.4g} s ({err:.3g} of the run)")
+    reach = case.diverge_at * _mean_radius(case)
+    what = (f"the trajectory left {case.diverge_at:g} mean radii ({reach:.3g} m) of the exact "
+            f"one at t = {t:.4g} s ({err:.3g} of the run)")
+    if reach <= held(case, conventions):
+        return Category.TOLERANCE, (f"{what}: within the engine's declared precision there "
+                                    f"({held(case, conventions):.3g} m: {PRECISION_FACTOR:g} x "
+                                    f"rtol {conventions.rtol:.3g} of the coordinates)")
     if case.diverge_at <= lag:
         return Category.TIMESTEP, (f"{what}, after {len(impacts)} impacts each up to one step "
                                    f"late: up to {lag:.3g} mean radii")
+    if isinstance(observed.settle, tuple) and isinstance(truth.settle, tuple):
+        category, _ = _settle_category(case, conventions, observed.settle, truth.settle)
+        if category != Category.ERROR and not impacts:
+            return category, (f"{what}: the bodies settled where the rest conventions allow "
+                              f"(the settle row: {category})")
     return Category.ERROR, f"{what}, beyond the {lag:.3g} mean radii of the step lag by then"
+
+
+def settled_positions(case: SceneCase, conventions: Conventions, quantity: str, err: float,
+                      observed: Observation, truth: Observation) -> tuple[str, str] | None:
+    """A resting scene's position error that is its settle offsets: the ``settle`` row's
+    category, when the positions are off by no more than the largest offset from the exact
+    gaps (and the precision)."""
+    want, mine = truth.settle, observed.settle
+    if quantity != "positions" or not isinstance(want, tuple) or not isinstance(mine, tuple):
+        return None
+    category, worst = _settle_category(case, conventions, mine, want)
+    offsets = [abs(x - y) for x, y in zip(mine, want, strict=False)]
+    reach = (max(offsets, default=0.0) + held(case, conventions)) / _mean_radius(case)
+    if category == Category.ERROR or err > reach:
+        return None
+    return category, (f"positions off by {err:.3g} mean radii: the bodies settled "
+                      f"{worst:.3g} m from their exact gaps to the ground, as the settle row "
+                      f"explains ({category}), and are off by no more than that")
 
 
 def complete(case: SceneCase, observed: Observation, truth: Observation) -> Observation:

@@ -185,18 +185,25 @@ def engine_measures(case: SceneCase, positions: Sequence[Vec], velocities: Seque
     exact trajectory, :func:`divergence`)."""
     duration = case.step_count * (case.dt or DEFAULT_DT)
     out: dict[str, Value] = {
-        "energy_drift": drift(case, total_energy(case, positions, velocities), duration)}
+        "energy_drift": drift(case, total_energy(case, positions, velocities), duration),
+        "divergence": Undefined(NOT_RECORDED)}
     floor = ground(case)
-    if floor is not None:
-        out["settle"] = tuple(gap(case, floor, p, b.radius)
-                              for p, b in zip(positions, case.bodies, strict=True))
-    if trajectory is not None:
-        half = [k for k, t in enumerate(trajectory.times) if t >= duration / 2]
-        out["jitter"] = max((norm(v) for k in half for v in trajectory.velocities[k]),
-                            default=0.0)
-        apexes, times = bounces(case, trajectory)
-        out["apex"], out["bounce_time"] = apexes, times
+    out["settle"] = Undefined(NO_GROUND) if floor is None else tuple(
+        gap(case, floor, p, b.radius) for p, b in zip(positions, case.bodies, strict=True))
+    if trajectory is None:
+        out |= {q: Undefined(NOT_RECORDED) for q in ("jitter", "apex", "bounce_time")}
+        return out
+    half = [k for k, t in enumerate(trajectory.times) if t >= duration / 2]
+    out["jitter"] = max((norm(v) for k in half for v in trajectory.velocities[k]), default=0.0)
+    if floor is None:
+        out["apex"] = out["bounce_time"] = Undefined(NO_GROUND)
+    else:
+        out["apex"], out["bounce_time"] = bounces(case, trajectory)
     return out
+
+
+NO_GROUND = "the scene has no ground (no wall facing gravity)"
+NOT_RECORDED = "no recorded trajectory (an open-space scene)"
 
 
 def divergence(case: SceneCase, mine: Trajectory, exact: Trajectory) -> float:

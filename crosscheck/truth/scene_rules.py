@@ -33,6 +33,7 @@ from crosscheck.truth.scenes import (
     UNITS,
     aligned,
     damping_bound,
+    gravity_step,
     lag_bound,
     relative_error,
     step_travel,
@@ -249,8 +250,18 @@ def _category(case: SceneCase, conventions: Conventions, quantity: str, err: flo
             f"{quantity} off by {err:.3g} {UNITS[quantity]}: the engine damps velocities "
             f"(declared {conventions.damping:g} per s, up to {damp:.3g} of a speed over the "
             f"run, {damped:.3g} of the {quantity})")
-    if impacts is not None and quantity in ("positions", "velocities"):
+    walled = surrounded(case)
+    stepped = gravity_step(case, quantity)
+    if walled and stepped > 0 and err <= stepped:
+        return Category.TIMESTEP, (
+            f"{quantity} off by {err:.3g} {UNITS[quantity]}, within one step of gravity on "
+            f"every body (|g| dt = {stepped:.3g} of the scale): what a resting body carries "
+            f"between its contact's solves ({steps})")
+    lagged = ("positions", "velocities", "momentum", "energy") if walled else (
+        "positions", "velocities")
+    if impacts is not None and quantity in lagged:
         lag = lag_bound(case, impacts)
+        lag = lag * (2.0 + lag) if quantity == "energy" else lag
         also = "" if quantity == "positions" else (
             f" (positions too: {positions_err:.3g} mean radii)")
         if err <= lag and positions_err <= lag:
@@ -308,6 +319,8 @@ def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value
     impacts = truth.impacts
     count = None if impacts is None else len(impacts)
     named = (_speed_cap(case, conventions, quantity, err, value, tol, count)
+             or measure_rules.settled_positions(case, conventions, quantity, err, observed,
+                                                truth)
              or _threshold(case, conventions, quantity, err, value, tol, impacts)
              or _passed_through(case, conventions, quantity, err, observed, truth))
     category, reason = named or _category(case, conventions, quantity, err, count, moved)

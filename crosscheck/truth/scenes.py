@@ -148,14 +148,34 @@ def observation(positions: Sequence[Vec], velocities: Sequence[Vec],
 
 
 def _scales(case: SceneCase) -> dict[str, float]:
+    """The scale of each quantity's error: the mean radius; the largest speed, sum m|v| and
+    the kinetic energy at the start (with gravity or walls: the top speed a body reaches,
+    sum m x that and :func:`~crosscheck.truth.scene_measures.energy_scale`)."""
     speeds = [norm(b.velocity) for b in case.bodies]
     masses = [b.mass for b in case.bodies]
+    radius = math.fsum(b.radius for b in case.bodies) / max(1, len(case.bodies))
+    if sm.surrounded(case):
+        top = sm.top_speed(case)
+        return {"positions": radius, "velocities": top, "momentum": math.fsum(masses) * top,
+                "energy": sm.energy_scale(case)}
     return {
-        "positions": math.fsum(b.radius for b in case.bodies) / max(1, len(case.bodies)),
+        "positions": radius,
         "velocities": max(speeds, default=0.0),
         "momentum": math.fsum(m * s for m, s in zip(masses, speeds, strict=True)),
         "energy": math.fsum(0.5 * m * s * s for m, s in zip(masses, speeds, strict=True)),
     }
+
+
+def gravity_step(case: SceneCase, quantity: str) -> float:
+    """One step of gravity, ``|g| dt`` on every body, as a relative error of velocities or
+    momentum (0 for other quantities or without gravity): what a body resting in a stepping
+    engine may carry between its contact's solves."""
+    g = norm(sm.gravity(case)) * (case.dt or DEFAULT_DT)
+    scale = _scales(case).get(quantity, 0.0)
+    if g == 0.0 or quantity not in ("velocities", "momentum"):
+        return 0.0
+    size = g if quantity == "velocities" else g * math.fsum(b.mass for b in case.bodies)
+    return size / scale if scale > 0 else size
 
 
 def relative_error(case: SceneCase, quantity: str, value: Value, want: Value) -> float:
@@ -191,6 +211,8 @@ def tolerance(case: SceneCase, quantity: str, default: float) -> float:
 
 UNITS = {"positions": "mean radii", "velocities": "of the largest initial speed",
           "momentum": "of sum m|v|", "energy": "of the initial kinetic energy"}
+"""Units of the final-state errors (with gravity or walls the scales are the top speed, sum m
+x it and the energy scale: see :func:`_scales`)."""
 
 
 def lag_bound(case: SceneCase, impacts: int) -> float:
