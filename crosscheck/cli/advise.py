@@ -37,13 +37,19 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--offset", metavar="MAX", help="largest |coordinate| of any centre")
     p.add_argument("--speed", metavar="MAX", help="largest |velocity component| (responses)")
     p.add_argument("--mass-ratio", metavar="MAX", help="largest max(m)/min(m) (responses)")
+    p.add_argument("--tag", action="append", metavar="TAG",
+                   help="only cases carrying this tag (repeatable: every one), e.g. a scene "
+                        "family: resting, bounce, gas")
+    p.add_argument("--duration", metavar="MIN",
+                   help="scenes simulating at least MIN seconds (leaves pair cases out)")
     p.add_argument("--tolerance", metavar="T",
                    help="absolute accuracy needed (a hit verdict: on pairs whose exact "
                         "|gap| exceeds it)")
     p.add_argument("--rtol", metavar="R",
                    help="accuracy needed relative to the smallest body extent (lengths)")
     p.add_argument("--quantities", metavar="Q,Q",
-                   help="the quantities that matter (default: all), e.g. hit,distance")
+                   help="the quantities that matter (default: all), e.g. hit,distance; "
+                        "scenes: settle, jitter, energy_drift, apex, bounce_time, divergence")
     p.add_argument("--touching-contact", action="store_true",
                    help="touching must count as contact (a touching rule then fails)")
     p.add_argument("--strict-conventions", action="store_true",
@@ -108,6 +114,13 @@ def _quantities(text: str | None) -> tuple[str, ...]:
     return names
 
 
+def _tags(texts: list[str] | None) -> tuple[str, ...]:
+    tags = tuple(dict.fromkeys(text.strip() for text in texts or []))
+    if any(not tag for tag in tags):
+        raise OptionError("--tag: must not be empty")
+    return tags
+
+
 def envelope_of(args: argparse.Namespace) -> Envelope:
     """The envelope the options state; OptionError or EnvelopeError naming a bad option."""
     from crosscheck.report.advise import Envelope
@@ -118,7 +131,8 @@ def envelope_of(args: argparse.Namespace) -> Envelope:
         mass_ratio=_number("--mass-ratio", args.mass_ratio),
         tolerance=_number("--tolerance", args.tolerance), rtol=_number("--rtol", args.rtol),
         quantities=_quantities(args.quantities), touching_contact=args.touching_contact,
-        strict_conventions=args.strict_conventions, float32=not args.no_float32)
+        strict_conventions=args.strict_conventions, float32=not args.no_float32,
+        tags=_tags(args.tag), duration=_number("--duration", args.duration))
     envelope.check()
     return envelope
 
@@ -272,8 +286,10 @@ def print_advice(advice: Advice) -> None:
     accuracy = ", ".join(x for x in (
         None if need.tolerance is None else f"tolerance {need.tolerance:g}",
         None if need.rtol is None else f"rtol {need.rtol:g}") if x) or "agree only"
+    family = "".join(f"; tag {tag}" for tag in need.tags) + (
+        "" if need.duration is None else f"; at least {need.duration:g} s")
     say(f"{advice.cases} cases ({', '.join(advice.kinds)}; "
-        f"{', '.join(f'{d}-D' for d in advice.dims)}; {accuracy})")
+        f"{', '.join(f'{d}-D' for d in advice.dims)}{family}; {accuracy})")
     rows = [*((str(rank), e) for rank, e in enumerate(advice.ranking, 1)),
             *(("b", e) for e in advice.baselines)]
     for text in ranking_lines(rows, out.width):

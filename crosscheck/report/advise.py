@@ -126,6 +126,11 @@ def envelope_rows(run: StoredRun, envelope: Envelope) -> tuple[pd.DataFrame, pd.
     """The judged rows of the in-envelope cases of the requested kinds, and the rows of the
     bad-input cases of those kinds and dimensions."""
     kinds = requested_kinds(run, envelope)
+    carried = {tag for case in run.cases.values() for tag in case.tags}
+    for tag in envelope.tags:
+        if tag not in carried:
+            raise EnvelopeError("--tag", f"no case of the run carries the tag {tag!r} "
+                                         f"(its tags: {', '.join(sorted(carried)) or 'none'})")
     mine = {i: c for i, c in run.cases.items() if c.kind_enum in kinds
             and (not envelope.dims or c.dim in envelope.dims)}
     inside = {i for i, c in mine.items() if envelope.holds(c)}

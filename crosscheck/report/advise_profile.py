@@ -1,7 +1,8 @@
 """The scene profile of ``advise``: its envelope, the accuracy it needs and what matters.
 
 A profile states the scene (dimensions, kinds, body sizes, largest offset from
-the origin, largest speed and mass ratio), the accuracy it needs (``tolerance``
+the origin, largest speed and mass ratio; for stepped scenes, the case tags that name the
+family, e.g. ``resting``, and the least simulated time), the accuracy it needs (``tolerance``
 absolute, ``rtol`` relative to the smallest extent of the case's bodies, on
 lengths),
 the quantities that matter, whether touching must count as contact, whether
@@ -18,9 +19,9 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
-from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase
+from crosscheck.core.schema import DEFAULT_DT, AabbCase, AnyCase, ResponseCase, SceneCase
 
-LENGTHS = frozenset({"hit", "distance", "positions"})
+LENGTHS = frozenset({"hit", "distance", "positions", "settle"})
 """Quantities measured in lengths: ``rtol`` scales with the body size for them (for
 ``hit``, the length is the exact gap of the pair)."""
 
@@ -65,6 +66,10 @@ class Envelope:
     """Every declared convention is judged on its error like any other answer."""
     float32: bool = True
     """Whether a float32 engine is acceptable."""
+    tags: tuple[str, ...] = ()
+    """Tags every case must carry (a scene family: ``resting``, ``bounce``, ``gas``)."""
+    duration: float | None = None
+    """Least simulated seconds of a scene (pair cases, which have none, are then outside)."""
 
     def check(self) -> None:
         """Raise :class:`EnvelopeError` naming the option if a limit is impossible."""
@@ -78,7 +83,8 @@ class Envelope:
             if lo > hi:
                 raise EnvelopeError("--scale", f"LO must be <= HI, got {lo}:{hi}")
         for option, value in (("--offset", self.offset), ("--speed", self.speed),
-                              ("--tolerance", self.tolerance), ("--rtol", self.rtol)):
+                              ("--tolerance", self.tolerance), ("--rtol", self.rtol),
+                              ("--duration", self.duration)):
             if value is not None:
                 _non_negative(option, value)
         if self.mass_ratio is not None and not self.mass_ratio >= 1.0:
@@ -87,6 +93,8 @@ class Envelope:
     def holds(self, case: AnyCase) -> bool:
         """Whether the case's own inputs lie inside this envelope (never a bad-input case)."""
         if case.bad_input or (self.dims and case.dim not in self.dims):
+            return False
+        if not set(self.tags) <= set(case.tags) or not _lasts(case, self.duration):
             return False
         return (_within_scale(case, self.scale) and _within(centres(case), self.offset)
                 and _within(velocity_components(case), self.speed)
@@ -103,6 +111,24 @@ class Envelope:
 def _non_negative(option: str, value: float) -> None:
     if not (math.isfinite(value) and value >= 0.0):
         raise EnvelopeError(option, f"must be a finite number >= 0, got {value}")
+
+
+def _lasts(case: AnyCase, duration: float | None) -> bool:
+    """A scene simulating at least ``duration`` seconds (its steps times its dt); no limit:
+    True.
+
+    >>> from crosscheck.core.schema import CASE_ADAPTER
+    >>> scene = CASE_ADAPTER.validate_python({"id": "s", "description": "d",
+    ...     "kind": "sphere_scene", "dim": 2, "duration": 10.0, "bodies": [
+    ...     {"center": [0, 0], "radius": 1, "mass": 1, "velocity": [0, 0]}]})
+    >>> _lasts(scene, 10.0), _lasts(scene, 20.0), _lasts(scene, None)
+    (True, False, True)
+    """
+    if duration is None:
+        return True
+    if not isinstance(case, SceneCase):
+        return False
+    return case.step_count * (case.dt or DEFAULT_DT) >= duration * (1 - 1e-9)
 
 
 def _within(values: Iterable[float], limit: float | None) -> bool:

@@ -27,6 +27,7 @@ from crosscheck.report import (
     advise_page,
     charts,
     dynamics,
+    energy_chart,
     mirror,
     profiles,
     speed,
@@ -39,6 +40,7 @@ from crosscheck.report.mirror import asymmetries
 from crosscheck.report.style import packed
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.results.runinfo import RunInfo
+from crosscheck.results.series import read_series
 from crosscheck.results.store import StoredRun
 from crosscheck.results.timings import read_timings
 
@@ -159,11 +161,16 @@ def _timing(view: RunView) -> Context:
 
 def _dynamics(view: RunView) -> Context | None:
     """Each scene x engine's most accurate run in view; every run and the chart folded per
-    scene (None without scene runs)."""
+    scene; energy against time per scene family, from ``series.jsonl`` when the run stored it
+    (None without scene runs)."""
     built = dynamics.section(view.frame, view.cases, view.order)
     if not built["runs"]:
         return None
     built["scenes"] = [{**s, "chart": Markup(s["chart"])} for s in built["scenes"]]
+    energy = energy_chart.section(read_series(view.stored.directory), view.cases, view.order)
+    energy["charts"] = [{**c, "html": Markup(c["html"])} for c in energy["charts"]]
+    built["energy"] = energy
+    built["charts"] = [*built["charts"], *energy["charts"]]
     return {"dynamics": built}
 
 
@@ -171,9 +178,9 @@ def _stability(view: RunView) -> Context | None:
     """The threshold matrix and the charts folded per family (``None`` without sweeps);
     ``charts`` lists them all (the page inlines plotly.js when a section has charts)."""
     points = stability.sweep_points(view.frame, view.cases)
-    if points.empty:
+    table = stability.with_horizons(stability.thresholds(points), view.frame, view.cases)
+    if table.empty:
         return None
-    table = stability.thresholds(points)
     folds = stability_charts.folds(points, table)
     return {"stability": {"matrix": stability.matrix(table), "folds": folds,
                           "charts": [chart for fold in folds for chart in fold["charts"]]}}

@@ -23,6 +23,16 @@ pass-through exchanges none), and it breaks only where the impact is missed
 (:func:`_missed_impacts_only`): the threshold is the travel at which the engine first lets
 the bodies pass through each other, at any phase.
 
+A moved or resized scene (an ``offset`` or ``scale`` sweep of a scene with gravity or walls,
+:mod:`crosscheck.cases.world_sweep`, at one ``dt``) is a point of that sweep at its ``dt``,
+as a fast-body point is: the ``offset`` column of dynamics is the first offset at which the
+engine's scene rows stop agreeing (its headline quantity, ``velocities``, as every scene).
+
+The ``time horizon`` axis (:func:`horizons`) is no sweep: for each long scene (a run of
+:data:`LONG_SCENE_S` or more, the gas) at each ``dt``, the cell is the engine's ``divergence``,
+the simulated seconds until its trajectory left the case's stated tolerance (``diverge_at``
+mean radii) of the exact one; "none" when it never did within the run.
+
 Over 400 lines: the walk, the threshold table and the matrix read the same point records
 and are kept together so the cell rule has one home.
 """
@@ -40,7 +50,14 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
-from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
+from crosscheck.core.schema import (
+    DEFAULT_DT,
+    AabbCase,
+    AnyCase,
+    ResponseCase,
+    SceneCase,
+    SphereCase,
+)
 from crosscheck.results.store import read_run
 from crosscheck.truth.categories import length_scale, velocity_scale
 from crosscheck.truth.scene_rules import PASSED_THROUGH
@@ -50,6 +67,8 @@ AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale",
                         "overlap": _GAP, "mass_ratio": "mass ratio", "speed": "approach speed",
                         "step_travel": "per-step travel (fast bodies)"}
 """Sweep parameter -> the axis of difficulty it probes."""
+HORIZON_AXIS = "time horizon"
+"""The axis of :func:`horizons` (no sweep: parameter ``time_horizon``)."""
 
 HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2", "sphere_toi": "toi",
             "sphere_scene": "velocities"}
@@ -72,7 +91,7 @@ class Direction:
 _UP, _DOWN = Direction("larger", True), Direction("smaller", False)
 DIRECTIONS: dict[str, tuple[Direction, ...]] = {
     "offset": (_UP,), "gap": (_DOWN,), "overlap": (_DOWN,), "mass_ratio": (_UP,), "speed": (_DOWN,),
-    "step_travel": (_UP,),
+    "step_travel": (_UP,), "time_horizon": (Direction("longer", True),),
     "scale": (Direction("tiny", False, high=1.0), Direction("huge", True, low=1.0))}
 POINT_COLUMNS = ["sweep", "family", "axis", "param", "value", "direction", "kind", "dim", "engine",
                  "quantity", "status", "category", "error", "rel_error", "rel_tolerance",
@@ -109,6 +128,9 @@ SCENE_CONTEXT = ("dt", "iterations", "phase")
 """Coordinates of a fast-body scene point that are not its difficulty: each time step (and
 iteration count) is a sweep of its own; the impact phases of one travel are walked together,
 so the travel breaks where any phase breaks."""
+SCENE_SWEEPS = ("step_travel", "offset", "scale")
+"""The difficulties a scene point may sweep beside its :data:`SCENE_CONTEXT`: fast bodies,
+and a scene with gravity or walls moved from the origin or resized."""
 
 
 def _single_parameter(coords: str) -> tuple[str, float, str] | None:
@@ -121,14 +143,17 @@ def _single_parameter(coords: str) -> tuple[str, float, str] | None:
     (('gap', 1e-09, ''), None, None)
     >>> _single_parameter('{"dt": 0.0166667, "step_travel": 2.0, "phase": 0.5}')
     ('step_travel', 2.0, 'dt=0.0166667')
+    >>> _single_parameter('{"dt": 0.0166667, "offset": 1000.0}')
+    ('offset', 1000.0, 'dt=0.0166667')
     """
     if not coords:
         return None
     point = json.loads(coords)
     context = ""
-    if "step_travel" in point and set(point) <= {"step_travel", *SCENE_CONTEXT}:
+    swept = [p for p in SCENE_SWEEPS if p in point]
+    if len(swept) == 1 and set(point) <= {*swept, *SCENE_CONTEXT} and len(point) > 1:
         context = ",".join(f"{k}={point[k]:.6g}" for k in ("dt", "iterations") if k in point)
-        point = {"step_travel": point["step_travel"]}
+        point = {swept[0]: point[swept[0]]}
     if len(point) != 1:
         return None
     ((param, value),) = point.items()
@@ -331,6 +356,75 @@ def cell_verdict(shown: dict[Hashable, Any]) -> str:
     return f"{shown['quantity']}: {shown['verdict']} ({headline}: no verdict)"
 
 
+# --- the time horizon ---------------------------------------------------------------------------
+
+LONG_SCENE_S = 30.0
+"""A scene of at least this many simulated seconds is long: the time horizon axis shows it."""
+
+
+def _seconds(text: Any) -> float:
+    try:
+        value = json.loads(str(text))
+    except (TypeError, ValueError):
+        return math.nan
+    return float(value) if isinstance(value, int | float) else math.nan
+
+
+def _horizon(row: dict[Hashable, Any], duration: float) -> dict[str, Any]:
+    """The cell of one divergence row: when the trajectory left the tolerance (``breaks``),
+    or that it never did (``none``), or no verdict; ``reached`` the share of the run."""
+    status, seconds = str(row["status"]), _seconds(row["value"])
+    out: dict[str, Any] = {"threshold": math.nan, "status": "", "category": "",
+                           "recovers": False, "recovered_at": math.nan, "checked": math.nan,
+                           "easiest": 0.0, "hardest": duration, "points": 1}
+    if status in Status.members("failed"):
+        return out | _breaks(0.0, status, "", True, None) | {"reached": 0.0, "cell": status}
+    if status not in Status.members("judged") or not math.isfinite(seconds):
+        return out | _holds(math.nan, False) | {"points": 0}
+    if seconds >= duration:
+        return out | {"checked": duration} | _holds(duration, True) | {
+            "verdict": f"never left the tolerance (to the end, {duration:.3g} s)"}
+    return out | {"checked": seconds, "reached": seconds / duration} | _breaks(
+        seconds, status, str(row.get("category") or ""), False, None) | {
+        "cell": f"{seconds:.3g} s",
+        "verdict": f"left the tolerance at {seconds:.3g} s of {duration:.3g} s"}
+
+
+def horizons(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
+    """Threshold-table rows of the ``time horizon`` axis (see the module docstring): one per
+    long scene block x ``dt`` x engine, every one a headline row of its own column."""
+    rows = frame[(frame["kind"] == "sphere_scene") & (frame["quantity"] == "divergence")]
+    out = []
+    for row in rows.to_dict("records"):
+        case = cases.get(str(row["case_id"]))
+        if not isinstance(case, SceneCase) or set(case.coords) - {"dt", "iterations"}:
+            continue
+        duration = case.step_count * (case.dt or DEFAULT_DT)
+        if duration < LONG_SCENE_S:
+            continue
+        context = ",".join(f"{k}={case.coords[k]:.6g}" for k in ("dt", "iterations")
+                           if k in case.coords)
+        sweep = f"{case.origin or case.id} ({context})" if context else case.origin or case.id
+        out.append({
+            "sweep": sweep, "family": sweep, "axis": HORIZON_AXIS,
+            "param": "time_horizon", "direction": "longer", "harder": "longer is harder",
+            "kind": "sphere_scene", "dim": int(row["dim"]), "engine": row["engine"],
+            "quantity": "divergence", "headline": True, "column": f"{sweep} (longer)",
+            **_horizon(row, duration)})
+    return pd.DataFrame(out, columns=TABLE_COLUMNS)
+
+
+def with_horizons(table: pd.DataFrame, frame: pd.DataFrame,
+                  cases: Mapping[str, AnyCase]) -> pd.DataFrame:
+    """The threshold table with the :func:`horizons` rows after it."""
+    extra = horizons(frame, cases)
+    if extra.empty:
+        return table
+    if table.empty:
+        return extra.reset_index(drop=True)
+    return pd.concat([table, extra], ignore_index=True)
+
+
 # --- the matrix -------------------------------------------------------------------------------
 
 
@@ -352,6 +446,8 @@ def quantity_label(row: Mapping[Hashable, Any]) -> str:
     """
     headline = HEADLINE.get(str(row["kind"]))
     quantity = str(row["quantity"])
+    if row.get("param") == "time_horizon":
+        return f"{quantity} (s)"
     return quantity if quantity == headline else f"{quantity} (no {headline})"
 
 
@@ -429,7 +525,7 @@ def analyse(directory: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The sweep points and the threshold table of the run in ``directory``."""
     stored = read_run(directory)
     points = sweep_points(stored.results, stored.cases)
-    return points, thresholds(points)
+    return points, with_horizons(thresholds(points), stored.results, stored.cases)
 
 
 def save(points: pd.DataFrame, table: pd.DataFrame, target: Path) -> dict[str, Path]:

@@ -14,6 +14,8 @@
 - ``timings.jsonl`` and ``counts.jsonl``: the timing phase's wall-clock samples
   (:mod:`crosscheck.results.timings`) and the instruction timer's raw counts
   (:mod:`crosscheck.results.counts`), joined to the results' timing columns when read;
+- ``series.jsonl``: each recorded scene's relative energy against time, per engine and for
+  the exact reference (:mod:`crosscheck.results.series`), appended with the case's rows;
 - ``repro/``: a standalone script per breaking case x engine (:func:`repro_name`, written by
   :mod:`crosscheck.studies.repro`; :func:`written_repros` says which are there).
 
@@ -47,7 +49,7 @@ import pandas as pd
 from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.core.values import upgrade
-from crosscheck.results import counts, legacy, repeats
+from crosscheck.results import counts, legacy, repeats, series
 from crosscheck.results.rows import line
 from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
@@ -92,6 +94,7 @@ class ResultsStore:
             _replace_if_exists(directory / TIMINGS)
             _replace_if_exists(directory / repeats.FILE)
             _replace_if_exists(directory / counts.FILE)
+            _replace_if_exists(directory / series.FILE)
         self.repeated: set[tuple[str, str]] = set(repeats.read_repeats(directory) if resume else ())
         timings = read_timings(directory) if resume else None
         self.timed: set[tuple[str, str]] = (
@@ -137,6 +140,19 @@ class ResultsStore:
         with (self.directory / counts.FILE).open("a", encoding="utf-8") as handle:
             handle.write(record.to_json() + "\n")
         self.counted.add((record.case_id, record.engine))
+
+    def append_series(self, records: Iterable[series.SeriesRecord]) -> None:
+        """Append scene energy series to ``series.jsonl`` in one write and flush (nothing to
+        write: the file is not touched)."""
+        text = "".join(record.to_json() + "\n" for record in records)
+        if not text:
+            return
+        try:
+            with (self.directory / series.FILE).open("a", encoding="utf-8") as handle:
+                handle.write(text)
+        except OSError as exc:
+            raise StoreError(f"cannot write {self.directory / series.FILE}: "
+                             f"{exc.strerror or exc}") from exc
 
     def append_repeat(self, record: repeats.RepeatRecord) -> None:
         """Append one pair's second answer to ``repeats.jsonl`` and flush."""

@@ -14,7 +14,10 @@ from the columns (:func:`score_lines`, with :class:`crosscheck.results.rows.Colu
 which shares the row's one definition with the per-record writer), without a Record per
 row.  A chunk is
 written when it is full, :data:`FLUSH_S` after the last write, and when the run
-ends or is interrupted, so an interrupted run keeps every outcome it received.
+ends or is interrupted, so an interrupted run keeps every outcome it received.  A chunk's
+recorded scenes first append their energy against time to ``series.jsonl``
+(:func:`energy_series`; the report's energy charts draw them); the per-record path below
+writes rows only.
 ``run(..., columnar=False)`` scores record by record in the lanes (:func:`score_case`),
 as before; ``tests/truth/test_columnar.py`` checks that both write the same rows.
 """
@@ -35,6 +38,7 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, PairCase, SceneCase, ToiCase
 from crosscheck.core.values import encode
 from crosscheck.results.rows import ColumnLines, line
+from crosscheck.results.series import EXACT, SeriesRecord, series_of
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome, case_options
@@ -309,6 +313,8 @@ class _Chunk:
     def flush(self) -> None:
         pending, self.pending = self.pending, []
         self.written = time.monotonic()
+        self.store.append_series(record for executed in pending
+                                 for record in energy_series(executed, self.adapters))
         for k, adapter in enumerate(self.adapters):
             mine = [(e.case, outcome, e.truth) for e in pending for j, outcome in e.outcomes
                     if j == k]
@@ -317,6 +323,19 @@ class _Chunk:
                 text = score_lines(cases, adapter, outcomes, truths)
                 self.store.append_lines(text)
                 self.count += text.count("\n")
+
+
+def energy_series(executed: Executed, adapters: Sequence[Adapter]) -> list[SeriesRecord]:
+    """The energy series of one executed scene case (``series.jsonl``,
+    :mod:`crosscheck.results.series`): the exact reference's, then each engine's whose
+    observation carries a trajectory; none for a pair case or an open-space scene."""
+    case = executed.case
+    if not isinstance(case, SceneCase):
+        return []
+    found = [series_of(case, EXACT, executed.truth.trajectory)]
+    found += [series_of(case, adapters[k].name, outcome.observation.trajectory)
+              for k, outcome in executed.outcomes if outcome.observation is not None]
+    return [record for record in found if record is not None]
 
 
 def score_lines(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence[Outcome],
