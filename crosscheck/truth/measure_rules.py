@@ -150,8 +150,9 @@ def _settle(case: SceneCase, conventions: Conventions, quantity: str, value: Val
     if category == Category.ERROR:
         return category, (f"{head}: one body is {worst:.3g} m from its exact gap, beyond the "
                           f"{declared}")
-    word = {Category.TIMESTEP: "the step's allowance", Category.TOLERANCE: "the precision",
-            Category.CONVENTION: "the rest band and soft sink"}[category]
+    word = {str(Category.TIMESTEP): "the step's allowance",
+            str(Category.TOLERANCE): "the precision",
+            str(Category.CONVENTION): "the rest band and soft sink"}[category]
     return category, f"{head}, within {word} ({declared})"
 
 
@@ -193,7 +194,7 @@ def _impact_speeds(case: SceneCase, truth: Observation) -> list[float]:
     """The exact normal speeds of body 0's recorded bounces (from the exact apexes)."""
     g = norm(sm.gravity(case))
     apexes = truth.apex if isinstance(truth.apex, tuple) else ()
-    return [math.sqrt(2 * g * cast(float, h)) for h in apexes]
+    return [math.sqrt(2 * g * h) for h in apexes]
 
 
 def _energy(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
@@ -257,7 +258,7 @@ def _lag(case: SceneCase, quantity: str, truth: Observation) -> float:
     top = sm.top_speed(case)
     depth = top * dt + g * dt * dt
     if quantity == "apex":
-        apexes = [cast(float, h) for h in truth.apex] if isinstance(truth.apex, tuple) else []
+        apexes = list(truth.apex) if isinstance(truth.apex, tuple) else []
         low = min((h for h in apexes if h > 0), default=math.inf)
         return len(apexes) * depth / low
     mass = max((b.mass for b in case.bodies), default=0.0)
