@@ -49,7 +49,10 @@ correction moves positions only).  Restitution: Box2D mixes the fixtures' values
 Scenes (``sphere_scene``, 2-D) are stepped by :mod:`adapters.box2d_scene` in worlds built by
 :mod:`adapters.box2d_world` (as responses are), with the variant's ``scene_tuning``: ``box2d``
 passes its ``variant`` (dt and iterations from the scene), ``box2d-default`` None (Box2D's
-defaults); the scene conventions, measured, are in that module's docstring.
+defaults); the scene conventions, measured, are in that module's docstring, and so are
+the walls of scenes with surroundings (static bodies with box fixtures) and the declared
+``rest_gap`` (-b2_linearSlop, polygon radius), ``rest_sink_steps``, ``sleeps`` and
+``wall_restitution`` (``box2d_scene.with_walls``).
 
 Variants (sources below):
 
@@ -321,7 +324,7 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
     skin = variant.polygon_radius is None
     box_margin = B2_EPSILON + (SKIN if skin else 0.0)
     verdict = {"face": SKIN, "corner": SKIN} if skin else {}
-    return Conventions(
+    return box2d_scene.with_walls(Conventions(
         box_extents="half (box=(hx, hy) calls b2PolygonShape::SetAsBox(hx, hy))",
         normal="A to B (b2WorldManifold.normal; apart: b2Distance pointA -> pointB); as is",
         touching={"sphere": True, "face": True, "corner": skin},
@@ -342,9 +345,9 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
         toi_target=box2d_toi.TOI_TARGET,
         toi_tolerance=box2d_toi.TOI_TOLERANCE,
         toi_min_centre_distance=box2d_toi.LINEAR_SLOP,
-        notes=_NOTES + box2d_toi.TOI_NOTES + settings,
+        notes=_NOTES + box2d_toi.TOI_NOTES + settings + _WALL_NOTES,
         sources=SOURCES + box2d_toi.SOURCES + (B2 + "Dynamics/b2World.cpp",),
-    )
+    ), variant)
 
 
 _NOTES = ("float32 engine (inputs rounded to float32). Detection: b2CollidePolygons / "
@@ -361,6 +364,13 @@ _NOTES = ("float32 engine (inputs rounded to float32). Detection: b2CollidePolyg
           "Contacts between two dynamic bodies are sampled at each step (sampled_contacts): "
           "b2World::SolveTOI sweeps a pair only if one is a bullet or not dynamic "
           "(b2World.cpp; the box2d-bullet variant sets bullet). ")
+
+_WALL_NOTES = (
+    " Gravity and walls (scenes): each wall a static body on its surface with a SetAsBox "
+    "fixture 1000 x the largest radius thick, 1e4 x the scene's extent sideways, its face "
+    "at exactly 0 in the body's frame (float32), the variant's polygon radius; restitution "
+    "e (max), the variant's friction; rest band -b2_linearSlop to the polygon radius "
+    "(b2ContactSolver.cpp position solver, b2Settings.h); sleeping as the variant sets it.")
 
 
 class Box2dTuned(Adapter):

@@ -1,18 +1,21 @@
 """Box2D 2.3.0 (pybox2d 2.3.10) stepping a 2-D scene of N discs, for comparison with an exact run.
 
-What it is for: the scene runners step a whole scene (N discs, one restitution, no gravity,
-no ground) with a fixed ``dt`` and return the final state, to be scored against the exact
-event-driven reference; :mod:`adapters.box2d_engine` answers single pair cases instead.
-Types and input checks are shared with the other runners in :mod:`adapters.scene`; the world
-and its discs are built by :mod:`adapters.box2d_world`, as the pair adapter's responses are.
+What it is for: the scene runners step a whole scene (N discs, one restitution, in open
+space or with gravity and static walls, :class:`adapters.scene.Surroundings`) with a fixed
+``dt`` and return the final state, to be scored against the exact event-driven reference;
+:mod:`adapters.box2d_engine` answers single pair cases instead.  Types and input checks are
+shared with the other runners in :mod:`adapters.scene`; the world and its discs are built by
+:mod:`adapters.box2d_world`, as the pair adapter's responses are.
 Box2D is 2-D: a 3-D scene raises ``ValueError``.
 
-Building (``prepare_scene``, untimed): a new ``b2World`` per scene (gravity 0, sleeping as
-the variant says, with ``SetAllowSleeping``); per disc a dynamic body at its centre with its
+Building (``prepare_scene``, untimed): a new ``b2World`` per scene (the scene's gravity, 0 in
+open space; sleeping as the variant says, with ``SetAllowSleeping``); per wall a static body
+with a box fixture (below); per disc a dynamic body at its centre with its
 velocity and one circle fixture of restitution e, its mass set exactly through ``massData``
-(``add_disc``); only the declared bodies.  ``run_scene`` times only ``world.Step(dt,
-velocity_iterations, position_iterations)`` in a loop and reads ``body.position`` /
-``body.linearVelocity`` after it (float32 values, widened); ``release_scene`` destroys the
+(``add_disc``); only the declared bodies and walls.  ``run_scene`` times only ``world.Step(dt,
+velocity_iterations, position_iterations)`` in a loop (``adapters.scene.step_and_record``, a
+``functools.partial`` step) and reads ``body.position`` / ``body.linearVelocity`` after it
+(and every ``record_every`` steps, untimed; float32 values, widened); ``release_scene`` destroys the
 bodies.  Velocity iterations: the scene's ``iterations`` if given, else the variant's 8;
 position iterations 3 (``Step`` has no defaults: the pybox2d testbed's values).
 
@@ -82,6 +85,61 @@ Conventions, measured with this module (sources as cited in ``box2d_engine.SOURC
   for 1000 steps of 1e-3 ends at 0.99999070 (float32 sums of dt v), so position errors of
   Box2D are of float32 size or more, far above the float64 tolerance the scenes are scored
   with.
+
+Gravity and walls (``surroundings``; declared per variant by :func:`with_walls`):
+
+- a wall is what Box2D's users build for a ground (the manual's "Hello Box2D": a static body
+  with a ``SetAsBox`` polygon): a static body with one box fixture (``add_wall``), 1000 x the
+  largest radius thick on the solid side and 1e4 x the scene's extent sideways
+  (:mod:`adapters.wall_boxes`).  Float32: the body sits on the wall's surface sideways at the
+  scene's centre and the box is ``SetAsBox(hx, hy, centre, 0)`` in its frame, so the face a
+  disc touches is at exactly 0 there and the face's separation (``b2Dot(normal, cLocal -
+  v)`` with an axis normal, b2CollideCircle.cpp) does not involve the box's size; a box
+  centred elsewhere would put its surface at a float32 sum.  An edge (``b2EdgeShape``) would
+  do too but is two-sided: a disc pushed past it is pushed out below.  Static bodies never
+  collide with each other, and Box2D's time of impact sweeps every dynamic body against
+  static ones in every variant (``SolveTOI``: a static body is ``collideB``, b2World.cpp),
+  so discs do not tunnel through walls.
+- margins: the variant's polygon radius applies to the walls: none in ``box2d`` and
+  ``box2d-bullet``, ``b2_polygonRadius`` (2 ``b2_linearSlop`` = 0.01) in ``box2d-default``;
+  a contact is made at separation <= the radii (``s > radius`` rejects, b2CollideCircle.cpp)
+  and the position solver pushes only overlaps deeper than ``b2_linearSlop`` (0.005) back,
+  by ``b2_baumgarte`` (0.2) of the excess per iteration (b2ContactSolver.cpp).  A disc
+  rests at a gap from -0.005 to 0 on a disc or a skinless wall and from 0.005 to 0.01 on a
+  skinned one: ``rest_gap`` (-0.005f, 0) tuned, (-0.005f, 0.01f) default.  Measured
+  (one disc r 0.1 placed on the ground, 10 s): tuned gap 1.5e-9 (float32(0.1) - 0.1), speed
+  exactly 0, at dt 1e-3, 1/240 and 1/60; default 0.0050000 at 1/240, 0.0049938 at 1/60 (the
+  disc falls asleep after ``b2_timeToSleep`` = 30 steps, before the position solver has
+  lifted it all the way: 0.005 x 0.8^30 short).
+- sink: the step adds gravity to the velocities before the velocity constraints
+  (b2Island.cpp), which cancel it as far as the sequential impulses converge: one disc on
+  the ground sinks nothing (above); a column sinks until the position solver balances it,
+  declared at most one step's fall, ``|g| dt**2``, below the band (``REST_SINK_STEPS``).
+  The bound is per contact: in a tall column the sequential impulses leave more.
+  Measured, columns of n discs (r 0.1) set touching on the ground for 5 s, any e (slow
+  impacts are inelastic below the threshold), deepest gap during the run / at the end in
+  units of ``|g| dt**2`` below the band's -0.005: tuned at dt 1/60, n 3 and 5 within the
+  band, n 10 0.68 / within, n 20 9.7 / 0.97; at 1/240 (where the band is 29 ``|g| dt**2``
+  deep) within it up to n 20.  Default (asleep at the end, speed exactly 0), at 1/60: n 2
+  and 3 0.5 / 0.1, n 5 0.6 / 0.1, n 10 1.3 / 0.1, n 20 9.7 to 16.9 / 0.8 to 1.3 (by e);
+  at 1/240: n 5 0.5 / within, n 10 1.0 / within, n 20 2.3 / within.
+- sleeping: as the variant says: off in ``box2d`` and ``box2d-bullet``, on in
+  ``box2d-default`` (a body slower than 0.01 m/s for 0.5 s sleeps with its velocity zeroed:
+  measured, the resting disc and the column end with speed exactly 0).
+- restitution with walls: a wall's fixture gets e like the discs (``max``, so e); the 1 m/s
+  threshold applies.  The approach speed is read after the step's gravity is added
+  (``vRel`` in ``InitializeVelocityConstraints`` from the integrated velocities,
+  b2Island.cpp, b2ContactSolver.cpp), so a bounce leaves about ``|g| dt`` faster than it
+  arrived: measured, a disc dropped from 1 m (e 1, 10 s, 11 bounces) has apexes growing from
+  1.0044 to 1.045 m at dt 1e-3 (1 + 2 |g| dt / 4.43 m/s = 1.0044 a bounce), 1.0186 to
+  1.1933 m at 1/240, both variants; at 1/60 they alternate between about 1.000 and 0.966
+  (tuned) or 0.986 (default).  A disc at 3 m/s between two walls in zero gravity kept
+  exactly 3 over 10 s (17 bounces), every variant.
+- friction of a wall: the variant's for the discs (tuned 0; default ``b2FixtureDef``'s 0.2),
+  mixed as ``sqrt(fA fB)`` (b2MixFriction).
+Measured outside the suite with this module: ``prepare_scene([((0, 0.1), 0.1, 1, (0, 0))], 2,
+e, dt, None, tuning, Surroundings((0, -9.81), (Wall((0, 1), 0),)))`` (the drop: centre at
+1.1, e 1), then ``run_scene(p, round(10 / dt), record_every=1)`` and its samples.
 """
 
 from __future__ import annotations
@@ -89,10 +147,36 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Any
 
-from adapters.box2d_world import Variant, add_disc, new_world, xy
-from adapters.scene import Body, SceneRun, check_scene, check_steps
+import numpy as np
+
+from adapters.box2d_world import Variant, add_disc, add_wall, new_world, xy
+from adapters.scene import (
+    Body,
+    SceneRun,
+    State,
+    Surroundings,
+    check_scene,
+    check_surroundings,
+    step_and_record,
+)
+from adapters.wall_boxes import slabs
+from crosscheck.core.contract import Conventions
+
+LINEAR_SLOP = float(np.float32(0.005))
+"""``b2_linearSlop`` (0.005f, b2Settings.h): overlap the position solver leaves."""
+POLYGON_RADIUS = float(np.float32(0.01))
+"""``b2_polygonRadius`` (2 b2_linearSlop, b2Settings.h): the default variant's wall skin."""
+REST_SINK_STEPS = 1.0
+"""How far below the rest band a resting disc may sink, in ``|g| dt**2``: one step's gravity
+not cancelled by unconverged velocity iterations (a column), before the position solver."""
+WALL_RESTITUTION = (
+    "max of the fixtures' restitutions (b2MixRestitution, b2Contact.h): a wall's fixture gets "
+    "e like every disc, so a disc-wall contact bounces with e above b2_velocityThreshold (1 "
+    "m/s; slower approaches are inelastic); the approach speed is read after the step's "
+    "gravity (b2Island.cpp), so a bounce leaves up to |g| dt faster than it arrived")
 
 __all__ = ["Body", "SceneRun", "prepare_scene", "release_scene", "run_scene"]
 
@@ -103,11 +187,13 @@ DEFAULTS = Variant(polygon_radius=None, use_radii=True, dt=0.0, friction=None,
 
 @dataclass(frozen=True, eq=False)
 class Prepared:
-    """A built scene: its world, the variant with the scene's dt and iterations, the bodies."""
+    """A built scene: its world, the variant with the scene's dt and iterations, the bodies
+    and the walls' static bodies."""
 
     world: Any
     variant: Variant
     bodies: tuple[Any, ...]
+    walls: tuple[Any, ...] = ()
 
 
 def scene_variant(dt: float, iterations: int | None, tuning: Variant | None) -> Variant:
@@ -124,40 +210,56 @@ def scene_variant(dt: float, iterations: int | None, tuning: Variant | None) -> 
 
 
 def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuning: Variant | None) -> Any:
+                  iterations: int | None, tuning: Variant | None,
+                  surroundings: Surroundings | None = None) -> Any:
     """Build the scene in a new world (untimed).  Box2D is 2-D: ``dim`` 3 raises.
 
-    ``tuning``: the variant's settings, or None for Box2D's defaults.
+    ``tuning``: the variant's settings, or None for Box2D's defaults; ``surroundings``:
+    gravity and walls, None for open space (gravity 0, no walls).
     """
     if dim != 2:
         raise ValueError(f"box2d is a 2-D engine: no {dim}-D scenes")
     check_scene(bodies, dim, restitution, dt)  # Box2D reads a mass <= 0 as 1
+    around = check_surroundings(surroundings, dim)
     variant = scene_variant(dt, iterations, tuning)
-    world = new_world(variant.sleep)
+    world = new_world(variant.sleep, around.gravity)
+    walls = tuple(add_wall(world, slab, restitution, variant)
+                  for slab in slabs(bodies, around.walls))
     made = tuple(add_disc(world, center, velocity, radius, mass, restitution, variant)
                  for center, radius, mass, velocity in bodies)
-    return Prepared(world, variant, made)
+    return Prepared(world, variant, made, walls)
 
 
-def run_scene(prepared: Any, steps: int,
-              clock: Callable[[], float] = time.perf_counter) -> SceneRun:
-    """Step the scene ``steps`` times (only this loop is timed, read from ``clock``
-    just before and just after it) and read its final state."""
+def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_counter,
+              record_every: int = 0) -> SceneRun:
+    """Step the scene ``steps`` times (only the stepping is timed, read from ``clock`` just
+    before and just after each run of steps) and read its final state; with ``record_every``
+    > 0 also the state every that many steps (:func:`adapters.scene.step_and_record`)."""
     scene: Prepared = prepared
-    check_steps(steps)
     v = scene.variant
-    step, dt, vi, pi = scene.world.Step, v.dt, v.velocity_iterations, v.position_iterations
-    start = clock()
-    for _ in range(steps):
-        step(dt, vi, pi)
-    wall = clock() - start
-    positions = tuple(xy(b.position) for b in scene.bodies)
-    velocities = tuple(xy(b.linearVelocity) for b in scene.bodies)
-    return SceneRun(positions, velocities, wall, steps)
+
+    def read() -> State:
+        return ([xy(b.position) for b in scene.bodies],
+                [xy(b.linearVelocity) for b in scene.bodies])
+
+    step = partial(scene.world.Step, v.dt, v.velocity_iterations, v.position_iterations)
+    wall, samples = step_and_record(step, read, steps, record_every, clock)
+    positions, velocities = read()
+    return SceneRun(tuple(map(tuple, positions)), tuple(map(tuple, velocities)), wall, steps,
+                    samples)
+
+
+def with_walls(conventions: Conventions, variant: Variant) -> Conventions:
+    """``conventions`` with the gravity-and-walls fields of ``variant``: resting contacts held
+    from -b2_linearSlop to touching on discs and skinless walls, up to the skin on skinned
+    ones (polygon radius None: ``b2_polygonRadius``), one step's sink, sleeping as set."""
+    skin = POLYGON_RADIUS if variant.polygon_radius is None else variant.polygon_radius
+    return replace(conventions, rest_gap=(-LINEAR_SLOP, skin), rest_sink_steps=REST_SINK_STEPS,
+                   rest_sink_s2=0.0, sleeps=variant.sleep, wall_restitution=WALL_RESTITUTION)
 
 
 def release_scene(prepared: Any) -> None:
-    """Destroy the scene's bodies (their fixtures and contacts go with them)."""
+    """Destroy the scene's bodies and walls (their fixtures and contacts go with them)."""
     scene: Prepared = prepared
-    for body in scene.bodies:
+    for body in (*scene.bodies, *scene.walls):
         scene.world.DestroyBody(body)

@@ -1,12 +1,14 @@
 """Building Box2D (pybox2d 2.3.10) worlds of discs, shared by the response and the scene runner.
 
 What it is for: :mod:`adapters.box2d_engine` (``sphere_response``: two discs) and
-:mod:`adapters.box2d_scene` (``sphere_scene``: N discs) build their worlds the same way, with
-the same variant settings (:class:`Variant`): a ``b2World`` with gravity 0 and sleeping set
-with ``SetAllowSleeping`` (pybox2d's ``b2World(doSleep=...)`` only sets a Python attribute),
-and per disc a dynamic body with one circle fixture of density 0 whose mass is then set
-exactly through ``massData`` (centre 0; moment ``m r^2 / 2`` when rotation is free, what a
-density would give, else 0 with ``fixedRotation``).  The reasons for each setting are in
+:mod:`adapters.box2d_scene` (``sphere_scene``: N discs) build their worlds the same way,
+with the same variant settings (:class:`Variant`): a ``b2World`` with gravity 0 (a scene's
+gravity if it has one) and sleeping set with ``SetAllowSleeping`` (pybox2d's
+``b2World(doSleep=...)`` only sets a Python attribute), per wall of a scene a static body
+with a box fixture (``add_wall``, sized by :mod:`adapters.wall_boxes`), and per disc a
+dynamic body with one circle fixture of density 0 whose mass is then set exactly through
+``massData`` (centre 0; moment ``m r^2 / 2`` when rotation is free, what a density would
+give, else 0 with ``fixedRotation``).  The reasons for each setting are in
 :mod:`adapters.box2d_engine`'s docstring.  Box2D is imported on first use (``engine``), so a
 missing engine shows as unavailable.
 """
@@ -16,6 +18,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
+
+from adapters.wall_boxes import Slab
 
 
 def engine() -> Any:
@@ -42,9 +46,9 @@ class Variant:
     impact) then acts between it and other dynamic bodies too, not only static ones."""
 
 
-def new_world(sleep: bool) -> Any:
-    """A ``b2World`` with no gravity; sleeping on or off in Box2D itself."""
-    world = engine().b2World(gravity=(0.0, 0.0))
+def new_world(sleep: bool, gravity: Sequence[float] = (0.0, 0.0)) -> Any:
+    """A ``b2World`` with ``gravity`` (none by default); sleeping on or off in Box2D itself."""
+    world = engine().b2World(gravity=xy(gravity))
     world.SetAllowSleeping(sleep)  # not doSleep=: it only sets a Python attribute
     return world
 
@@ -64,4 +68,19 @@ def add_disc(world: Any, center: Sequence[float], velocity: Sequence[float], rad
     body.CreateCircleFixture(radius=radius, density=0.0, restitution=restitution, **extra)
     moment = 0.0 if variant.fixed_rotation else 0.5 * mass * radius**2
     body.massData = b2.b2MassData(mass=mass, center=(0.0, 0.0), I=moment)
+    return body
+
+
+def add_wall(world: Any, slab: Slab, restitution: float, variant: Variant) -> Any:
+    """A static body at the slab's anchor with one box fixture (``SetAsBox(hx, hy, centre,
+    0)`` in the body's frame: the surface is at 0 there, exactly), the disc's restitution,
+    the variant's friction and polygon radius (None: Box2D's ``b2_polygonRadius`` skin)."""
+    b2 = engine()
+    body = world.CreateStaticBody(position=xy(slab.anchor))
+    shape = b2.b2PolygonShape()
+    shape.SetAsBox(slab.half[0], slab.half[1], xy(slab.centre), 0.0)
+    if variant.polygon_radius is not None:
+        shape.radius = variant.polygon_radius
+    extra = {} if variant.friction is None else {"friction": variant.friction}
+    body.CreateFixture(shape=shape, restitution=restitution, **extra)
     return body

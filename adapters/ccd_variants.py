@@ -106,7 +106,9 @@ class Box2dBullet(Box2dTuned):
                "impact of a contact between two dynamic bodies when one is a bullet, moves "
                "the pair there and solves it with restitution.  The speed cap stays: "
                "b2_maxTranslation, 2 m a step (declared max_speed 2 / dt at the declared "
-               "time step: 2 m per step at any dt).  Measured in adapters/box2d_scene.py"),
+               "time step: 2 m per step at any dt).  Walls as the box2d variant's (no skin, "
+               "rest band -b2_linearSlop to 0, no sleeping); every variant's discs are swept "
+               "against static walls, bullets or not.  Measured in adapters/box2d_scene.py"),
         sources=Box2dTuned.conventions.sources + BOX2D_BULLET_SOURCES,
     )
 

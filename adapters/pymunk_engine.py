@@ -63,7 +63,10 @@ Variants (Space settings; sources below):
 
 Scenes (``sphere_scene``) are stepped by :mod:`adapters.pymunk_scene` with the variant's
 ``scene_tuning``: ``pymunk`` passes its slop, bias and friction as a ``pymunk_scene.Tuning``,
-``pymunk-default`` None (pymunk's defaults).
+``pymunk-default`` None (pymunk's defaults).  Gravity and walls (static Poly boxes on
+``space.static_body``): each variant declares ``rest_gap`` = (-collision_slop, 0), i.e.
+(-0.1f, 0) default and (0, 0) tuned, ``rest_sink_steps`` 1, no sleeping and the wall's restitution
+(sqrt(e), product e); the reasons and the measurements are in that module's docstring.
 
 collision_slop is a Space setting: it only sets how much overlap the bias term
 leaves uncorrected.  It does not apply to ``shapes_collide`` nor to the
@@ -123,6 +126,7 @@ SOURCES = (
     MUNK2D + "cpCollision.c",  # CircleToCircle strict <, PolyToPoly d <= 0, ContactPoints
     MUNK2D + "cpArbiter.c",  # e = a->e * b->e; bounce = vrn * e; jnAcc = max(.., 0)
     MUNK2D + "cpSpaceStep.c",  # positions, collide + pre_solve, prestep, velocities, solver
+    MUNK2D + "cpSpace.c",  # collisionSlop 0.1f, sleepTimeThreshold INFINITY (no sleeping)
     PYMUNK + "contact_point_set.py",  # assert count in (1, 2): no contact raises
     PYMUNK + "body.py",  # moment float('inf'): a body that cannot rotate
     PYMUNK + "shapes.py",  # create_box(size=(width, height), radius=0), shapes_collide
@@ -144,9 +148,17 @@ _NOTES = ("Detection uses Shape.shapes_collide (independent of any Space: collis
           "not (distance |d| - ra - rb as given, contact when |d| < |ra + rb|; measured "
           "here).  ")
 
+_WALL_NOTES = (
+    " Gravity and walls (scenes): each wall a static Poly box on space.static_body, 1000 x "
+    "the largest radius thick, 1e4 x the scene's extent sideways (adapters/wall_boxes.py); "
+    "a disc touching a Poly is a contact (d <= r, cpCollision.c CircleToPoly), so a disc "
+    "resting on a wall stays at gap 0; touching discs are not (strict <), so a disc on a "
+    "disc falls one step, |g| dt^2, first; overlaps within collision_slop are never "
+    "corrected (the tuned variant's bias 1.0 corrects none).  No sleeping.")
 
-def _conventions(settings: str, dt: float) -> Conventions:
-    return Conventions(
+
+def _conventions(settings: str, dt: float, slop: float) -> Conventions:
+    return pymunk_scene.with_walls(Conventions(
         box_extents="full (Poly.create_box takes width and height; the adapter passes 2*half)",
         normal="A to B (ContactPointSet.normal points from the first shape to the second); "
                "used as is",
@@ -162,9 +174,9 @@ def _conventions(settings: str, dt: float) -> Conventions:
         notes=_NOTES + settings + (
             " No continuous collision detection: each step moves the bodies, then looks for "
             "overlapping shapes (sampled_contacts); pymunk's Body.velocity_func docs suggest "
-            "limiting velocity 'to prevent tunneling'."),
+            "limiting velocity 'to prevent tunneling'." + _WALL_NOTES),
         sources=SOURCES,
-    )
+    ), slop)
 
 
 @dataclass
@@ -275,9 +287,9 @@ class PymunkTuned(Adapter):
                                "correction), iterations 10, friction 0, elasticity A = e, B = 1")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
         *(k for k in Kind if k is not Kind.SPHERE_TOI), dims=(2,))
-    conventions: ClassVar[Conventions] = _conventions(settings, 1e-3)
-    dt: ClassVar[float] = 1e-3
     slop: ClassVar[float | None] = 0.0
+    conventions: ClassVar[Conventions] = _conventions(settings, 1e-3, 0.0)
+    dt: ClassVar[float] = 1e-3
     bias: ClassVar[float | None] = 1.0
     iterations: ClassVar[int | None] = 10
     friction: ClassVar[float | None] = 0.0
@@ -372,7 +384,8 @@ class PymunkDefault(PymunkTuned):
     name: ClassVar[str] = "pymunk-default"
     settings: ClassVar[str] = ("dt 1/60 s; collision_slop (0.1f), collision_bias ((1-0.1f)^60), "
                                "iterations (10), friction (0) at defaults; elasticity A = e, B = 1")
-    conventions: ClassVar[Conventions] = _conventions(settings, 1.0 / 60.0)
+    conventions: ClassVar[Conventions] = _conventions(settings, 1.0 / 60.0,
+                                                      pymunk_scene.DEFAULT_SLOP)
     dt: ClassVar[float] = 1.0 / 60.0
     slop: ClassVar[float | None] = None
     bias: ClassVar[float | None] = None
