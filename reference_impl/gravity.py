@@ -34,10 +34,10 @@ starting from the input doubles; frictionless, no rotation.
 * **Simultaneous events** run one at a time in the order (time, sphere pairs before walls,
   indices), each seeing the velocities the previous one left, as in
   :mod:`reference_impl.events`.
-* **Not modelled (refused with ValueError):** a resting body and a flying one approaching
-  each other under gravity (their relative motion is a quartic in time), a body resting on
-  a sphere not straight below it or on a wall that is not opposite to gravity (it would
-  slide), gravity not along one axis when anything rests.
+* **Not modelled:** a resting body and a flying one under gravity both able to meet (their
+  relative motion is a quartic in time) raise ValueError naming the pair.  A body touching a
+  side wall, or a sphere not straight below it, with no normal velocity does not rest: it
+  flies on (frictionless), and meeting a resting sphere that way raises as above.
 
 >>> ground = Wall((0.0, 1.0), 0.0)
 >>> drop = Ball((0.0, 1.5), 0.5, 1.0, (0.0, 0.0))
@@ -151,7 +151,7 @@ class _World:
         self.m = [Fraction(b.mass) for b in balls]
         self.now, self.events = Fraction(), list[Event]()
         self.rest = [False] * self.n
-        self.settle_at: dict[int, Fraction] = {}
+        self.settle_at: dict[int, tuple[Fraction, int]] = {}  # body: (time, wall)
         self.bounces: list[tuple[Fraction, int, int, Fraction]] = []
         self._find_rest()
         self.rest_since: Fraction | None = Fraction() if all(self.rest) else None
@@ -229,7 +229,7 @@ class _World:
             for w in range(len(self.walls)):
                 if (t := self.wall_time(i, w)) is not None:
                     found.append((t, 1, i, self.n + w))
-        found += [(t, 2, i, SETTLE) for i, t in self.settle_at.items()]
+        found += [(t, 2, i, SETTLE) for i, (t, _) in self.settle_at.items()]
         if not found:
             return None
         t, _, i, j = min(found)
@@ -258,16 +258,16 @@ class _World:
         self.bounces.append((self.now, i, w, u))
         if self._down(w) and (u == 0 or (self.e < 1 and 2 * u / a < MIN_FLIGHT)):
             if u == 0:
-                self.rest[i] = True
+                self.settle(i, w)
             else:  # the rest of the series, summed: rest from t_rest on
                 t_rest = self.now + 2 * u / (a * (1 - self.e))
-                self.settle_at[i] = max(self.now, Fraction(to_float(t_rest)))
+                self.settle_at[i] = (max(self.now, Fraction(to_float(t_rest))), w)
         return True
 
-    def settle(self, i: int) -> None:
-        """End a summed bounce series: the body rests on its wall (gap 0, normal speed 0)."""
-        del self.settle_at[i]
-        w = next(w for w in range(len(self.walls)) if self._down(w))
+    def settle(self, i: int, w: int) -> None:
+        """The body rests on wall ``w`` (gap 0, normal speed 0): after a bounce that leaves no
+        normal speed, or at the end of a summed bounce series on that wall."""
+        self.settle_at.pop(i, None)
         wall = self.walls[w]
         self.p[i][wall.axis] = wall.sign * (Fraction(wall.offset) + self.r[i])
         self.v[i][wall.axis] = Fraction()
@@ -278,7 +278,7 @@ class _World:
             t, i, j = nxt
             self.advance(t)
             if j == SETTLE:
-                self.settle(i)
+                self.settle(i, self.settle_at[i][1])
             elif not (self.respond_pair(i, j) if j < self.n else self.respond_wall(i, j - self.n)):
                 raise RuntimeError(f"event ({i}, {j}) at {t} does not approach")  # pragma: no cover
             if len(self.events) >= max_events:
