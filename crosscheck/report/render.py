@@ -36,13 +36,14 @@ def render_html(view: RunView) -> str:
 
 
 def render(directory: Path) -> dict[str, Path]:
-    """Write results (CSV and typed Parquet), summary, disagreements and asymmetries CSV
-    files and report.html."""
+    """Write results (CSV and typed Parquet), summary, disagreements, asymmetries and
+    metamorphic CSV files and report.html."""
     view = RunView(read_run(directory))
     paths = {"results": write_csv(view.stored.results, directory),
              "parquet": write_parquet(view.stored.results, directory)}
     for name, table in (("summary", view.summary), ("disagreements", view.disagreements),
-                        ("asymmetries", view.asymmetries)):
+                        ("asymmetries", view.asymmetries),
+                        ("metamorphic", view.metamorphic)):
         paths[name] = directory / f"{name}.csv"
         table.to_csv(paths[name], index=False)
     paths["report"] = directory / "report.html"

@@ -28,6 +28,7 @@ from crosscheck.report import (
     charts,
     dynamics,
     energy_chart,
+    metamorphic,
     mirror,
     profiles,
     speed,
@@ -97,6 +98,12 @@ class RunView:
     def asymmetries(self) -> pd.DataFrame:
         return asymmetries(self.frame)
 
+    @functools.cached_property
+    def metamorphic(self) -> pd.DataFrame:
+        """Each moved or resized scene point x engine against the engine's own origin run
+        (``metamorphic.csv``; empty without such sweeps)."""
+        return metamorphic.points(self.frame, self.cases)
+
 
 def _no_plots(context: Context) -> bool:
     return False
@@ -161,8 +168,8 @@ def _timing(view: RunView) -> Context:
 
 def _dynamics(view: RunView) -> Context | None:
     """Each scene x engine's most accurate run in view; every run and the chart folded per
-    scene; energy against time per scene family, from ``series.jsonl`` when the run stored it
-    (None without scene runs)."""
+    scene; energy against time per scene family, from ``series.jsonl`` when the run stored it;
+    moved and resized scenes against the engine's own origin run (None without scene runs)."""
     built = dynamics.section(view.frame, view.cases, view.order)
     if not built["runs"]:
         return None
@@ -170,6 +177,7 @@ def _dynamics(view: RunView) -> Context | None:
     energy = energy_chart.section(read_series(view.stored.directory), view.cases, view.order)
     energy["charts"] = [{**c, "html": Markup(c["html"])} for c in energy["charts"]]
     built["energy"] = energy
+    built["metamorphic"] = metamorphic.section(view.metamorphic, view.order)
     built["charts"] = [*built["charts"], *energy["charts"]]
     return {"dynamics": built}
 
