@@ -338,6 +338,11 @@ def _vectors(case: AnyCase) -> Iterator[tuple[str, Sequence[float]]]:
             yield f"{side}.half", body.half
         if isinstance(body, MovingSphere | SweptSphere):
             yield f"{side}.velocity", body.velocity
+    if isinstance(case, SceneCase):
+        if case.gravity is not None:
+            yield "gravity", case.gravity
+        for k, wall in enumerate(case.walls):
+            yield f"walls[{k}].normal", wall.normal
 
 
 def _length_problems(case: AnyCase) -> Iterator[tuple[str, str]]:

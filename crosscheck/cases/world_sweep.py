@@ -59,16 +59,16 @@ def world_swept(case: SceneCase, values: dict[str, Values],
 
 
 def world_problems(case: SceneCase) -> Iterator[tuple[str, str]]:
-    """The field and reason of each problem with a scene's gravity and walls, before any work:
-    wrong dimension, a normal that is not a unit axis vector, a non-finite value, a body
+    """The field and reason of each problem with a scene's gravity and walls, before any work
+    (lengths and finite components are the loader's general rules): a normal that is not a
+    unit axis vector, a non-finite wall offset, a body
     starting inside a wall, a sweep over anything but scale and offset.  (A restitution
     outside [0, 1], the exact reference's range, is refused for every scene by the loader.)"""
-    if case.gravity is not None and (len(case.gravity) != case.dim
-                                     or not all(map(math.isfinite, case.gravity))):
-        yield "gravity", f"needs {case.dim} finite components, got {list(case.gravity)}"
     for k, wall in enumerate(case.walls):
         unit = sorted(map(abs, wall.normal)) == [0.0] * (case.dim - 1) + [1.0]
-        if len(wall.normal) != case.dim or not unit:
+        if len(wall.normal) != case.dim:
+            continue  # the loader's length rule names it
+        if not unit:
             yield f"walls[{k}].normal", (f"must be a unit axis vector of {case.dim} components "
                                          f"(one +1 or -1, the rest 0), got {list(wall.normal)}")
             continue

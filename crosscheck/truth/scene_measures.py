@@ -136,10 +136,6 @@ def drift(case: SceneCase, energy_end: float, duration: float) -> float:
     return (energy_end - start) / ((scale if scale > 0 else 1.0) * max(duration, 1e-300))
 
 
-def _height(case: SceneCase, floor: int, p: Vec) -> float:
-    return gap(case, floor, p, case.bodies[0].radius)
-
-
 def bounces(case: SceneCase, trajectory: Trajectory) -> tuple[Vec, Vec]:
     """Body 0's bounce times and apexes in recorded states: a bounce is a record at which the
     normal velocity (along the ground's normal) has turned from closing to opening, and the
@@ -166,9 +162,10 @@ def bounces(case: SceneCase, trajectory: Trajectory) -> tuple[Vec, Vec]:
               for vs in trajectory.velocities]
     apexes: list[float] = []
     times: list[float] = []
-    top, rising = -math.inf, False
+    top, rising, falling = -math.inf, False, False
     for k in range(1, len(speeds)):
-        if speeds[k - 1] < 0 < speeds[k]:
+        falling = speeds[k - 1] < 0 or (falling and speeds[k - 1] == 0)  # through a 0 too
+        if falling and speeds[k] > 0:
             times.append(trajectory.times[k])
             top, rising = heights[k], True
         elif rising:
@@ -239,8 +236,3 @@ def exact_bounces(case: SceneCase, events: Sequence[tuple[Fraction, int, Fractio
         if t + u / g <= end:
             apexes.append(float(u * u / (2 * g)))
     return tuple(apexes), tuple(times)
-
-
-def undefined(reason: str) -> Undefined:
-    """An Undefined measure with its reason."""
-    return Undefined(reason)

@@ -50,15 +50,15 @@ def no_work(monkeypatch: pytest.MonkeyPatch) -> None:
 @pytest.mark.usefixtures("no_work")
 @pytest.mark.parametrize(("block", "field", "words"), [
     (HEAD + TIME + ONE + "gravity = [0.0, -8.0, 0.0]\n" + GROUND, "gravity",
-     "needs 2 finite components, got [0.0, -8.0, 0.0]"),
-    (HEAD + TIME + ONE + "gravity = [-8.0]\n" + GROUND, "gravity", "needs 2 finite components"),
-    (HEAD + TIME + ONE + "gravity = [0.0, -inf]\n" + GROUND, "gravity", "finite components"),
+     "expected 2 components for dim = 2, got 3"),
+    (HEAD + TIME + ONE + "gravity = [-8.0]\n" + GROUND, "gravity", "expected 2 components"),
+    (HEAD + TIME + ONE + "gravity = [0.0, -inf]\n" + GROUND, "gravity[1]", "must be finite"),
     (HEAD + TIME + ONE + G + "walls = [{ normal = [0.0, 2.0] }]\n", "walls[0].normal",
      "must be a unit axis vector of 2 components"),
     (HEAD + TIME + ONE + G + GROUND.replace("]\n", ", { normal = [0.6, 0.8] }]\n"),
      "walls[1].normal", "one +1 or -1, the rest 0), got [0.6, 0.8]"),
     (HEAD + TIME + ONE + G + "walls = [{ normal = [0.0, 0.0, 1.0] }]\n", "walls[0].normal",
-     "unit axis vector of 2 components"),
+     "expected 2 components for dim = 2, got 3"),
     (HEAD + TIME + ONE + G + "walls = [{ normal = [0.0, 1.0], offset = inf }]\n",
      "walls[0].offset", "must be finite"),
     (HEAD + TIME + ONE + G + "walls = [{ normal = [0.0, 1.0], offset = 1.25 }]\n",
@@ -88,6 +88,18 @@ def test_a_bad_world_is_refused_naming_its_field_before_any_work(
     error = result.errors[0]
     assert words in error.reason and "case 'w'" in error.message
     assert f"field {field}:" in error.message and str(tmp_path) in error.message
+
+
+@pytest.mark.usefixtures("no_work")
+@pytest.mark.parametrize(("world", "field"), [
+    ("gravity = [0.0, -8.0, 0.0]\n" + GROUND, "gravity"),
+    (G + "walls = [{ normal = [0.0, 0.0, 1.0] }]\n", "walls[0].normal")])
+def test_a_bad_input_case_still_has_its_world_lengths_checked(
+        tmp_path: Path, world: str, field: str) -> None:
+    result = loaded(tmp_path, HEAD + 'tags = ["bad-input"]\n' + TIME + ONE + world)
+    assert result.cases == []
+    assert [(e.field, "expected 2 components" in e.reason) for e in result.errors] == [
+        (field, True)]
 
 
 @pytest.mark.parametrize("world", [G + GROUND, GROUND, G], ids=["ground", "walls", "gravity"])

@@ -60,6 +60,13 @@ def test_bounces_are_turns_from_closing_to_opening_with_the_apex_of_each_flight(
     assert apexes == (0.5, 0.25)  # the largest gap of each flight, not the last record
 
 
+def test_a_bounce_recorded_through_a_speed_of_exactly_zero_counts() -> None:
+    case = drop_case()
+    apexes, times = sm.bounces(case, track([0.3, 0.0, 0.0, 0.2, 0.4, 0.3],
+                                           [-2.0, 0.0, 1.0, 0.5, 0.0, -0.5]))
+    assert times == pytest.approx((0.2,)) and apexes == (0.4,)
+
+
 def test_an_apex_not_reached_by_the_end_is_not_counted() -> None:
     case = drop_case()
     apexes, times = sm.bounces(case, track([0.5, 0.0, 0.3, 0.6], [-2.0, 2.0, 1.0, 0.5]))
