@@ -19,7 +19,7 @@ from crosscheck.run.launch import launch, new_info
 from tests.conftest import ROOT
 
 FILES = ("aabb", "touching", "float_traps", "scale", "sphere", "degenerate", "response",
-         "impacts", "bad_input", "mass_ratio", "scenes")
+         "impacts", "bad_input", "mass_ratio", "scenes", "gravity")
 CASES = (
     # boxes: corner touches (margins, touching rules, undefined normals), crossed boxes
     "aabb-2d-corner-touch-unequal", "aabb-3d-corner-touch-mixed-signs",
@@ -35,6 +35,8 @@ CASES = (
     "bad-resp-2d-zero-mass-a", "bad-resp-2d-inf-mass-a", "bad-resp-3d-inf-velocity",
     # a scene with a coarse step: PyBullet and pymunk both miss the exact state
     "scene-2d-head-on.dt=0.1",
+    # gravity and a ground: a resting sphere (3-D engines) and an elastic drop (every one)
+    "rest-3d-sphere.dt=0.0166667", "drop-2d-elastic.dt=0.0166667",
 )
 
 

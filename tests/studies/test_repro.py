@@ -3,10 +3,11 @@
 One real run (every variant, a chosen slice of suite cases and a scene, ``--quick``:
 ``tests/studies/conftest.py``) is made once; case x engine pairs with a non-agree row get
 their script, which runs in a fresh Python process in an empty folder.  Its ``<quantity> =
-<text>`` lines must equal the run's ``value`` column, string for string.  A pair the run
-recorded as an error must raise the recorded exception, a crash must die by the recorded
-signal, a declared hang must hang after printing the quantities that answered.  Nothing
-here knows an engine's answer: the run is the oracle.
+<text>`` lines must equal the run's ``value`` column, string for string (a scene's measures
+the script does not compute, ``divergence`` and open space's, must be named in a comment).
+A pair the run recorded as an error must raise the recorded exception, a crash must die by
+the recorded signal, a declared hang must hang after printing the quantities that answered.
+Nothing here knows an engine's answer: the run is the oracle.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import pytest
 
 import adapters
 from crosscheck.core.model import Status
+from crosscheck.core.schema import SceneCase
 from crosscheck.results.store import REPRO_DIR, read_run, repro_name
 from crosscheck.studies.repro.script import (
     ReproError,
@@ -32,10 +34,12 @@ from crosscheck.studies.repro.script import (
     breaking_pairs,
     build,
     literal,
+    printed,
     scripts,
     write_run_scripts,
 )
 from crosscheck.studies.repro.writers import writer_for
+from crosscheck.truth.scene_measures import surrounded
 
 pytestmark = pytest.mark.engine
 
@@ -78,8 +82,9 @@ def answers(out: str, quantities: set[str]) -> dict[str, str]:
     return found
 
 
-def check_pair(rows: list[dict[str, object]], ran: Ran) -> int:
-    """Assert the script behaved as the run recorded; the non-agree rows compared bit for bit."""
+def check_pair(rows: list[dict[str, object]], ran: Ran, shown: tuple[str, ...]) -> int:
+    """Assert the script behaved as the run recorded; the non-agree rows it prints (``shown``:
+    ``script.printed``) compared bit for bit, the others named in a comment line."""
     statuses = {Status(str(r["status"])) for r in rows}
     reason = next((str(r["reason"]) for r in rows if Status(str(r["status"])).failed), "")
     if Status.CRASH in statuses:
@@ -94,9 +99,14 @@ def check_pair(rows: list[dict[str, object]], ran: Ran) -> int:
         assert ran.code is None, f"the run recorded a hang, the script ended: {ran}"
     else:
         assert ran.code == 0, ran.err[-2000:]
-    want = {str(r["quantity"]): str(r["value"]) for r in rows}  # a hung quantity's is null
+    compared = [r for r in rows if r["quantity"] in shown]
+    want = {str(r["quantity"]): str(r["value"]) for r in compared}  # a hung quantity's is null
     assert answers(ran.out, {str(r["quantity"]) for r in rows}) == want
-    return sum(Status(str(r["status"])) not in (Status.AGREE, Status.TIMEOUT) for r in rows)
+    comments = [line for line in ran.out.splitlines() if line.startswith("# ")]
+    for r in rows:
+        if r["quantity"] not in shown:  # a scene's measure the script does not compute
+            assert any(str(r["quantity"]) in line for line in comments), r["quantity"]
+    return sum(Status(str(r["status"])) not in (Status.AGREE, Status.TIMEOUT) for r in compared)
 
 
 def non_agree_pairs(runs: RunRows) -> Iterator[tuple[str, str]]:
@@ -107,14 +117,18 @@ def non_agree_pairs(runs: RunRows) -> Iterator[tuple[str, str]]:
 
 def one_per_engine_and_kind(runs: RunRows, pairs: list[tuple[str, str]]
                             ) -> list[tuple[str, str]]:
-    """Of ``pairs``, the first answered one of each engine x kind, and the first of each
-    engine that crashed, raised or hung: each way a script can end, on every variant."""
+    """Of ``pairs``, the first answered one of each engine x kind (scenes in open space and
+    with gravity or walls apart), and the first of each engine that crashed, raised or hung:
+    each way a script can end, on every variant."""
     seen: set[tuple[str, str]] = set()
     chosen = []
     for case_id, engine in pairs:
         rows = runs.rows(case_id, engine)
         ended = {str(r["status"]) for r in rows} & {"crash", "error", "timeout"}
-        group = (engine, min(ended) if ended else str(rows[0]["kind"]))
+        case = runs.stored.cases[case_id]
+        kind = str(rows[0]["kind"]) + (
+            " surrounded" if isinstance(case, SceneCase) and surrounded(case) else "")
+        group = (engine, min(ended) if ended else kind)
         if group not in seen:
             chosen.append((case_id, engine))
             seen.add(group)
@@ -157,7 +171,8 @@ def test_scripts_reproduce_the_run_bit_for_bit(repro_run: Path, tmp_path: Path, 
     for (case_id, engine), ran in zip(pairs, results, strict=True):
         rows = runs.rows(case_id, engine)
         failures.update(str(r["status"]) for r in rows if Status(str(r["status"])).failed)
-        compared[engine, str(rows[0]["kind"])] += check_pair(rows, ran)
+        shown = printed(runs.stored.cases[case_id])
+        compared[engine, str(rows[0]["kind"])] += check_pair(rows, ran, shown)
     groups = {(e, str(rows[0]["kind"])) for (_, e), rows in runs.pairs.items()
               if any(r["status"] != "skip" for r in rows)}
     disagreeing = {(e, str(runs.rows(c, e)[0]["kind"])) for c, e in non_agree_pairs(runs)}

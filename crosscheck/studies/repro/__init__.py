@@ -9,7 +9,9 @@
   textbook formula), :mod:`~crosscheck.studies.repro.pybullet`,
   :mod:`~crosscheck.studies.repro.mujoco`, :mod:`~crosscheck.studies.repro.coal`,
   :mod:`~crosscheck.studies.repro.box2d`, :mod:`~crosscheck.studies.repro.rapier` and
-  :mod:`~crosscheck.studies.repro.scenes` (PyBullet and pymunk scenes), on the ground of
+  :mod:`~crosscheck.studies.repro.scenes` (PyBullet and pymunk scenes; the other engines'
+  scenes in ``scenes_box2d``, ``scenes_mujoco``, ``scenes_rapier``; their gravity, walls and
+  measures in :mod:`~crosscheck.studies.repro.measures`), on the ground of
   :mod:`~crosscheck.studies.repro.code`;
 - :mod:`~crosscheck.studies.repro.issue`: a Markdown bug report around a script.
 """

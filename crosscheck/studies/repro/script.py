@@ -14,9 +14,14 @@ textbook formula in float64 when the run has the ``reference`` engine (``textboo
 quantity of the case as ``<quantity> = <text>``, where ``<text>`` is the JSON text crosscheck
 writes in results.csv's ``value`` column.
 
-Scenes (``sphere_scene``, stepped by PyBullet and pymunk) get scripts too: they build and
-step the scene and print the final ``positions`` and ``velocities``, the total ``momentum``
-and ``energy``, and the exact event-driven reference's.
+Scenes (``sphere_scene``, stepped by PyBullet, pymunk, Box2D, MuJoCo and Rapier) get scripts
+too: they build the scene with its gravity and walls as the adapter does, step it (recording
+the states every ``scene_measures.record_every`` steps when it has gravity or walls) and print
+the final ``positions`` and ``velocities``, the total ``momentum`` and ``energy``, and the
+measures computed as the harness computes them (:mod:`crosscheck.studies.repro.measures`):
+``settle``, ``jitter``, ``energy_drift``, ``apex`` and ``bounce_time``, with a comment on
+``divergence`` (judged by crosscheck against the exact trajectory: the run's value); in open
+space only ``energy_drift``, the others a comment.
 
 Everything comes from the stored run (:func:`crosscheck.results.store.read_run`): the
 cases, the rows, the engines and their conventions.  :func:`write_run_scripts` writes
@@ -36,12 +41,13 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status, quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase
 from crosscheck.results.store import StoredRun, read_run, repro_name, repro_path
+from crosscheck.studies.repro import measures
 from crosscheck.studies.repro.code import EngineCode, literal, vector
 from crosscheck.studies.repro.verdicts import comment, conventions_line, truths, verdict_line
 from crosscheck.studies.repro.writers import NoScene, Writer, writer_for
 
 __all__ = ["ReproError", "RunRows", "Script", "breaking_pairs", "build", "engines_for",
-           "literal", "scripts", "write_run_scripts"]
+           "literal", "printed", "scripts", "write_run_scripts"]
 
 ENCODE = '''\
 def number(x):
@@ -180,8 +186,20 @@ def _recorded(case: AnyCase, rows: list[Row], textbook: list[Row],
             "sys.stdout.flush()  # all of it on screen before the engine is asked"]
 
 
-def _answers(case: AnyCase, engine: EngineCode) -> list[str]:
-    """The engine's answer, one ``<quantity> = <JSON text>`` line per quantity."""
+def printed(case: AnyCase) -> tuple[str, ...]:
+    """The quantities a script prints as ``<quantity> = <JSON text>``: every quantity of the
+    case's kind, but of a scene only those the script computes
+    (:func:`crosscheck.studies.repro.measures.printed`; the others are a comment)."""
+    if isinstance(case, SceneCase):
+        return measures.printed(case)
+    return quantities_of(case.kind_enum)
+
+
+def _answers(case: AnyCase, engine: EngineCode, rows: list[Row]) -> list[str]:
+    """The engine's answer, one ``<quantity> = <JSON text>`` line per quantity (a scene's:
+    :func:`crosscheck.studies.repro.measures.answer_lines`)."""
+    if isinstance(case, SceneCase):
+        return measures.answer_lines(case, rows)
     lines = [f'print("{q} = " + encode({q}))' for q in quantities_of(case.kind_enum)]
     if engine.resolved_at:
         lines.append('print("# resolved at (centres of A and B):", resolved_at)')
@@ -201,7 +219,7 @@ def script_text(case: AnyCase, engine: EngineCode, info: dict[str, Any], rows: l
         *(f'print("# {label} =", {name})' for name, _, label, _ in inputs),
         "# What the run recorded: the exact answer, the verdicts, the declared conventions.",
         *_recorded(case, rows, textbook, info), "", "# The engine's calls.",
-        engine.code, *_answers(case, engine), *([engine.tail] if engine.tail else [])]
+        engine.code, *_answers(case, engine, rows), *([engine.tail] if engine.tail else [])]
     return "\n".join(parts) + "\n"
 
 
