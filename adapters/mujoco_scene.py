@@ -81,7 +81,6 @@ Conventions, measured with this module on 4.0.0 (sources in ``mujoco_engine.SOUR
 from __future__ import annotations
 
 import math
-
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
