@@ -144,7 +144,9 @@ WALLED_PLANE = 2.0**-30
 """A 2-D scene with gravity or walls keeps to z = 0 within this share of its scales: resting
 contacts and wall bounces, solved in all 6 N degrees of freedom for many steps, leave
 rounding noise in z far above :data:`PLANE` (measured on 4.0.0: 1.5e-13 m/s in a resting
-column at dt 1/60, 8.5e-12 m/s in a 60 s gas in a box; harmless, and dropped)."""
+column at dt 1/60).  It is a bound, not a cure: on free joints the noise grows, and a 60 s
+gas in a box leaves it (2e-9 m/s in z): that run is an error, the scene left its plane
+(slide joints would hold it; not done here)."""
 
 
 def stiff_solref(restitution: float, dt: float) -> tuple[float, float]:

@@ -186,8 +186,8 @@ def points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
         engines = [EXACT, *dict.fromkeys(group["engine"].astype(str))]
         for engine in engines:
             base = values.get((origin_ids[0], engine))
-            if base is None:
-                continue
+            if base is None or all(v is None for v in base.values()):
+                continue  # the engine does not step scenes (skip): nothing to compare
             for case_id, at in sorted(at_of.items(), key=lambda item: item[1]):
                 mine = values.get((case_id, engine))
                 if case_id == origin_ids[0] or mine is None:

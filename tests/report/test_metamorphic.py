@@ -69,6 +69,16 @@ def test_a_perfectly_moved_engine_differs_by_nothing_and_never_leaves_the_tolera
     assert not mine["beyond"].any() and mine["first_beyond"].isna().all()
 
 
+def test_an_engine_that_skips_scenes_gets_no_rows() -> None:
+    skipped = {q: None for q in _drop()}
+    frame = _frame(*(_rows("drop-moved", "offset", at, "e", _drop(shift=at))
+                     for at in (0.0, 1e3)),
+                   *(_rows("drop-moved", "offset", at, "skipper", skipped, _drop(shift=at))
+                     for at in (0.0, 1e3)))
+    engines = set(metamorphic.points(frame, _cases(frame))["engine"])
+    assert engines == {EXACT, "e"}
+
+
 def test_positions_lose_the_offset_and_a_change_names_its_quantity_and_first_offset() -> None:
     frame = _frame(_rows("drop-moved", "offset", 0.0, "e", _drop()),
                    _rows("drop-moved", "offset", 1e3, "e", _drop(shift=1e3)),

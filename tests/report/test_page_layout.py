@@ -84,6 +84,8 @@ def test_no_table_of_the_full_report_hides_columns_without_a_cue(
     messages: list[str] = []
     with opened(suite_run / "report.html", messages, width=width) as page:
         page.wait_for_load_state("load")
+        # the results table is built after the load event, from its compressed data
+        page.wait_for_selector("#results-table[data-ready]", state="attached")
         closed, cut_closed = clipped_without_cue(page)
         open_every_fold(page)
         opened_up, cut_open = clipped_without_cue(page)
