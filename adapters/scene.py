@@ -20,32 +20,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from reference_impl.events import Wall, is_axis_normal
+
+__all__ = [
+    "Body",
+    "Samples",
+    "SceneRun",
+    "State",
+    "Surroundings",
+    "Wall",
+    "check_scene",
+    "check_surroundings",
+    "in_scene_dim",
+    "step_and_record",
+]
+
 Body = tuple[tuple[float, ...], float, float, tuple[float, ...]]
 """A sphere of the scene: (centre, radius, mass, velocity), vectors of the scene's dim."""
-
-
-@dataclass(frozen=True)
-class Wall:
-    """A static wall: the half-space ``normal . x <= offset`` is solid, its surface is
-    ``normal . x == offset`` and ``normal`` (a unit axis vector, +1 or -1 in one component)
-    points into the free side.  A ground at height 0 in 3-D: ``Wall((0, 0, 1), 0)``.
-
-    >>> Wall((0.0, 1.0), -2.0).gap((3.0, 0.5), 0.5)  # a disc's gap above the ground y = -2
-    2.0
-    """
-
-    normal: tuple[float, ...]
-    offset: float
-
-    def gap(self, center: Sequence[float], radius: float) -> float:
-        """A sphere's signed gap to the wall's surface (negative: penetrating)."""
-        return math.fsum(n * x for n, x in zip(self.normal, center, strict=True)) \
-            - self.offset - radius
-
-    @property
-    def axis(self) -> int:
-        """The index of the axis the wall is perpendicular to."""
-        return next(k for k, n in enumerate(self.normal) if n != 0.0)
 
 
 @dataclass(frozen=True)
@@ -151,8 +142,7 @@ def check_surroundings(surroundings: Surroundings | None, dim: int) -> Surroundi
     if len(surroundings.gravity) != dim or not all(map(math.isfinite, surroundings.gravity)):
         raise ValueError(f"gravity must be {dim} finite components, got {surroundings.gravity}")
     for k, wall in enumerate(surroundings.walls):
-        unit = sorted(abs(n) for n in wall.normal) == [0.0] * (dim - 1) + [1.0]
-        if len(wall.normal) != dim or not unit:
+        if not is_axis_normal(wall.normal, dim):
             raise ValueError(f"wall {k}: the normal must be a unit axis vector, got {wall.normal}")
         if not math.isfinite(wall.offset):
             raise ValueError(f"wall {k}: the offset must be finite, got {wall.offset}")

@@ -38,7 +38,7 @@ correctness and are read together; the generators at the end are short.)
   cradle of touching balls passes the momentum pair by pair, ``(0, 1), (1, 2),
   ...`` at one instant: with equal masses and ``e = 1`` ball 0 stops and the
   last ball leaves with its velocity.
-* **Walls** (``walls``: static axis-aligned half-spaces, :class:`WallSpec`): a ball meets
+* **Walls** (``walls``: static axis-aligned half-spaces, :class:`Wall`): a ball meets
   wall ``w`` when its gap ``sign * x[axis] - offset - r`` (linear in time) reaches 0 while
   closing, at the correctly rounded time; the bounce sets ``v[axis] -> -e v[axis]``
   exactly.  Its event is ``Event(t, i, N + w)``.  Walls break momentum conservation, not
@@ -121,17 +121,43 @@ class FloatState:
     velocities: tuple[tuple[float, ...], ...]
 
 
-@dataclass(frozen=True, slots=True)
-class WallSpec:
-    """A static wall: solid where ``sign * x[axis] < offset``.
+def is_axis_normal(normal: Sequence[float], dim: int) -> bool:
+    """Whether ``normal`` is a unit axis vector of ``dim`` components (one +1 or -1).
 
-    >>> WallSpec(1, -1, -2.0)  # the ceiling y = 2 (free below it)
-    WallSpec(axis=1, sign=-1, offset=-2.0)
+    >>> is_axis_normal((0.0, -1.0), 2), is_axis_normal((0.6, 0.8), 2), is_axis_normal((1.0,), 2)
+    (True, False, False)
+    """
+    return len(normal) == dim and sorted(map(abs, normal)) == [0.0] * (dim - 1) + [1.0]
+
+
+@dataclass(frozen=True, slots=True)
+class Wall:
+    """A static wall: solid where ``normal . x < offset``; ``normal`` a unit axis vector
+    pointing into the free side (:func:`is_axis_normal`).
+
+    >>> Wall((0.0, 0.0, 1.0), 0.0).axis, Wall((0.0, -1.0), -2.0).sign  # a ground; y = 2 above
+    (2, -1)
+    >>> Wall((0.0, 1.0), -2.0).gap((3.0, 0.5), 0.5)  # a disc's gap above the ground y = -2
+    2.0
     """
 
-    axis: int
-    sign: int
+    normal: tuple[float, ...]
     offset: float
+
+    @property
+    def axis(self) -> int:
+        """The axis the wall is perpendicular to."""
+        return next(k for k, n in enumerate(self.normal) if n != 0.0)
+
+    @property
+    def sign(self) -> int:
+        """+1 when the free side is towards +axis, else -1."""
+        return 1 if self.normal[self.axis] > 0 else -1
+
+    def gap(self, center: Sequence[float], radius: float) -> float:
+        """A sphere's signed gap to the wall's surface in float64 (negative: penetrating)."""
+        return math.fsum(n * x for n, x in zip(self.normal, center, strict=True)) \
+            - self.offset - radius
 
 
 @dataclass(frozen=True, slots=True)
@@ -303,7 +329,7 @@ class _Scene:
     """
 
     def __init__(self, balls: Sequence[Ball], e: Fraction,
-                 walls: Sequence[WallSpec] = ()) -> None:
+                 walls: Sequence[Wall] = ()) -> None:
         start = initial_state(balls)
         self.walls = [(w.axis, w.sign, Fraction(w.offset)) for w in walls]
         self.mass, self.e, self.now = start.masses, e, Fraction()
@@ -469,7 +495,7 @@ def simulate(
     restitution: float,
     duration: float | Fraction,
     max_events: int = 1_000_000,
-    walls: Sequence[WallSpec] = (),
+    walls: Sequence[Wall] = (),
     sample_times: Sequence[Fraction] = (),
     samples: list[FloatState] | None = None,
 ) -> SceneState:

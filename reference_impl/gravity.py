@@ -55,7 +55,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
-from .events import Ball, Event, SceneState, impact_time
+from .events import Ball, Event, SceneState, Wall, impact_time, is_axis_normal
 from .rounding import round_with_sqrt, to_float
 
 FVec = tuple[Fraction, ...]
@@ -65,28 +65,6 @@ MIN_FLIGHT = Fraction(1, 2**30)
 
 SETTLE = -1
 """``Event.j`` of a settle event: a bounce series summed up, the body rests from then on."""
-
-
-@dataclass(frozen=True, slots=True)
-class Wall:
-    """A static wall: solid where ``normal . x < offset``; ``normal`` a unit axis vector.
-
-    >>> Wall((0.0, 0.0, 1.0), 0.0).axis, Wall((-1.0, 0.0), -2.0).sign
-    (2, -1)
-    """
-
-    normal: tuple[float, ...]
-    offset: float
-
-    @property
-    def axis(self) -> int:
-        """The axis the wall is perpendicular to."""
-        return next(k for k, n in enumerate(self.normal) if n != 0.0)
-
-    @property
-    def sign(self) -> int:
-        """+1 when the free side is towards +axis, else -1."""
-        return 1 if self.normal[self.axis] > 0 else -1
 
 
 @dataclass(frozen=True, slots=True)
@@ -299,7 +277,7 @@ def _check(balls: Sequence[Ball], walls: Sequence[Wall], gravity: Sequence[float
     if dim not in (2, 3) or not all(map(math.isfinite, gravity)):
         raise ValueError(f"gravity must be 2 or 3 finite components, got {tuple(gravity)}")
     for k, w in enumerate(walls):
-        if len(w.normal) != dim or sorted(map(abs, w.normal)) != [0.0] * (dim - 1) + [1.0]:
+        if not is_axis_normal(w.normal, dim):
             raise ValueError(f"wall {k}: the normal must be a unit axis vector, got {w.normal}")
         if not math.isfinite(w.offset):
             raise ValueError(f"wall {k}: the offset must be finite")

@@ -24,6 +24,7 @@ import math
 from collections.abc import Callable, Iterator
 
 from crosscheck.core.schema import SceneCase, Values, WallSpec
+from reference_impl.events import is_axis_normal
 
 WORLD_PARAMETERS = ("scale", "offset")
 """The sweep parameters of a scene with gravity or walls, in the order they apply."""
@@ -65,10 +66,9 @@ def world_problems(case: SceneCase) -> Iterator[tuple[str, str]]:
     starting inside a wall, a sweep over anything but scale and offset.  (A restitution
     outside [0, 1], the exact reference's range, is refused for every scene by the loader.)"""
     for k, wall in enumerate(case.walls):
-        unit = sorted(map(abs, wall.normal)) == [0.0] * (case.dim - 1) + [1.0]
         if len(wall.normal) != case.dim:
             continue  # the loader's length rule names it
-        if not unit:
+        if not is_axis_normal(wall.normal, case.dim):
             yield f"walls[{k}].normal", (f"must be a unit axis vector of {case.dim} components "
                                          f"(one +1 or -1, the rest 0), got {list(wall.normal)}")
             continue

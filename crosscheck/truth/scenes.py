@@ -69,17 +69,16 @@ def _truth(case: SceneCase) -> Observation:
     dt = Fraction(case.dt or DEFAULT_DT)
     times = [k * dt for k in sm.sample_steps(case)]
     g = sm.gravity(case)
+    walls = [events.Wall(w.normal, w.offset) for w in case.walls]
     try:
         if any(g):
-            walls = [gravity.Wall(w.normal, w.offset) for w in case.walls]
             run = gravity.simulate(balls, walls, g, case.restitution, end, times)
             state, bounced, rest_since = run.state, run.bounces, run.rest_since
             samples = [events.FloatState(float(x.time), x.positions_float(),
                                          x.velocities_float()) for x in run.samples]
         else:
-            specs = [events.WallSpec(*_axis(w.normal), w.offset) for w in case.walls]
             samples = []
-            state = events.simulate(balls, case.restitution, end, walls=specs,
+            state = events.simulate(balls, case.restitution, end, walls=walls,
                                     sample_times=times, samples=samples)
             bounced, rest_since = (), None
     except (RuntimeError, ValueError, ArithmeticError) as exc:
@@ -99,11 +98,6 @@ def _truth(case: SceneCase) -> Observation:
             tuple(sm.total_energy(case, s.positions, s.velocities) for s in samples))
     return replace(observation(positions, velocities, [b.mass for b in case.bodies]),
                    **measures)
-
-
-def _axis(normal: Sequence[float]) -> tuple[int, int]:
-    axis = next(k for k, n in enumerate(normal) if n != 0.0)
-    return axis, 1 if normal[axis] > 0 else -1
 
 
 def _exact_measures(case: SceneCase, state: events.SceneState,

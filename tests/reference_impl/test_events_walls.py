@@ -17,14 +17,13 @@ import numpy as np
 import pytest
 
 from reference_impl import events, gravity
-from reference_impl.events import Ball, FloatState, WallSpec
+from reference_impl.events import Ball, FloatState, Wall
 
 F = Fraction
 HALF = 2.0  # the box is [-HALF, HALF]**2
-BOX = [WallSpec(0, 1, -HALF), WallSpec(0, -1, -HALF), WallSpec(1, 1, -HALF),
-       WallSpec(1, -1, -HALF)]
-BOX_WALLS = [gravity.Wall((1.0, 0.0), -HALF), gravity.Wall((-1.0, 0.0), -HALF),
-             gravity.Wall((0.0, 1.0), -HALF), gravity.Wall((0.0, -1.0), -HALF)]
+BOX = [Wall((1.0, 0.0), -HALF), Wall((-1.0, 0.0), -HALF), Wall((0.0, 1.0), -HALF),
+       Wall((0.0, -1.0), -HALF)]
+BOX_WALLS = BOX  # one wall type serves both references
 
 
 # ------------------------------------------------------- an independent float64 simulation
@@ -113,7 +112,7 @@ G = (0.0, -9.81)
 FALLING_TIME = 3.0
 
 
-def tuples(walls: Sequence[WallSpec]) -> list[WallTuple]:
+def tuples(walls: Sequence[Wall]) -> list[WallTuple]:
     return [(w.axis, w.sign, w.offset) for w in walls]
 
 

@@ -23,8 +23,8 @@ from fractions import Fraction
 import pytest
 
 from reference_impl import gravity
-from reference_impl.events import Ball
-from reference_impl.gravity import SETTLE, Wall, simulate
+from reference_impl.events import Ball, Wall
+from reference_impl.gravity import SETTLE, simulate
 
 F = Fraction
 GROUND_2D = Wall((0.0, 1.0), 0.0)
