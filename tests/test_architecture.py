@@ -9,8 +9,11 @@ Function-level imports are allowed in three places only:
   it runs inside its ``cmd_*`` function, so that building the parser (``crosscheck --help``,
   ``crosscheck <cmd> --help``) imports no pandas, numpy, pydantic, plotly, jinja2 or Dask
   (``tests/cli/test_startup.py`` checks the module set);
-- the adapter contract inside the registry (:data:`LAZY_AT`): listing engine names, which
-  every ``--help`` of a command that takes ``--engine`` does, must not load pydantic and numpy.
+- single modules named in :data:`LAZY_AT`: the adapter contract inside the registry (listing
+  engine names, which every ``--help`` of a command that takes ``--engine`` does, must not
+  load pydantic and numpy), and the pytest plugin's suite inside the plugin (every pytest
+  run with crosscheck installed loads the plugin; the library, pandas and the engines load
+  only when ``--crosscheck-engine`` is given).
 """
 
 from __future__ import annotations
@@ -28,7 +31,8 @@ OPTIONAL = {"pybullet", "pymunk", "fcl", "coal", "Box2D", "rapier3d", "mujoco", 
 """What may be imported inside a function: the optional engines, and Dask (see run/distributed)."""
 CLI_LAZY = ("crosscheck", "pandas")
 """What a CLI command module may import inside a function (not ``crosscheck.cli`` itself)."""
-LAZY_AT = {"adapters/__init__.py": {"crosscheck.core.contract"}}
+LAZY_AT = {"adapters/__init__.py": {"crosscheck.core.contract"},
+           "crosscheck/pytest_plugin/__init__.py": {"crosscheck.pytest_plugin.suite"}}
 """Single modules a file may import inside a function, with the reason in the docstring above."""
 MODULES = sorted(p for package in PACKAGES for p in (ROOT / package).rglob("*.py"))
 

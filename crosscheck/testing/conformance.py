@@ -55,6 +55,12 @@ from crosscheck.testing.answers import Answers, plain
 
 WORKER_TIMEOUT_S = 60.0
 
+CHECKS = ("declared", "made", "available", "conventions", "unsupported", "query", "observe",
+          "overlap", "gap", "response", "impact", "scene", "repeat", "hangs", "worker")
+"""Every check's name (a :class:`Failure`'s ``check``), in the order the kit runs them:
+``query`` is an exception raised while the answers of a capability are checked, ``impact``
+the check of a time of impact's answer (the pytest plugin makes one item of each)."""
+
 
 @dataclass(frozen=True, slots=True)
 class Failure:
@@ -98,6 +104,8 @@ class Checker:
         self.cls, self.name, self.public_sources, self.worker = cls, name, public_sources, worker
         self.failures: list[Failure] = []
         self.adapter: Adapter | None = None
+        self.stopped = ""
+        """The check whose failure stopped the kit ('' if it ran to the end)."""
 
     def fail(self, check: str, case: str, expected: str, got: object) -> None:
         """Record a failure."""
@@ -110,6 +118,7 @@ class Checker:
             adapter = self.made()
             self.available(adapter)
         except _Stop:
+            self.stopped = self.failures[-1].check
             return self.failures
         self.guarded("conventions", "", lambda: self.conventions(adapter.conventions))
         self.guarded("unsupported", "", lambda: self.unsupported(adapter))
