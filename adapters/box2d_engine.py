@@ -378,6 +378,7 @@ class Box2dTuned(Adapter):
 
     name: ClassVar[str] = "box2d"
     engine: ClassVar[str] = "pybox2d"
+    package: ClassVar[str] = "box2d"
     variant: ClassVar[Variant] = Variant(polygon_radius=0.0, use_radii=False, dt=1e-3,
                                          friction=0.0, fixed_rotation=True, sleep=False)
     settings: ClassVar[str] = (

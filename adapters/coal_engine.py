@@ -271,6 +271,7 @@ class CoalTuned(Adapter):
 
     name: ClassVar[str] = "coal"
     engine: ClassVar[str] = "coal"
+    package: ClassVar[str] = "coal"
     settings: ClassVar[str] = (
         "gjk_tolerance = epa_tolerance = min(max(1e-12 x M, 1e-12), 1e-3) in both requests, M "
         "the case's largest |cb_i - ca_i| + |ha_i| + |hb_i| (spheres |cb - ca| + |ra| + |rb|); "

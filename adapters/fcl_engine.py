@@ -188,6 +188,7 @@ class Fcl(Adapter):
 
     name: ClassVar[str] = "fcl"
     engine: ClassVar[str] = "python-fcl"
+    package: ClassVar[str] = "python-fcl"
     settings: ClassVar[str] = (
         "collide: CollisionRequest(enable_contact=True, num_max_contacts=1); distance: "
         "DistanceRequest(enable_nearest_points=True, enable_signed_distance=True); "

@@ -294,6 +294,7 @@ class MujocoDefault(Adapter):
 
     name: ClassVar[str] = "mujoco-default"
     engine: ClassVar[str] = "mujoco"
+    package: ClassVar[str] = "mujoco-core"
     settings: ClassVar[str] = (
         "two free bodies, gravity 0; defaults: Euler, dt 0.002 s, solref 0.02 1, solimp 0.9 "
         "0.95 0.001 0.5 2, condim 3, friction 1, margin 0; response inertia 2/5 m r^2 (a solid "

@@ -404,6 +404,7 @@ class PyBulletTuned(Adapter):
 
     name: ClassVar[str] = "pybullet"
     engine: ClassVar[str] = "pybullet"
+    package: ClassVar[str] = "pybullet"
     settings: ClassVar[str] = (
         "DIRECT, gravity 0, dt 1/240 s (explicit), restitutionVelocityThreshold 0, "
         "contactSlop 0, contactERP 0; per body lateral/rolling/spinning friction 0, "

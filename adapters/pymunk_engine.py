@@ -283,6 +283,7 @@ class PymunkTuned(Adapter):
 
     name: ClassVar[str] = "pymunk"
     engine: ClassVar[str] = "pymunk"
+    package: ClassVar[str] = "pymunk"
     settings: ClassVar[str] = ("dt 1e-3 s, collision_slop 0, collision_bias 1.0 (no positional "
                                "correction), iterations 10, friction 0, elasticity A = e, B = 1")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
@@ -299,7 +300,8 @@ class PymunkTuned(Adapter):
     def version(self) -> str:
         import pymunk
 
-        return f"{pymunk.version} (Munk2D {pymunk.chipmunk_version.split('-')[0]})"
+        core = "Munk2D" if int(pymunk.version.split(".")[0]) >= 7 else "Chipmunk2D"  # 7: fork
+        return f"{pymunk.version} ({core} {pymunk.chipmunk_version.split('-')[0]})"
 
     def available(self) -> str | None:
         try:
@@ -370,12 +372,17 @@ class PymunkTuned(Adapter):
 def _watch(prepared: _Response) -> None:
     """Record the centres of A and B the first time a query's contact reaches pre_solve."""
 
-    def pre_solve(arbiter: Any, space: Any, data: Any) -> None:
+    def pre_solve(arbiter: Any, space: Any, data: Any) -> bool:
         if not prepared.contact:
             a, b = prepared.bodies
             prepared.contact.append((_vec(a.position), _vec(b.position)))
+        return True  # pymunk 6 reads it (keep the contact); pymunk 7 ignores it
 
-    prepared.space.on_collision(pre_solve=pre_solve)
+    on_collision = getattr(prepared.space, "on_collision", None)
+    if on_collision is not None:  # pymunk >= 7
+        on_collision(pre_solve=pre_solve)
+    else:  # pymunk 6 (--engine pymunk@6.11.1): add_default_collision_handler().pre_solve
+        prepared.space.add_default_collision_handler().pre_solve = pre_solve
 
 
 class PymunkDefault(PymunkTuned):

@@ -326,6 +326,7 @@ class RapierTuned(Adapter):
 
     name: ClassVar[str] = "rapier"
     engine: ClassVar[str] = "rapier3d"
+    package: ClassVar[str] = "rapier3d"
     settings: ClassVar[str] = (
         "detection: prediction distance 0, ActiveCollisionTypes.all(); responses: gravity 0, "
         "dt 1/60 (explicit), normalized_prediction_distance 0, normalized_max_linear_velocity "

@@ -56,10 +56,39 @@ def _usable(entry: adapters.Entry) -> Adapter | str:
     return unavailable or adapter
 
 
+def engine_name(text: str) -> str:
+    """An argparse type: a known engine name, or ``NAME@VERSION`` (the variant with that
+    version of its package, for ``run``).  The version is checked here; the environment is
+    built later, before any case runs."""
+    from crosscheck.run import envs, pinned
+
+    base, version = pinned.split(text)
+    known = names()
+    if base not in known:
+        raise argparse.ArgumentTypeError(f"invalid choice: {base!r} (choose from "
+                                         f"{', '.join(known)}; NAME@VERSION for a version)")
+    problem = envs.check_version(version) if version is not None else None
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return text
+
+
 def _made(name: str) -> Adapter:
-    """The adapter called ``name``; RefusedEngine, with the reason, if it cannot be made."""
-    entry = adapters.find(name)
+    """The adapter called ``name`` (``NAME@VERSION``: that variant in the cached environment
+    of its package's version, built first if need be); RefusedEngine, with the reason, if it
+    cannot be made."""
+    from crosscheck.run import envs, pinned
+
+    base, version = pinned.split(name)
+    entry = adapters.find(base)
     cls = entry.load()
+    if version is not None:
+        try:
+            env = envs.ensure(cls.package or base, version,
+                              lambda line: err.print(Text(line), soft_wrap=True))
+            cls = pinned.pin(cls, env)
+        except envs.EnvError as exc:
+            raise adapters.RefusedEngine(f"{name}: {exc}") from None
     try:
         return cls()
     except Exception as exc:  # a plug-in's fault is a reason, not a traceback
@@ -139,9 +168,37 @@ def cmd_engines(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_envs(args: argparse.Namespace) -> int:
+    """List (or clear) the cached environments of pinned engine versions."""
+    from crosscheck.run import envs
+
+    root = envs.cache_root()
+    found = envs.cached(root)
+    if args.clear_envs:
+        import shutil
+
+        shutil.rmtree(root, ignore_errors=True)
+        out.print(Text(f"removed {len(found)} cached environments and {root}"), soft_wrap=True)
+        return 0
+    out.print(Text(f"cached environments of pinned versions (--engine NAME@VERSION) in {root} "
+                   "(set CROSSCHECK_ENVS to move it; --clear-envs or deleting a folder clears "
+                   "it):"), soft_wrap=True)
+    for env in found:
+        out.print(Text(f"  {env.package} {env.version}  {env.path}"), soft_wrap=True)
+    if not found:
+        out.print(Text("  (none)"))
+    return 0
+
+
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``engines``."""
     p = sub.add_parser("engines", help="list adapters (built-in and plug-ins), where each comes "
                                        "from, versions, capabilities, availability")
     p.add_argument("--settings", action="store_true", help="also show each variant's settings")
-    p.set_defaults(func=cmd_engines)
+    p.add_argument("--envs", action="store_true",
+                   help="list the cached environments of pinned engine versions "
+                        "(run --engine NAME@VERSION) and where they are")
+    p.add_argument("--clear-envs", action="store_true",
+                   help="delete every cached environment (each is built again on next use)")
+    p.set_defaults(func=lambda args: cmd_envs(args) if args.envs or args.clear_envs
+                   else cmd_engines(args))

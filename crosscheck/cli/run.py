@@ -133,6 +133,10 @@ def start(args: argparse.Namespace) -> int:
     if not loaded.cases:
         fail("no valid case in the case files (see the errors above): nothing to run")
         return 2
+    if any("@" in name for name in args.engine or ()) and (args.no_isolation or args.scheduler):
+        fail("--engine NAME@VERSION runs in a worker with that version's interpreter: it cannot "
+             f"be combined with {'--no-isolation' if args.no_isolation else '--scheduler'}")
+        return 2
     try:  # a listed engine that cannot be used (a broken plug-in) is refused, with its reason
         engines = engine_choice.select(args.engine)
     except engine_choice.UnknownEngine as exc:
@@ -244,9 +248,13 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     defaults = RunOptions()
     p = sub.add_parser("run", help="run cases on engines and write a report")
     p.add_argument("paths", nargs="*", type=Path, help="case files or folders (default: cases/)")
-    p.add_argument("--engine", action="append", choices=engine_choice.names(), metavar="NAME",
+    p.add_argument("--engine", action="append", type=engine_choice.engine_name,
+                   metavar="NAME[@VERSION]",
                    help=f"engine to run (repeatable; default: every available one): "
-                        f"{', '.join(engine_choice.names())}")
+                        f"{', '.join(engine_choice.names())}; NAME@VERSION runs that variant "
+                        "with that version of its engine's package, from a cached environment "
+                        "built with pip on first use (crosscheck engines --envs), e.g. "
+                        "--engine pymunk@6.11.1 --engine pymunk")
     p.add_argument("--out", metavar="DIR",
                    help=f"output folder (default: reports/<run-id>/; {OUT_RULE})")
     p.add_argument("--quick", action="store_true",

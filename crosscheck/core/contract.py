@@ -231,6 +231,10 @@ class Adapter(ABC):
 
     name: ClassVar[str]
     engine: ClassVar[str]
+    package: ClassVar[str] = ""
+    """The distribution on the package index whose version the answers depend on (``pymunk``,
+    ``mujoco-core``): ``crosscheck run --engine NAME@VERSION`` runs the variant with that
+    version of it (:mod:`crosscheck.run.pinned`); "" for an engine that is not one."""
     settings: ClassVar[str] = "defaults"
     capabilities: ClassVar[frozenset[Capability]]
     conventions: ClassVar[Conventions]

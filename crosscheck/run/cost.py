@@ -42,6 +42,7 @@ from crosscheck.results.counts import CountRecord
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.run import callgrind
 from crosscheck.run.execute import case_options
+from crosscheck.run.pinned import environment
 from crosscheck.run.timing_phase import timing_sample
 
 CALLS = 10
@@ -88,12 +89,12 @@ def cost_sample(cases: Sequence[AnyCase], engines: Sequence[Adapter], frame: pd.
 class CountingWorker:
     """One engine library's process under callgrind, and the pipe to it."""
 
-    def __init__(self) -> None:
+    def __init__(self, executable: str = sys.executable) -> None:
         self.out = Path(tempfile.mkdtemp(prefix="crosscheck-callgrind-"))
         mine, theirs = Pipe()
         self.conn: Connection = mine
         fd = theirs.fileno()
-        python = [sys.executable, "-m", "crosscheck.run.cost_worker", str(fd)]
+        python = [executable, "-m", "crosscheck.run.cost_worker", str(fd)]
         self.process = subprocess.Popen(
             callgrind.command(python, self.out), pass_fds=(fd,), env=os.environ | ENV,
             stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -156,7 +157,8 @@ class LibraryCounter:
             return self.worker
         if self.worker is not None:
             self.worker.close()
-        self.worker = CountingWorker()
+        env = environment(adapter)  # a pinned version counts in its environment's interpreter
+        self.worker = CountingWorker(sys.executable if env is None else str(env.python))
         started = self.worker.ask((type(adapter), None, 0, 0), STARTUP_S)
         return self.worker if started is None else str(started)
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import math
 import multiprocessing as mp
+import multiprocessing.spawn as mp_spawn
 import os
 import signal
 import sys
@@ -28,7 +29,11 @@ from collections.abc import Iterable, Iterator
 from multiprocessing.process import BaseProcess
 
 CONTEXT = mp.get_context("forkserver")
-"""The start method of every worker process."""
+"""The start method of every worker process of the harness's own interpreter."""
+
+SPAWN = mp.get_context("spawn")
+"""The start method of a worker in another interpreter (a pinned engine version's
+environment, :mod:`crosscheck.run.envs`): a fresh ``python`` of that environment."""
 _START_LOCK = threading.Lock()
 
 PAGE_MB = os.sysconf("SC_PAGE_SIZE") / 2**20 if hasattr(os, "sysconf") else 4 / 1024
@@ -52,11 +57,21 @@ def without_main() -> Iterator[None]:
         sys.modules["__main__"] = saved
 
 
-def start(process: BaseProcess) -> None:
+def start(process: BaseProcess, executable: str | None = None) -> None:
     """Start ``process`` without the parent's ``__main__``, one start at a time (lanes of
-    threads may start workers at once)."""
+    threads may start workers at once); a :data:`SPAWN` process with ``executable`` as its
+    interpreter if given (multiprocessing keeps that setting globally: it is set for this
+    start only, under the lock)."""
     with _START_LOCK, without_main():
-        process.start()
+        if executable is None:
+            process.start()
+            return
+        saved = mp_spawn.get_executable()
+        mp_spawn.set_executable(executable)
+        try:
+            process.start()
+        finally:
+            mp_spawn.set_executable(saved)
 
 
 def quiet_child() -> None:

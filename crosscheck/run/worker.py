@@ -50,6 +50,7 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
+from crosscheck.run.envs import PinnedEnv
 from crosscheck.run.execute import (
     Executor,
     Outcome,
@@ -59,7 +60,8 @@ from crosscheck.run.execute import (
     probe_binding,
     stop_between_items,
 )
-from crosscheck.run.processes import CONTEXT, Resident, death, quiet_child, start
+from crosscheck.run.pinned import environment
+from crosscheck.run.processes import CONTEXT, SPAWN, Resident, death, quiet_child, start
 from crosscheck.run.timing import Timing
 
 # every worker imports these: imported once in the forkserver, no worker start pays for them
@@ -114,6 +116,16 @@ def _serve(conn: Connection) -> None:
             conn.send(execute(adapter, case, options, timed, skip))
 
 
+def _serve_pinned(conn: Connection, site_packages: str) -> None:
+    """:func:`_serve` in a pinned version's interpreter: a spawned process gets the parent's
+    ``sys.path``, so the environment's own packages are put first again, before any task
+    (and so any engine) is unpickled."""
+    import sys
+
+    sys.path.insert(0, site_packages)
+    _serve(conn)
+
+
 def memory_limit(what: str, limit_mb: float) -> str:
     """The reason of a ``crash`` for a worker over ``--worker-memory``."""
     return f"memory limit: {what}, past --worker-memory {limit_mb:g} MB"
@@ -122,11 +134,17 @@ def memory_limit(what: str, limit_mb: float) -> str:
 class _Worker:
     """One worker process and its pipe, its resident memory watched against ``memory_mb``."""
 
-    def __init__(self, memory_mb: float) -> None:
+    def __init__(self, memory_mb: float, env: PinnedEnv | None = None) -> None:
         self.memory_mb = memory_mb
         self.conn, child = CONTEXT.Pipe()
-        self.process: BaseProcess = CONTEXT.Process(target=_serve, args=(child,), daemon=True)
-        start(self.process)
+        if env is None:
+            self.process: BaseProcess = CONTEXT.Process(target=_serve, args=(child,),
+                                                        daemon=True)
+            start(self.process)
+        else:  # the pinned version's own interpreter
+            self.process = SPAWN.Process(target=_serve_pinned,
+                                         args=(child, str(env.site_packages)), daemon=True)
+            start(self.process, str(env.python))
         child.close()
         self.resident = Resident(self.process.pid)
         self.last_mb = 0.0  # at the last check: after the last answer, so as a case begins
@@ -224,7 +242,7 @@ class WorkerPool:
     def _worker(self, adapter: Adapter, options: RunOptions) -> _Worker | Outcome:
         """The engine's live worker, started and the adapter warmed up in it if need be; or
         why it cannot."""
-        worker = self._live(adapter.engine, options)
+        worker = self._live(adapter.engine, options, environment(adapter))
         if type(adapter) in worker.warmed:
             return worker
         started = worker.call((type(adapter), None, options, False, frozenset()),
@@ -241,12 +259,13 @@ class WorkerPool:
         worker.warmed.add(type(adapter))
         return worker
 
-    def _live(self, key: str, options: RunOptions) -> _Worker:
-        """The live worker under ``key`` (an engine, or :data:`YARDSTICK`), started and pinned
-        if need be."""
+    def _live(self, key: str, options: RunOptions, env: PinnedEnv | None = None) -> _Worker:
+        """The live worker under ``key`` (an engine, or :data:`YARDSTICK`), started (in
+        ``env``'s interpreter, for a pinned engine version) and pinned to the CPU if need
+        be."""
         worker = self._workers.get(key)
         if worker is None or not worker.alive():
-            worker = self._workers[key] = _Worker(options.worker_memory_mb)
+            worker = self._workers[key] = _Worker(options.worker_memory_mb, env)
             self.started += 1
             pin(worker.process.pid or 0, self.cpu)
         return worker

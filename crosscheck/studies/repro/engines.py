@@ -151,9 +151,13 @@ def pre_solve(arbiter, space, data):
     if not contact:
         contact.append(((float(a.position.x), float(a.position.y)),
                         (float(b.position.x), float(b.position.y))))
+    return True  # pymunk 6 reads it (keep the contact); pymunk 7 ignores it
 
 
-space.on_collision(pre_solve=pre_solve)
+if hasattr(space, "on_collision"):  # pymunk >= 7
+    space.on_collision(pre_solve=pre_solve)
+else:  # pymunk 6
+    space.add_default_collision_handler().pre_solve = pre_solve
 
 # The query: shapes removed and re-added (no cached arbiter), the bias velocity of any
 # earlier solve zeroed, then the case's centres and velocities.

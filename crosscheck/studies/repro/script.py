@@ -41,6 +41,7 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status, quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase
 from crosscheck.results.store import StoredRun, read_run, repro_name, repro_path
+from crosscheck.run import envs, pinned
 from crosscheck.studies.repro import measures
 from crosscheck.studies.repro.code import EngineCode, literal, vector
 from crosscheck.studies.repro.verdicts import comment, conventions_line, truths, verdict_line
@@ -231,8 +232,10 @@ def _case(stored: StoredRun, case_id: str) -> AnyCase:
 
 
 def _writer(engine: str) -> tuple[Adapter, Writer] | None:
+    """The adapter and script writer of ``engine`` (a pinned ``NAME@VERSION``: its variant's,
+    the script being the same code run by another interpreter)."""
     try:
-        adapter = adapters.get(engine)
+        adapter = adapters.get(pinned.split(engine)[0])
     except adapters.UnknownEngine:
         return None
     writer = writer_for(adapter)
@@ -270,7 +273,19 @@ def build(runs: RunRows, case_id: str, engine: str) -> Script:
     textbook = runs.rows(case_id, "reference")
     text = script_text(case, code, runs.engine_info(engine), rows,
                        textbook if _ran(textbook) else [], runs.stored.info.run_id)
-    return Script(case_id, engine, text, code.model)
+    return Script(case_id, engine, _with_interpreter(text, adapter, engine), code.model)
+
+
+def _with_interpreter(text: str, adapter: Adapter, engine: str) -> str:
+    """A pinned version's script says which interpreter has that version (its first line,
+    the shebang, is the harness's python; the pinned one must be named to run it)."""
+    version = pinned.split(engine)[1]
+    if version is None:
+        return text
+    env = envs.find(adapter.package, version)
+    first, _, rest = text.partition("\n")
+    return (f"{first}\n# {engine}: run with {env.python} (the cached environment of "
+            f"{adapter.package} {version}; `crosscheck run --engine {engine}` builds it)\n{rest}")
 
 
 def disagrees(rows: list[Row]) -> bool:
