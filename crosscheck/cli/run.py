@@ -124,7 +124,7 @@ def start(args: argparse.Namespace) -> int:
     from crosscheck.results.store import ResultsStore, StoreError
     from crosscheck.run.launch import new_info
 
-    problem = _path_problem(args.paths) or _timer_problem(args)
+    problem = _pinned_problem(args) or _path_problem(args.paths) or _timer_problem(args)
     if problem:
         fail(problem)
         return 2
@@ -132,10 +132,6 @@ def start(args: argparse.Namespace) -> int:
     report_case_errors(loaded)
     if not loaded.cases:
         fail("no valid case in the case files (see the errors above): nothing to run")
-        return 2
-    if any("@" in name for name in args.engine or ()) and (args.no_isolation or args.scheduler):
-        fail("--engine NAME@VERSION runs in a worker with that version's interpreter: it cannot "
-             f"be combined with {'--no-isolation' if args.no_isolation else '--scheduler'}")
         return 2
     try:  # a listed engine that cannot be used (a broken plug-in) is refused, with its reason
         engines = engine_choice.select(args.engine)
@@ -153,6 +149,15 @@ def start(args: argparse.Namespace) -> int:
         return 2
     code = finish(store, loaded.cases, engines, options, info)
     return code or (1 if loaded.errors else 0)
+
+
+def _pinned_problem(args: argparse.Namespace) -> str | None:
+    """Why a pinned ``--engine NAME@VERSION`` cannot run with these options, or None."""
+    if not any("@" in name for name in args.engine or ()):
+        return None
+    other = "--no-isolation" if args.no_isolation else "--scheduler" if args.scheduler else ""
+    return (f"--engine NAME@VERSION runs in a worker with that version's interpreter: it "
+            f"cannot be combined with {other}") if other else None
 
 
 def _path_problem(paths: Sequence[Path]) -> str | None:

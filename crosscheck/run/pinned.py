@@ -16,12 +16,13 @@ it runs:
 Everything else (capabilities, conventions, settings, the queries themselves) is the base
 class's: the same adapter code drives the other version of the engine.  A pinned class
 pickles by reference like any adapter class: its qualified name encodes the base class and
-the version, and this module's ``__getattr__`` makes it again in a worker or a Dask process.
+the version and the environment's folder, and this module's ``__getattr__`` makes it again
+in a worker or a Dask process.
 
->>> _encode("adapters.pymunk_engine", "PymunkTuned", "pymunk", "6.11.1")
-'Pinned__adapters-2epymunk_engine__PymunkTuned__pymunk__6-2e11-2e1'
->>> _decode(_encode("adapters.pymunk_engine", "PymunkTuned", "pymunk", "6.11.1"))
-('adapters.pymunk_engine', 'PymunkTuned', 'pymunk', '6.11.1')
+>>> _encode("adapters.pymunk_engine", "PymunkTuned", "pymunk", "6.11.1", "/e")
+'Pinned__adapters-2epymunk-5fengine__PymunkTuned__pymunk__6-2e11-2e1__-2fe'
+>>> _decode(_encode("adapters.pymunk_engine", "PymunkTuned", "pymunk", "6.11.1", "/e"))
+('adapters.pymunk_engine', 'PymunkTuned', 'pymunk', '6.11.1', '/e')
 """
 
 from __future__ import annotations
@@ -43,41 +44,36 @@ _VERSIONS: dict[tuple[str, str, str], str] = {}
 
 
 def _escape(text: str) -> str:
-    """``text`` as a Python identifier fragment without ``.`` or ``__`` (pickle splits a
-    qualified name on dots): every character outside [A-Za-z0-9] and a single ``_`` is
-    written ``-XX`` (its hex code)."""
-    out = []
-    for i, char in enumerate(text):
-        repeated_underscore = char == "_" and (text[i - 1:i] == "_" or text[i + 1:i + 2] == "_")
-        if (char.isascii() and char.isalnum()) or (char == "_" and not repeated_underscore):
-            out.append(char)
-        else:
-            out.append(f"-{ord(char):02x}")
-    return "".join(out)
+    """``text`` as an identifier fragment without ``.`` or ``_`` (pickle splits a qualified
+    name on dots; the parts are joined by ``__``): every character outside [A-Za-z0-9] is
+    written as its UTF-8 bytes, ``-XX`` each."""
+    return "".join(c if c.isascii() and c.isalnum() else
+                   "".join(f"-{byte:02x}" for byte in c.encode()) for c in text)
 
 
 def _unescape(text: str) -> str:
-    out, i = [], 0
+    out, i = bytearray(), 0
     while i < len(text):
         if text[i] == "-":
-            out.append(chr(int(text[i + 1:i + 3], 16)))
+            out.append(int(text[i + 1:i + 3], 16))
             i += 3
         else:
-            out.append(text[i])
+            out += text[i].encode()
             i += 1
-    return "".join(out)
+    return out.decode()
 
 
-def _encode(module: str, qualname: str, package: str, version: str) -> str:
-    return SEPARATOR.join([PREFIX, *(_escape(p) for p in (module, qualname, package, version))])
+def _encode(module: str, qualname: str, package: str, version: str, path: str) -> str:
+    return SEPARATOR.join([PREFIX, *(_escape(p) for p in (module, qualname, package, version,
+                                                          path))])
 
 
-def _decode(name: str) -> tuple[str, str, str, str]:
+def _decode(name: str) -> tuple[str, str, str, str, str]:
     parts = name.split(SEPARATOR)
-    if len(parts) != 5 or parts[0] != PREFIX:
+    if len(parts) != 6 or parts[0] != PREFIX:
         raise AttributeError(name)
-    module, qualname, package, version = (_unescape(p) for p in parts[1:])
-    return module, qualname, package, version
+    module, qualname, package, version, path = (_unescape(p) for p in parts[1:])
+    return module, qualname, package, version, path
 
 
 def split(name: str) -> tuple[str, str | None]:
@@ -102,7 +98,7 @@ def pin(base: type[Adapter], env: envs.PinnedEnv) -> type[Adapter]:
                             "version to choose")
     if base.package != env.package:
         raise envs.EnvError(f"{base.name} runs {base.package}, not {env.package}")
-    key = _encode(base.__module__, base.__qualname__, env.package, env.version)
+    key = _encode(base.__module__, base.__qualname__, env.package, env.version, str(env.path))
     made = _CLASSES.get(key)
     if made is None:
         made = _CLASSES[key] = _make(base, env, key)
@@ -169,9 +165,9 @@ def __getattr__(name: str) -> type[Adapter]:
         return _CLASSES[name]
     if not name.startswith(PREFIX + SEPARATOR):
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    module, qualname, package, version = _decode(name)
+    module, qualname, package, version, path = _decode(name)
     base = getattr(importlib.import_module(module), qualname)
-    env = envs.find(package, version)
+    env = envs.PinnedEnv(package, version, Path(path))
     _VERSIONS.setdefault((module, qualname, str(env.path)), "")  # a worker never reports it
     return pin(base, env)
 
