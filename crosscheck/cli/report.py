@@ -1,12 +1,31 @@
-"""``crosscheck report`` and ``crosscheck compare``: stored runs to CSV and HTML."""
+"""``crosscheck report`` and ``crosscheck compare``: stored runs to CSV, HTML and Markdown."""
 
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from crosscheck.cli.console import err, fail, say
 from crosscheck.cli.folders import OUT_RULE, chosen
+
+if TYPE_CHECKING:
+    from crosscheck.report.changes import Changes
+
+COMPARE_DESCRIPTION = """\
+Two runs (A B): what differs between them (cases, engines, options, versions, machines),
+the verdict changes, cost and timing changes (compare.html), then, for every engine of both
+(or --from ENGINE --to ENGINE), what changed by failure mode (changes.md, changes.csv).
+
+One run (A --from X --to Y): what changed from engine X to engine Y of that run, such as
+two versions run side by side (crosscheck run --engine pymunk@6.11.1 --engine pymunk).
+
+A row of Y judged against X's by the baseline rules (crosscheck check): a new disagreement,
+an error larger beyond the margin or smaller beyond the stale factor, a new failure, a row
+newly (or no longer) answered.  Each failure mode lists examples with the repro command of
+both sides.  Exit code 0 once written (a report, not a check: crosscheck check fails),
+2 for bad input."""
 
 
 def cmd_report(args: argparse.Namespace) -> int:
@@ -25,16 +44,71 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
-    from crosscheck.report.compare import compare
-    from crosscheck.report.compare_timing import ALPHA, MIN_EFFECT
+    from crosscheck.report.changes import side, what_changed, write
     from crosscheck.results.store import StoreError
 
-    target = chosen(args.out) or Path("reports") / f"compare-{args.a.name}-vs-{args.b.name}"
+    if (args.from_engine is None) != (args.to_engine is None):
+        fail("--from and --to go together: the engine before and the engine after")
+        return 2
+    if args.b is None and args.from_engine is None:
+        fail("compare of one run needs --from ENGINE --to ENGINE (two engines of that run, "
+             "such as --from pymunk@6.11.1 --to pymunk); or give two runs")
+        return 2
+    one = args.b is None
+    a, b = args.a, args.a if one else args.b
+    default = (f"changes-{a.name}-{args.from_engine}-vs-{args.to_engine}" if one
+               else f"compare-{a.name}-vs-{b.name}")
+    target = chosen(args.out) or Path("reports") / default
     try:
-        result = compare(args.a, args.b, target)
+        if not one:
+            _compared(a, b, target)
+        if args.from_engine is not None:
+            pairs = [(side(a, args.from_engine), side(b, args.to_engine))]
+        else:
+            pairs = [(side(a, e), side(b, e)) for e in _shared_engines(a, b)]
+        found = [what_changed(x, y) for x, y in pairs]
+        paths = write(found, target)
+    except KeyError as exc:
+        fail(f"cannot compare: {exc.args[0]}")
+        return 2
     except (OSError, StoreError) as exc:
         fail(f"cannot compare: {exc}")
         return 2
+    _say_changes(found, paths["markdown"])
+    return 0
+
+
+def _shared_engines(a: Path, b: Path) -> list[str]:
+    from crosscheck.results.store import read_run
+
+    theirs = set(read_run(b).info.engine_names)
+    return [e for e in read_run(a).info.engine_names if e in theirs]
+
+
+def _say_changes(found: Sequence[Changes], markdown: Path) -> None:
+    """One line per engine pair that changed, with its largest failure modes."""
+    quiet = [c for c in found if not c.changed]
+    for changes in found:
+        if not changes.changed:
+            continue
+        counts = ", ".join(f"{n} {v}" for v, n in sorted(changes.counts().items()))
+        say(f"what changed, {changes.before.label} -> {changes.after.label}: "
+            f"{changes.changed} of {changes.compared} rows ({counts}) in "
+            f"{len(changes.modes)} failure modes; the largest:")
+        for mode, rows in list(changes.modes.items())[:5]:
+            say(f"  {len(rows):>6}  {mode}")
+    if quiet:
+        say(f"no row changed for {len(quiet)} engine pairs: "
+            f"{', '.join(c.after.engine for c in quiet)}")
+    say(f"what changed, by failure mode, with repro commands: {markdown}")
+
+
+def _compared(a: Path, b: Path, target: Path) -> None:
+    """The two-run comparison (verdicts, cost, timing) written into ``target``, and said."""
+    from crosscheck.report.compare import compare
+    from crosscheck.report.compare_timing import ALPHA, MIN_EFFECT
+
+    result = compare(a, b, target)
     for difference in result.differences:
         say(f"warning: {difference}", err)
     counts = result.timing_counts
@@ -52,7 +126,6 @@ def cmd_compare(args: argparse.Namespace) -> int:
         f"{counts['slower']} slower, {counts['faster']} faster, {counts['unknown']} unknown "
         f"of {result.timing_pairs} pairs (p < {ALPHA:g} and beyond x{MIN_EFFECT:g}, "
         f"{yardstick}); see {target / 'compare.html'}")
-    return 0
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -61,9 +134,17 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("directory", type=Path, help="a stored run folder (reports/<run-id>)")
     p.add_argument("--markdown", action="store_true", help="also print the summary as Markdown")
     p.set_defaults(func=cmd_report)
-    p = sub.add_parser("compare", help="verdict and timing changes between two stored runs")
+    p = sub.add_parser("compare", help="what changed between two stored runs, or between two "
+                                       "engine versions in one run",
+                       description=COMPARE_DESCRIPTION,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("a", type=Path, help="the earlier run directory")
-    p.add_argument("b", type=Path, help="the later run directory")
+    p.add_argument("b", type=Path, nargs="?",
+                   help="the later run directory (none: compare two engines of A)")
+    p.add_argument("--from", dest="from_engine", metavar="ENGINE",
+                   help="the engine before (e.g. pymunk@6.11.1), in A")
+    p.add_argument("--to", dest="to_engine", metavar="ENGINE",
+                   help="the engine after (e.g. pymunk), in B (or in A if there is no B)")
     p.add_argument("--out", metavar="DIR",
                    help=f"output folder (default: reports/compare-A-vs-B/; {OUT_RULE})")
     p.set_defaults(func=cmd_compare)
