@@ -1,7 +1,7 @@
 """The ``crosscheck`` command line: a thin face over the library, one module per command family.
 
-Each family module (``run``, ``report`` with ``compare``, ``cases`` with
-``validate``, ``new-case`` and ``schema``, ``engines``, ``fuzz``, ``bench``,
+Each family module (``run``, ``report`` with ``compare``, ``check`` with ``baseline``,
+``cases`` with ``validate``, ``new-case`` and ``schema``, ``engines``, ``fuzz``, ``bench``,
 ``stability``) parses its options, calls the library and prints; everything
 it does is callable from Python without rich.
 
@@ -20,10 +20,21 @@ import sys
 from collections.abc import Sequence
 from importlib import metadata
 
-from crosscheck.cli import advise, bench, cases, engines, fuzz, report, repro, run, stability
+from crosscheck.cli import (
+    advise,
+    bench,
+    cases,
+    check,
+    engines,
+    fuzz,
+    report,
+    repro,
+    run,
+    stability,
+)
 from crosscheck.results.runinfo import FORMAT_VERSION
 
-FAMILIES = (run, report, cases, fuzz, repro, bench, stability, advise, engines)
+FAMILIES = (run, report, check, cases, fuzz, repro, bench, stability, advise, engines)
 """The command families, in the order ``crosscheck --help`` lists them."""
 
 
@@ -33,6 +44,8 @@ EXAMPLES = """examples:
   crosscheck run cases/sphere.toml --engine pybullet --engine pymunk
   crosscheck report reports/<run>         re-render a stored run
   crosscheck compare reports/<a> reports/<b>
+  crosscheck baseline reports/<run> --out baseline.jsonl
+  crosscheck check reports/<run> --baseline baseline.jsonl --junit junit.xml
   crosscheck advise reports/<run> --dim 2 --kind sphere --tolerance 1e-6
   crosscheck repro reports/<run> sphere-2d-gap-1e-3 --engine fcl
   crosscheck validate cases/mine.toml

@@ -13,6 +13,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from crosscheck.cli import check
 from crosscheck.cli import engines as engine_choice
 from crosscheck.cli.console import (
     err,
@@ -97,7 +98,8 @@ def _render(directory: Path) -> bool:
 
 CHANGES_THE_RUN = ("paths", "engine", "out", "quick", "timing_cases", "timing_seed", "samples",
                    "min_sample", "scene_repeats", "no_pin", "timeout", "jobs", "no_isolation",
-                   "scheduler", "worker_memory", "repeat_check", "timer")
+                   "scheduler", "worker_memory", "repeat_check", "timer",
+                   "junit", "markdown", "baseline")  # outputs: check a resumed run with check
 """The options of ``run`` that ``--resume`` refuses: a resumed run keeps those it started with."""
 
 _PARSER_DEFAULTS: dict[str, object] = {}
@@ -147,7 +149,7 @@ def start(args: argparse.Namespace) -> int:
     except StoreError as exc:
         fail(str(exc))
         return 2
-    code = finish(store, loaded.cases, engines, options, info)
+    code = finish(store, loaded.cases, engines, options, info) or check.after_run(directory, args)
     return code or (1 if loaded.errors else 0)
 
 
@@ -304,5 +306,6 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                         "it costs a worker start and a query per such pair; on in make run)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="run cases on this Dask scheduler (e.g. tcp://host:8786)")
+    check.add_run_options(p)  # --junit, --markdown, --baseline: crosscheck check after the run
     p.set_defaults(func=cmd_run)
     _PARSER_DEFAULTS.update({name: p.get_default(name) for name in CHANGES_THE_RUN})
