@@ -33,7 +33,7 @@ from crosscheck.testing.conformance import CHECKS
 if TYPE_CHECKING:
     from _pytest._code.code import TerminalRepr
 
-    from crosscheck.pytest_plugin.suite import Suite
+    from crosscheck.pytest_plugin.suite import Engine, Suite
 
 class CrosscheckFailure(Exception):
     """A finding or a kit check that fails: its message is the whole report."""
@@ -48,15 +48,23 @@ def entry_text(entry: Entry | None, missing: str) -> str:
     return f"{entry.status}{category}{error}"
 
 
-def repro_command(run_dir: Path, case: str, engine: str) -> str:
-    """The command that writes a script reproducing ``case`` on ``engine``."""
-    return shlex.join(["crosscheck", "repro", str(run_dir), case, "--engine", engine])
+def repro_command(run_dir: Path, finding: Finding, case_file: str, scripted: bool) -> str:
+    """How to reproduce a finding: the command that writes a standalone script for it (an
+    engine ``crosscheck repro`` writes scripts for), else the run of its case file."""
+    if scripted:
+        return shlex.join(["crosscheck", "repro", str(run_dir), finding.case,
+                           "--engine", finding.engine])
+    again = shlex.join(["crosscheck", "run", case_file or "CASES", "--engine", finding.engine])
+    return (f"{again} (case {finding.case}; crosscheck repro writes scripts for the "
+            f"built-in engines only)")
 
 
-def finding_text(finding: Finding, run_dir: Path, baseline: str) -> str:
+def finding_text(finding: Finding, run_dir: Path, baseline: str, case_file: str = "",
+                 scripted: bool = True) -> str:
     """Why a finding fails: its verdict and reason, expected against got, the repro command.
 
-    ``baseline``: the baseline file ('' when the run is judged without one).
+    ``baseline``: the baseline file ('' when the run is judged without one); ``case_file``
+    the case's file; ``scripted``: whether ``crosscheck repro`` writes scripts for the engine.
     """
     expected = (f"expected (baseline {baseline}): {entry_text(finding.expected, 'no entry')}"
                 if baseline else "expected (no baseline): agree, skip or undefined")
@@ -65,7 +73,7 @@ def finding_text(finding: Finding, run_dir: Path, baseline: str) -> str:
         f"  case {finding.case}, quantity {finding.quantity}, engine {finding.engine}",
         f"  {expected}",
         f"  got (this run): {entry_text(finding.got, 'no row')}",
-        f"  reproduce: {repro_command(run_dir, finding.case, finding.engine)}",
+        f"  reproduce: {repro_command(run_dir, finding, case_file, scripted)}",
     ])
 
 
@@ -88,10 +96,11 @@ class ReportedItem(pytest.Item):
 class FindingItem(ReportedItem):
     """One case x engine x quantity as judged."""
 
-    def __init__(self, *, finding: Finding, run_dir: Path, baseline: str,
-                 **kwargs: Any) -> None:
+    def __init__(self, *, finding: Finding, run_dir: Path, baseline: str, case_file: str,
+                 scripted: bool, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.finding, self.run_dir, self.baseline = finding, run_dir, baseline
+        self.case_file, self.scripted = case_file, scripted
         self.user_properties.append(("verdict", str(finding.verdict)))
         self.extra_keyword_matches.add(str(finding.verdict))
         if finding.verdict is Verdict.SKIPPED:
@@ -99,7 +108,8 @@ class FindingItem(ReportedItem):
 
     def runtest(self) -> None:
         if self.finding.verdict.fails:
-            raise CrosscheckFailure(finding_text(self.finding, self.run_dir, self.baseline))
+            raise CrosscheckFailure(finding_text(self.finding, self.run_dir, self.baseline,
+                                                 self.case_file, self.scripted))
 
 
 class ConformanceItem(ReportedItem):
@@ -126,9 +136,9 @@ class ConformanceItem(ReportedItem):
 class EngineCollector(pytest.Collector):
     """Everything the plugin asks of one engine: the kit's checks, then the findings."""
 
-    def __init__(self, *, suite: Suite, engine: str, builtin: bool, **kwargs: Any) -> None:
+    def __init__(self, *, suite: Suite, engine: Engine, **kwargs: Any) -> None:
         super().__init__(**kwargs)
-        self.suite, self.engine, self.builtin = suite, engine, builtin
+        self.suite, self.engine = suite, engine
         self.add_marker(MARKER)
         self._kit: KitOutcome | None = None
 
@@ -137,8 +147,9 @@ class EngineCollector(pytest.Collector):
         all its items (a built-in's sources may be the harness's own files; a plug-in's must
         be public)."""
         if self._kit is None:
-            cls = next(type(e.adapter) for e in self.suite.engines if e.name == self.engine)
-            self._kit = run_kit(cls, self.engine, public_sources=not self.builtin)
+            engine = self.engine
+            self._kit = run_kit(type(engine.adapter), engine.name,
+                                public_sources=not engine.builtin)
         return self._kit
 
     def _place(self, finding: Finding) -> tuple[int, int, str]:
@@ -157,11 +168,13 @@ class EngineCollector(pytest.Collector):
                                         kit=self.kit,
                                         nodeid=f"{self.nodeid}/conformance::{check}")
             for check in CHECKS]
-        for finding in sorted(ran.findings[self.engine], key=self._place):
-            file = self.suite.sources.get(finding.case) or baseline
+        for finding in sorted(ran.findings[self.engine.name], key=self._place):
+            case_file = self.suite.sources.get(finding.case, "")
+            file = case_file or baseline
             found.append(FindingItem.from_parent(
                 self, name=f"{finding.case}::{finding.quantity}", finding=finding,
-                run_dir=ran.directory, baseline=baseline,
+                run_dir=ran.directory, baseline=baseline, case_file=case_file,
+                scripted=self.engine.scripted,
                 nodeid=f"{self.nodeid}/{finding.case}::{finding.quantity}",
                 path=Path(file).resolve() if file else self.path))
         return found

@@ -34,6 +34,7 @@ from crosscheck.pytest_plugin.items import EngineCollector
 from crosscheck.results.baseline import Baseline, BaselineError, Finding, judge, read_baseline
 from crosscheck.results.store import ResultsStore, StoreError, read_results
 from crosscheck.run.launch import launch, new_info
+from crosscheck.studies.repro.writers import writer_for
 
 DEFAULT_CASES = Path(crosscheck.__file__).resolve().parent.parent / "cases"
 """The suite of the crosscheck checkout the package is installed from (if it is)."""
@@ -41,11 +42,13 @@ DEFAULT_CASES = Path(crosscheck.__file__).resolve().parent.parent / "cases"
 
 @dataclass(frozen=True)
 class Engine:
-    """One engine the options name: its adapter, and whether it is a built-in."""
+    """One engine the options name: its adapter, whether it is a built-in, and whether
+    ``crosscheck repro`` writes scripts for it (the built-ins only)."""
 
     name: str
     adapter: Adapter
     builtin: bool
+    scripted: bool
 
 
 @dataclass(frozen=True)
@@ -75,7 +78,7 @@ def engine(name: str) -> Engine:
         reason = f"it fails: {type(exc).__name__}: {exc}"
     if reason:
         raise _usage(option, f"{entry.describe()} {entry.verdict}: {reason}")
-    return Engine(name, adapter, entry.builtin)
+    return Engine(name, adapter, entry.builtin, writer_for(adapter) is not None)
 
 
 def case_paths(given: list[str], here: Path) -> list[Path]:
@@ -137,7 +140,7 @@ class Suite:
         given: str | None = config.getoption("crosscheck_baseline")
         if given is not None:
             try:
-                baseline = here / given, read_baseline(here / given)
+                baseline = Path(given), read_baseline(here / given)
             except (BaselineError, OSError) as exc:
                 raise _usage("--crosscheck-baseline", str(exc)) from None
         out_option: str | None = config.getoption("crosscheck_out")
@@ -212,8 +215,8 @@ class Suite:
         report = yield
         if isinstance(collector, pytest.Session) and report.passed:
             report.result.extend(
-                EngineCollector.from_parent(collector, suite=self, engine=e.name,
-                                            builtin=e.builtin, name=f"crosscheck/{e.name}",
+                EngineCollector.from_parent(collector, suite=self, engine=e,
+                                            name=f"crosscheck/{e.name}",
                                             nodeid=f"crosscheck/{e.name}")
                 for e in self.engines)
         return report

@@ -145,16 +145,18 @@ def test_the_suite_and_the_kit_are_items_of_an_installed_plugin(site: Path,
     assert set(rows["engine"]) == {ENGINE}
 
 
-def baseline(project: Path, *changed: Entry) -> Path:
-    """A baseline of the designed cases' expected outcome (every sphere row agrees, every box
-    row is skipped), with ``changed`` entries in place of theirs."""
-    entries = {(case, ENGINE, q): Entry(case, ENGINE, q, "agree", "", 0.0)
+def baseline(project: Path, engine: str, *changed: Entry) -> Path:
+    """A baseline of the designed cases' expected outcome on ``engine`` (every sphere row
+    agrees; every box row is skipped by the plug-in, agrees on the textbook formula), with
+    ``changed`` entries in place of theirs."""
+    boxes = "skip" if engine == ENGINE else "agree"
+    entries = {(case, engine, q): Entry(case, engine, q, "agree", "", 0.0)
                for case, qs in ANSWERED.items() for q in qs}
-    entries |= {(case, ENGINE, q): Entry(case, ENGINE, q, "skip", "", float("nan"))
+    entries |= {(case, engine, q): Entry(case, engine, q, boxes, "", float("nan"))
                 for case, qs in SKIPPED.items() for q in qs}
     for entry in changed:
-        assert (entry.case, ENGINE, entry.quantity) in entries
-        entries[(entry.case, ENGINE, entry.quantity)] = entry
+        assert entry.key in entries
+        entries[entry.key] = entry
     path = project / "baseline.jsonl"
     write_baseline(Baseline(entries, 0.5, 2.0, "designed"), path)
     return path
@@ -163,7 +165,7 @@ def baseline(project: Path, *changed: Entry) -> Path:
 def test_a_regression_against_the_baseline_fails_its_item_alone_also_in_junit(
         site: Path, project: Path) -> None:
     answered = Entry("boxes-apart", ENGINE, "hit", "agree", "", 0.0)  # the plug-in skips it
-    baseline(project, answered)
+    baseline(project, ENGINE, answered)
     ran = suite(site, project, "--crosscheck-engine", ENGINE,
                 "--crosscheck-baseline", "baseline.jsonl")
     assert ran.returncode == 1, ran.stdout + ran.stderr
@@ -177,23 +179,32 @@ def test_a_regression_against_the_baseline_fails_its_item_alone_also_in_junit(
     assert text.startswith("REGRESSION: no longer answered: skip")
     assert "expected (baseline " in text and "baseline.jsonl): agree, error 0" in text
     assert "got (this run): skip" in text
-    assert f"reproduce: crosscheck repro {folder} boxes-apart --engine {ENGINE}" in text
+    assert (f"reproduce: crosscheck run {project / 'cases.toml'} --engine {ENGINE} (case "
+            "boxes-apart; crosscheck repro writes scripts for the built-in engines only)") in text
+    assert folder.is_dir()
     assert text in ran.stdout and "Traceback" not in ran.stdout  # its text, no traceback
 
 
-def test_a_stale_entry_fails_saying_so(site: Path, project: Path) -> None:
-    worse = Entry("spheres-apart", ENGINE, "distance", "disagree", "tolerance", 1e-3)
-    baseline(project, worse)
-    ran = suite(site, project, "--crosscheck-engine", ENGINE,
+def test_a_stale_entry_of_a_built_in_fails_saying_so_with_a_repro_command_that_works(
+        site: Path, project: Path) -> None:
+    worse = Entry("spheres-apart", "reference", "distance", "disagree", "tolerance", 1e-3)
+    baseline(project, "reference", worse)
+    ran = suite(site, project, "--crosscheck-engine", "reference",
                 "--crosscheck-baseline", "baseline.jsonl")
     assert ran.returncode == 1, ran.stdout + ran.stderr
     results = junit(project)
-    failed = f"crosscheck/{ENGINE}/spheres-apart::distance"
+    failed = "crosscheck/reference/spheres-apart::distance"
     assert with_outcome(results, "failure") == {failed}
+    assert with_outcome(results, "passed") == set(results) - {failed}
     text = results[failed][1]
     assert text.startswith("STALE: better than the baseline: agree") and "update it" in text
     assert "disagree (tolerance), error 0.001" in text
-    assert f"crosscheck repro {run_folder(ran.stdout)} spheres-apart --engine {ENGINE}" in text
+    command = f"crosscheck repro {run_folder(ran.stdout)} spheres-apart --engine reference"
+    assert f"reproduce: {command}\n" in f"{text}\n"
+    script = subprocess.run([sys.executable, "-m", "crosscheck.cli", *command.split()[1:]],
+                            cwd=project, capture_output=True, text=True, timeout=120)
+    assert script.returncode == 0, script.stderr
+    assert "Reproduce crosscheck case spheres-apart on engine reference" in script.stdout
 
 
 def test_a_crash_costs_rows_and_kit_items_never_the_session(site: Path, project: Path) -> None:
