@@ -294,3 +294,13 @@ def test_the_plugin_has_an_item_for_every_check_of_the_kit() -> None:
                     and isinstance(node.args[0], ast.Constant)):
                 named.add(node.args[0].value)
     assert named == set(CHECKS) and len(CHECKS) == len(named)
+
+
+def test_the_docs_page_names_every_option_and_every_check() -> None:
+    page = (ROOT / "docs" / "pytest-plugin.md").read_text(encoding="utf-8")
+    source = (ROOT / "crosscheck" / "pytest_plugin" / "__init__.py").read_text(encoding="utf-8")
+    options = set(re.findall(r'addoption\("(--crosscheck-[a-z-]+)"', source))
+    assert len(options) == 5
+    assert {o for o in options if f"| `{o}" in page} == options  # a row of the options table
+    listed = re.search(r"conformance kit \(((?:`\w+`,?\s*)+)", page)
+    assert listed and re.findall(r"`(\w+)`", listed.group(1)) == list(CHECKS)
