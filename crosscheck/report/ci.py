@@ -71,7 +71,7 @@ def outcome(findings: Sequence[Finding]) -> str:
 def scope(engines: Collection[str] | None) -> str:
     """The engines a check judged, in words."""
     if engines is None:
-        return "engines: every engine of the run and the baseline"
+        return "engines: all"
     return f"engines: {', '.join(sorted(engines))} only (--engine)"
 
 
