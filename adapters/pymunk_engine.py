@@ -16,6 +16,8 @@ keep stale positions until then).  ``query`` is one ``a.shapes_collide(b)``:
   while building the ``ContactPointSet``).  Exactly that is caught and reported
   as ``hit`` False with distance and normal absent: pymunk gives no separation
   distance.  Because the signal is an assert, ``available()`` refuses ``python -O``.
+  pymunk 6 (``--engine pymunk@6.11.1``) returns an empty ``ContactPointSet`` instead
+  (``normal`` (0, 0), ``points`` []; measured with 6.11.1), read the same way.
 ``Space.shape_query`` returns the same ``ContactPointSet`` after a bounding-box
 pre-filter, and segment/point queries do not give a pair's distance, so the
 direct pairwise call is used.
@@ -225,7 +227,9 @@ def _static_shape(case: PairCase, which: str) -> Any:
 def _detect(prepared: _Detection) -> Observation:
     try:
         points = prepared.a.shapes_collide(prepared.b)
-    except AssertionError:  # pymunk's signal for a ContactPointSet with no points
+    except AssertionError:  # pymunk 7's signal for a ContactPointSet with no points
+        return Observation(hit=False)
+    if not points.points:  # pymunk 6 returns it: ContactPointSet(normal=(0, 0), points=[])
         return Observation(hit=False)
     distance = min(float(p.distance) for p in points.points)
     return Observation(hit=True, distance=distance, normal=_vec(points.normal))

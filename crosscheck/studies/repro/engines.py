@@ -119,7 +119,9 @@ shape_b.cache_bb()
 
 try:
     points = shape_a.shapes_collide(shape_b)
-except AssertionError:  # pymunk's signal for "no contact": a ContactPointSet with no points
+except AssertionError:  # pymunk 7's signal for "no contact": a ContactPointSet with no points
+    points = None
+if points is None or not points.points:  # pymunk 6 returns the empty ContactPointSet
     hit, distance, normal = False, None, None  # pymunk gives no separation distance
 else:
     hit = True
