@@ -97,9 +97,10 @@ def _say_changes(found: Sequence[Changes], markdown: Path) -> None:
             f"{len(changes.modes)} failure modes; the largest:")
         for mode, rows in list(changes.modes.items())[:5]:
             say(f"  {len(rows):>6}  {mode}")
-    if quiet:
-        say(f"no row changed for {len(quiet)} engine pairs: "
-            f"{', '.join(c.after.engine for c in quiet)}")
+    for changes in quiet:
+        say(f"no row changed from {changes.before.label} to {changes.after.label} "
+            f"({changes.compared} rows; {changes.answered_differently} answer differently "
+            "within the margin and factor)")
     say(f"what changed, by failure mode, with repro commands: {markdown}")
 
 

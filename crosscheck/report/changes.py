@@ -73,6 +73,8 @@ class Changes:
     after: Side
     compared: int
     """Rows judged (either side)."""
+    answered_differently: int = 0
+    """Rows of both sides whose stored value differs at all (bit for bit, as text)."""
     modes: dict[str, list[Finding]] = field(default_factory=dict)
 
     @property
@@ -123,7 +125,10 @@ def what_changed(before: Side, after: Side, margin: float = DEFAULT_MARGIN,
     old = first[first["engine"] == before.engine].assign(engine=SAME)
     new = second[second["engine"] == after.engine].assign(engine=SAME)
     findings = judge(new, from_rows(old, margin, stale_factor, str(before.run)))
-    changes = Changes(before, after, len(findings))
+    key = ["case_id", "quantity"]
+    both = old[[*key, "value"]].merge(new[[*key, "value"]], on=key, suffixes=("_a", "_b"))
+    differ = int((both["value_a"].astype(str) != both["value_b"].astype(str)).sum())
+    changes = Changes(before, after, len(findings), differ)
     for finding in findings:
         if not finding.verdict.fails:
             continue
@@ -168,7 +173,9 @@ def markdown(all_changes: Sequence[Changes]) -> str:
         counts = ", ".join(f"{n} {verdict}" for verdict, n in sorted(changes.counts().items()))
         lines += [f"## {changes.before.label} -> {changes.after.label}", "",
                   f"{changes.changed} of {changes.compared} rows changed"
-                  + (f" ({counts}) in {len(changes.modes)} failure modes." if counts else "."),
+                  + (f" ({counts}) in {len(changes.modes)} failure modes." if counts else ".")
+                  + f" {changes.answered_differently} rows on both sides answer differently "
+                    "at all (the stored value, bit for bit).",
                   f"Before: `{changes.before.run}`; after: `{changes.after.run}`.", ""]
         for mode, found in changes.modes.items():
             lines += [f"### {_cell(mode)}: {len(found)} rows", "",

@@ -27,7 +27,7 @@ Row = tuple[str, str, str, str, float]
 def record(engine: str, row: Row) -> Record:
     case, quantity, status, category, error = row
     return Record(case_id=case, source="cases/t.toml", kind="sphere", dim=3, tags="",
-                  engine=engine, quantity=quantity, value="1", truth="1", error=error,
+                  engine=engine, quantity=quantity, value=repr(error), truth="0", error=error,
                   tolerance=1e-15, status=Status(status), category=category, reason="",
                   setup_s=math.nan, query_s=math.nan, query_iqr_s=math.nan, loops=0,
                   unstable=False)
@@ -73,6 +73,7 @@ def run(tmp_path: Path) -> Path:
 def test_changed_rows_fall_in_failure_modes_largest_first(run: Path) -> None:
     changes = what_changed(side(run, "e@1.0"), side(run, "e"))
     assert changes.compared == 7 and changes.changed == 6
+    assert changes.answered_differently == 5  # a value per error: a to e moved, f did not
     assert {mode: len(rows) for mode, rows in changes.modes.items()} == {
         "hit: agree -> disagree (tolerance)": 2,
         "distance: crash -> agree": 1,
@@ -109,7 +110,7 @@ def test_compare_of_two_runs_judges_each_shared_engine(
     out = tmp_path / "out"
     assert main(["compare", str(a), str(b), "--out", str(out)]) == 0
     said = capsys.readouterr().out.replace("\n", " ")
-    assert "no row changed for 1 engine pairs: same" in said
+    assert "no row changed from same (2.0) to same (2.0) (6 rows; 0 answer differently" in said
     table = pd.read_csv(out / "changes.csv")
     assert set(table["after_engine"]) == {"e (2.0)"} and len(table) == 6
     assert (out / "compare.html").exists()
