@@ -1,13 +1,11 @@
 """Adapters for pymunk 7.3.1 (Munk2D 2.0.1, a Chipmunk2D fork): ``pymunk``, ``pymunk-default``.
 
-pymunk is a 2-D engine: every 3-D case is skipped with the reason "2-D engine".
-
-Detection (``aabb``, ``sphere``): each body is a static ``pymunk.Body`` placed at
-the case's centre carrying a ``pymunk.Poly.create_box`` (full width and height,
-so the adapter passes ``2 * half``; radius 0, no bevel) or a ``pymunk.Circle``.
-``prepare`` builds the shapes and calls ``cache_bb()`` (shapes outside a Space
-keep stale positions until then).  ``query`` is one ``a.shapes_collide(b)``:
-
+pymunk is a 2-D engine: every 3-D case is skipped with the reason "2-D engine".  Detection
+(``aabb``, ``sphere``): each body is a static ``pymunk.Body`` placed at the case's centre
+carrying a ``pymunk.Poly.create_box`` (full width and height, so the adapter passes
+``2 * half``; radius 0, no bevel) or a ``pymunk.Circle``.  ``prepare`` builds the shapes and calls
+``cache_bb()`` (shapes outside a Space keep stale positions until then).  ``query`` is one
+``a.shapes_collide(b)``:
 - points -> ``hit`` True; ``distance`` = the smallest ``ContactPoint.distance``
   (negative when penetrating); ``normal`` = ``ContactPointSet.normal``, which
   points from the first shape to the second (``cpShapesCollide`` flips it when
@@ -15,9 +13,8 @@ keep stale positions until then).  ``query`` is one ``a.shapes_collide(b)``:
 - no contact: pymunk raises ``AssertionError`` (it asserts ``count in (1, 2)``
   while building the ``ContactPointSet``).  Exactly that is caught and reported
   as ``hit`` False with distance and normal absent: pymunk gives no separation
-  distance.  Because the signal is an assert, ``available()`` refuses ``python -O``.
-  pymunk 6 (``--engine pymunk@6.11.1``) returns an empty ``ContactPointSet`` instead
-  (``normal`` (0, 0), ``points`` []; measured with 6.11.1), read the same way.
+  distance.  Because the signal is an assert, ``available()`` refuses ``python -O``.  pymunk 6
+  returns an empty ``ContactPointSet`` instead (measured with 6.11.1), read the same way.
 ``Space.shape_query`` returns the same ``ContactPointSet`` after a bounding-box
 pre-filter, and segment/point queries do not give a pair's distance, so the
 direct pairwise call is used.
@@ -225,13 +222,11 @@ def _static_shape(case: PairCase, which: str) -> Any:
 
 
 def _detect(prepared: _Detection) -> Observation:
-    try:
+    try:  # no contact: pymunk 7 asserts, pymunk 6 returns a ContactPointSet with no points
         points = prepared.a.shapes_collide(prepared.b)
-    except AssertionError:  # pymunk 7's signal for a ContactPointSet with no points
+        distance = min(float(p.distance) for p in points.points)
+    except (AssertionError, ValueError):  # ValueError: min() of no points
         return Observation(hit=False)
-    if not points.points:  # pymunk 6 returns it: ContactPointSet(normal=(0, 0), points=[])
-        return Observation(hit=False)
-    distance = min(float(p.distance) for p in points.points)
     return Observation(hit=True, distance=distance, normal=_vec(points.normal))
 
 
@@ -305,7 +300,7 @@ class PymunkTuned(Adapter):
         import pymunk
 
         core = "Munk2D" if int(pymunk.version.split(".")[0]) >= 7 else "Chipmunk2D"  # 7: fork
-        return f"{pymunk.version} ({core} {pymunk.chipmunk_version.split('-')[0]})"
+        return f"{pymunk.version} ({core} {pymunk.chipmunk_version.partition('-')[0]})"
 
     def available(self) -> str | None:
         try:
@@ -382,10 +377,9 @@ def _watch(prepared: _Response) -> None:
             prepared.contact.append((_vec(a.position), _vec(b.position)))
         return True  # pymunk 6 reads it (keep the contact); pymunk 7 ignores it
 
-    on_collision = getattr(prepared.space, "on_collision", None)
-    if on_collision is not None:  # pymunk >= 7
-        on_collision(pre_solve=pre_solve)
-    else:  # pymunk 6 (--engine pymunk@6.11.1): add_default_collision_handler().pre_solve
+    if hasattr(prepared.space, "on_collision"):  # pymunk >= 7; else pymunk 6 (pymunk@6.11.1)
+        prepared.space.on_collision(pre_solve=pre_solve)
+    else:
         prepared.space.add_default_collision_handler().pre_solve = pre_solve
 
 

@@ -11,6 +11,7 @@ refused with that reason; running every engine skips it with a note.
 from __future__ import annotations
 
 import argparse
+import shutil
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -175,8 +176,6 @@ def cmd_envs(args: argparse.Namespace) -> int:
     root = envs.cache_root()
     found = envs.cached(root)
     if args.clear_envs:
-        import shutil
-
         shutil.rmtree(root, ignore_errors=True)
         out.print(Text(f"removed {len(found)} cached environments and {root}"), soft_wrap=True)
         return 0

@@ -14,18 +14,20 @@ if TYPE_CHECKING:
     from crosscheck.report.changes import Changes
 
 COMPARE_DESCRIPTION = """\
-Two runs (A B): what differs between them (cases, engines, options, versions, machines),
-the verdict changes, cost and timing changes (compare.html), then, for every engine of both
-(or --from ENGINE --to ENGINE), what changed by failure mode (changes.md, changes.csv).
+Two runs (A B): what differs between them (cases, engines, options, versions,
+machines), the verdict changes, cost and timing changes (compare.html), then,
+for every engine of both (or --from ENGINE --to ENGINE), what changed by
+failure mode (changes.md, changes.csv).
 
-One run (A --from X --to Y): what changed from engine X to engine Y of that run, such as
-two versions run side by side (crosscheck run --engine pymunk@6.11.1 --engine pymunk).
+One run (A --from X --to Y): what changed from engine X to engine Y of that
+run, such as two versions run side by side (crosscheck run --engine
+pymunk@6.11.1 --engine pymunk).
 
-A row of Y judged against X's by the baseline rules (crosscheck check): a new disagreement,
-an error larger beyond the margin or smaller beyond the stale factor, a new failure, a row
-newly (or no longer) answered.  Each failure mode lists examples with the repro command of
-both sides.  Exit code 0 once written (a report, not a check: crosscheck check fails),
-2 for bad input."""
+A row of Y judged against X's by the baseline rules (crosscheck check): a new
+disagreement, an error larger beyond the margin or smaller beyond the stale
+factor, a new failure, a row newly (or no longer) answered. Each failure mode
+lists examples with the repro command of both sides. Exit code 0 once written
+(a report, not a check: crosscheck check fails), 2 for bad input."""
 
 
 def cmd_report(args: argparse.Namespace) -> int:

@@ -214,7 +214,7 @@ R = TypeVar("R")
 
 
 class Lanes(Protocol):
-    """Where cases run: local lanes (:class:`~crosscheck.run.worker.LocalLanes`) or a Dask
+    """Where cases run: local lanes (:class:`~crosscheck.run.lanes.LocalLanes`) or a Dask
     cluster (:class:`~crosscheck.run.distributed.DaskLanes`).
 
     A context manager whose :meth:`map` applies ``fn(item, executor)`` to every

@@ -38,8 +38,9 @@ from crosscheck.results.repeats import Answer, RepeatRecord, changed, read_repea
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, execute
+from crosscheck.run.lanes import LocalLanes
 from crosscheck.run.runner import execute_case, score_outcome
-from crosscheck.run.worker import LocalLanes, fresh_worker
+from crosscheck.run.worker import fresh_worker
 
 REASKED = frozenset({Status.DISAGREE, Status.ERROR, Status.CRASH})
 """A pair with a row of one of these statuses (and none :data:`NOT_REASKED`) is asked again."""

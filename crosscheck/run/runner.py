@@ -42,7 +42,7 @@ from crosscheck.results.series import EXACT, SeriesRecord, series_of
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome, case_options
-from crosscheck.run.worker import LocalLanes
+from crosscheck.run.lanes import LocalLanes
 from crosscheck.truth import measure_rules, oracle
 from crosscheck.truth.columnar import judge_batch
 from crosscheck.truth.score import Verdict, judge

@@ -25,8 +25,8 @@ from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.run.lanes import LocalLanes
 from crosscheck.run.runner import run
-from crosscheck.run.worker import LocalLanes
 from tests import fakes
 from tests.conftest import ROOT, lines_in, sphere, wait_until
 
