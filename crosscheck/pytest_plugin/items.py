@@ -35,6 +35,7 @@ if TYPE_CHECKING:
 
     from crosscheck.pytest_plugin.suite import Engine, Suite
 
+
 class CrosscheckFailure(Exception):
     """A finding or a kit check that fails: its message is the whole report."""
 
