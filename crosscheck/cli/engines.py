@@ -67,7 +67,8 @@ def engine_name(text: str) -> str:
     known = names()
     if base not in known:
         raise argparse.ArgumentTypeError(f"invalid choice: {base!r} (choose from "
-                                         f"{', '.join(known)}; NAME@VERSION for a version)")
+                                         f"{', '.join(map(repr, known))}; NAME@VERSION for a "
+                                         "version)")
     problem = envs.check_version(version) if version is not None else None
     if problem:
         raise argparse.ArgumentTypeError(problem)
