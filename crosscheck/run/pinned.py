@@ -28,6 +28,7 @@ in a worker or a Dask process.
 from __future__ import annotations
 
 import importlib
+import json
 import subprocess
 import sys
 from importlib import metadata
@@ -133,23 +134,29 @@ def _make(base: type[Adapter], env: envs.PinnedEnv, key: str) -> type[Adapter]:
 
 
 def _reported_version(base: type[Adapter], env: envs.PinnedEnv) -> str:
-    """``base().version()`` as the environment's interpreter answers it."""
+    """``base().version()`` as the environment's interpreter answers it; EnvError if the
+    engine cannot run there (``available()`` gives a reason: a wheel built against another
+    numpy, say), before any case runs."""
     cache_key = (base.__module__, base.__qualname__, str(env.path))
     if cache_key in _VERSIONS:
         return _VERSIONS[cache_key]
-    script = (f"from {base.__module__} import {base.__qualname__.split('.')[0]} as _m\n"
-              f"print(_m().version() if hasattr(_m, 'version') else '')")
     if "." in base.__qualname__:
         raise envs.EnvError(f"{base.__qualname__}: a nested adapter class cannot be pinned")
+    script = (f"import json; from {base.__module__} import {base.__qualname__} as m; "
+              "a = m(); print(json.dumps([a.version(), a.available()]))")
     try:
         done = subprocess.run([str(env.python), "-c", script], capture_output=True, text=True,
                               timeout=120, check=False)
     except (OSError, subprocess.TimeoutExpired) as exc:
         raise envs.EnvError(f"{env.python} cannot start: {exc}") from None
+    label = f"{base.name} with {env.package} {env.version}"
     if done.returncode != 0:
         tail = "\n".join(done.stderr.strip().splitlines()[-4:])
-        raise envs.EnvError(f"{base.name} with {env.package} {env.version} fails: {tail}")
-    _VERSIONS[cache_key] = done.stdout.strip()
+        raise envs.EnvError(f"{label} fails: {tail}")
+    version, problem = json.loads(done.stdout.strip().splitlines()[-1])
+    if problem:
+        raise envs.EnvError(f"{label} cannot run in {env.path}: {problem}")
+    _VERSIONS[cache_key] = str(version)
     return _VERSIONS[cache_key]
 
 

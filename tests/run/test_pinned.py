@@ -27,16 +27,18 @@ from crosscheck.run.launch import launch, new_info
 from tests.run.versioned_fake import MODULE, PACKAGE, VersionedFake
 
 OFFSETS = {"1.0": 0.0, "2.0": 0.5}
+BROKEN = "0.9"
+"""A version that installs but cannot be imported (as a wheel built against another numpy)."""
 CASE = CASE_ADAPTER.validate_python({
     "id": "spheres-apart", "description": "a gap of 0.5", "kind": "sphere", "dim": 3,
     "a": {"center": [0, 0, 0], "radius": 0.5}, "b": {"center": [1.5, 0, 0], "radius": 0.5}})
 
 
-def wheel(folder: Path, version: str, offset: float) -> Path:
+def wheel(folder: Path, version: str, module: str) -> Path:
     """A pure-Python wheel of the fake package (PEP 427: a zip with its dist-info)."""
     dist = f"{PACKAGE.replace('-', '_')}-{version}"
     files = {
-        f"{MODULE}.py": f"OFFSET = {offset!r}\n",
+        f"{MODULE}.py": module,
         f"{dist}.dist-info/METADATA": (f"Metadata-Version: 2.1\nName: {PACKAGE}\n"
                                        f"Version: {version}\n"),
         f"{dist}.dist-info/WHEEL": ("Wheel-Version: 1.0\nGenerator: crosscheck-tests\n"
@@ -59,7 +61,8 @@ def cache(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Path]:
     """A cache root, with pip pointed at a folder holding the fake package's two wheels."""
     wheels = tmp_path_factory.mktemp("wheels")
     for version, offset in OFFSETS.items():
-        wheel(wheels, version, offset)
+        wheel(wheels, version, f"OFFSET = {offset!r}\n")
+    wheel(wheels, BROKEN, 'raise ImportError("built against another numpy")\n')
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv("PIP_NO_INDEX", "1")
         patch.setenv("PIP_FIND_LINKS", str(wheels))
@@ -117,6 +120,12 @@ def test_a_worker_whose_environment_has_another_version_answers_nothing(
     rows = read_run(folder).results
     assert set(rows["status"]) == {"skip"}
     assert rows["reason"].str.contains(f"has {PACKAGE} 1.0, not 3.0").all()
+
+
+def test_a_version_that_installs_but_cannot_run_is_refused_before_any_case(cache: Path) -> None:
+    env = envs.ensure(PACKAGE, BROKEN)
+    with pytest.raises(envs.EnvError, match="cannot run in .*built against another numpy"):
+        pinned.pin(VersionedFake, env)
 
 
 def test_a_pinned_class_pickles_by_reference(cache: Path) -> None:
