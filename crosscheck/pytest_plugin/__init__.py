@@ -10,7 +10,7 @@ built-in) into a run folder, then reports one item per case x quantity (x engine
 several ``--crosscheck-engine``), judged as ``crosscheck check`` judges them
 (:mod:`crosscheck.results.baseline`), and one item per check of the conformance kit
 (:mod:`crosscheck.testing.conformance`).  The options and what fails are in
-docs/baselines-and-ci.md ("The pytest plugin").
+docs/pytest-plugin.md.
 
 It is the second face beside the CLI (the top layer, docs/architecture.md): it may use
 the engine registry and the public test kit, and never imports ``crosscheck.cli``.
