@@ -124,7 +124,7 @@ def test_a_worker_whose_environment_has_another_version_answers_nothing(
 
 def test_a_version_that_installs_but_cannot_run_is_refused_before_any_case(cache: Path) -> None:
     env = envs.ensure(PACKAGE, BROKEN)
-    with pytest.raises(envs.EnvError, match="cannot run in .*built against another numpy"):
+    with pytest.raises(envs.EnvError, match=r"cannot run in .*built against another numpy"):
         pinned.pin(VersionedFake, env)
 
 
