@@ -16,6 +16,7 @@ from crosscheck.studies.bench import Figure
 from crosscheck.studies.bench import comparison as bench_compare
 from crosscheck.studies.bench import figures as bench
 from crosscheck.studies.bench import suite as bench_suite
+from crosscheck.studies.bench.kit import RECORDED
 from crosscheck.studies.bench.oracle import values_benchmark
 from tests.conftest import ROOT
 
@@ -163,10 +164,33 @@ def test_values_figure_checks_every_near_pair_bit_for_bit() -> None:
 
 
 @pytest.mark.engine
-def test_campaign_figure_reports_every_engine_and_memory() -> None:
+def test_a_small_campaign_is_extrapolated_to_a_million_and_only_recorded() -> None:
     # injected: the 1,000 cases take 60 s, so a million take 1,000 minutes, over the 15
     figure = bench.campaign_figure(1_000, ["reference", "pymunk"], clock=fake_clock(5.0, 65.0))
     assert set(figure.detail["engine_cases_per_s"]) == {"reference", "pymunk"}
     assert figure.detail["n"] == 1_000 and figure.detail["peak_parent_mb"] > 0
     assert figure.detail["wall_s"] == 60.0
-    assert figure.unit == "min" and figure.value == pytest.approx(1_000.0) and not figure.ok
+    assert figure.unit == "min" and figure.value == pytest.approx(1_000.0)
+    assert "extrapolated" in figure.name and figure.target == RECORDED and figure.ok
+
+
+@pytest.mark.engine
+def test_the_target_campaign_is_judged_on_its_own_wall_time(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(bench, "MILLION", 1_000)  # this campaign stands for the million
+    figure = bench.campaign_figure(1_000, ["reference"], clock=fake_clock(5.0, 65.0))
+    assert "run to the end" in figure.name and figure.target == "<= 15 min"
+    assert figure.value == pytest.approx(1.0) and figure.ok
+    slow = bench.campaign_figure(1_000, ["reference"], clock=fake_clock(0.0, 960.0))
+    assert slow.value == pytest.approx(16.0) and not slow.ok
+
+
+def test_make_test_on_a_fresh_clone_is_read_from_its_measurement(tmp_path: Path) -> None:
+    path = tmp_path / "setup.json"
+    path.write_text(json.dumps({"make test": {
+        "seconds": 250.0, "measured": "2026-12-05T00:00:00+00:00",
+        "machine": {"git_commit": "abcdef1234567890"}}}))
+    figure = bench_suite.fresh_clone_figure(path)
+    assert figure.value == 250.0 and not figure.ok and "abcdef123456" in figure.note
+    missing = bench_suite.fresh_clone_figure(tmp_path / "none.json")
+    assert math.isnan(missing.value) and not missing.ok and "no measurement" in missing.note

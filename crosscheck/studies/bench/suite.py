@@ -33,8 +33,13 @@ SEVEN = ("reference", "reference-f32", "fcl", "pybullet", "pybullet-default", "p
          "pymunk-default")
 """The engine variants of the issue's targets (``--engine`` each)."""
 
-QUICK_S, FULL_S, HELP_S, RENDER_S = 6.0, 45.0, 0.3, 1.0
-"""Targets: ``run --quick``, the full run, ``--help`` and the report render (seconds)."""
+QUICK_S, QUICK_ALL_S, FULL_ALL_S, HELP_S, REPORT_S = 6.0, 10.0, 90.0, 0.3, 1.5
+"""Targets (seconds, whole-process medians): ``run --quick`` with the seven variants and with
+every available one, the full ``make run`` (every available variant, the timing phase and
+the repeat check included), ``--help`` and ``crosscheck report`` of the full run."""
+
+RUNS = 3
+"""Runs of each suite figure: the median is judged, the range reported."""
 
 
 def cli() -> list[str]:
@@ -71,33 +76,39 @@ def _run(extra: Sequence[str], folder: Path) -> tuple[int, float, float, str]:
     return run_measured([*cli(), "run", *extra, "--out", str(folder)])
 
 
-def suite_figures(quick: bool, keep: Path) -> list[Figure]:
-    """Suite wall times and peak memory; the full seven-engine run is left in ``keep/full``."""
-    figures, peaks = [], []
-    walls = []
-    for n in range(3):
-        code, wall, peak, tail = _run(["--quick", *_engines(SEVEN)], keep / f"quick-{n}")
-        walls.append(wall)
-        peaks.append(("--quick, seven", peak))
+def _median_figure(name: str, walls: list[float], codes: list[int], limit: float,
+                   tail: str) -> Figure:
     s = spread(walls)
-    figures.append(Figure(
-        "suite time, crosscheck run --quick (seven variants)", s["median"], "s",
-        f"<= {QUICK_S:.0f} s", code == 0 and s["median"] <= QUICK_S, {"runs": walls, **s},
-        note=f"median of 3, range {s['min']:.1f}-{s['max']:.1f} s" + ("" if code == 0 else tail)))
-    runs: list[tuple[str, list[str], str, float | None]] = [
-        ("--quick, every available engine", ["--quick", *_engines(available())], "quick-all",
-         None)]
+    ok = all(code == 0 for code in codes) and s["median"] <= limit
+    return Figure(name, s["median"], "s", f"<= {limit:g} s", ok, {"runs": walls, **s},
+                  note=f"median of {len(walls)}, range {s['min']:.1f}-{s['max']:.1f} s"
+                       + ("" if all(code == 0 for code in codes) else f"; {tail}"))
+
+
+def suite_figures(quick: bool, keep: Path) -> list[Figure]:
+    """Suite wall times (each the median of :data:`RUNS` whole processes) and peak memory;
+    the last full run (or quick run of every variant) is left in ``keep/full``
+    (``keep/quick-all``) for the report figure."""
+    every = available()
+    plan: list[tuple[str, list[str], str, float]] = [
+        ("crosscheck run --quick (seven variants)", ["--quick", *_engines(SEVEN)], "quick",
+         QUICK_S),
+        (f"crosscheck run --quick (every available variant: {len(every)})",
+         ["--quick", *_engines(every)], "quick-all", QUICK_ALL_S)]
     if not quick:
-        runs = [("full, seven variants", _engines(SEVEN), "full", FULL_S),
-                ("full, every available engine", _engines(available()), "full-all", None), *runs]
-    for label, extra, name, limit in runs:
-        code, wall, peak, tail = _run(extra, keep / name)
-        peaks.append((label, peak))
-        target = f"<= {limit:.0f} s" if limit else "reported"
-        figures.append(Figure(f"suite time, crosscheck run ({label})", wall, "s", target,
-                              code == 0 and (limit is None or wall <= limit),
-                              {"returncode": code, "engines": extra[1::2]},
-                              note="one run" + ("" if code == 0 else f"; {tail}")))
+        plan.append((f"make run: crosscheck run --repeat-check (every available variant: "
+                     f"{len(every)})", ["--repeat-check", *_engines(every)], "full",
+                     FULL_ALL_S))
+    figures, peaks = [], []
+    for label, extra, name, limit in plan:
+        walls, codes, tail = [], [], ""
+        for n in range(RUNS):
+            folder = keep / (name if n == RUNS - 1 else f"{name}-{n}")
+            code, wall, peak, tail = _run(extra, folder)
+            walls.append(wall)
+            codes.append(code)
+            peaks.append((label, peak))
+        figures.append(_median_figure(f"suite time, {label}", walls, codes, limit, tail))
     label, peak = max(peaks, key=lambda p: p[1])
     figures.append(Figure("peak memory of a suite run (PSS, all processes)", peak, "MB",
                           "reported", True, {"runs": dict(peaks)},
@@ -124,38 +135,40 @@ def help_figure() -> Figure:
                   note=f"median of 20, IQR {s['q1']:.3f}-{s['q3']:.3f} s")
 
 
-RENDER = """\
-import json, sys, time
-from pathlib import Path
-from crosscheck.report.render import render
-walls = []
-for _ in range(3):
-    start = time.perf_counter()
-    render(Path(sys.argv[1]))
-    walls.append(time.perf_counter() - start)
-print(json.dumps(walls))
-"""
+def report_figure(folder: Path) -> Figure:
+    """``crosscheck report`` of a stored run, whole process, :data:`RUNS` times."""
+    walls = timed([*cli(), "report", str(folder)], RUNS)
+    s = spread(walls)
+    rows = sum(1 for _ in (folder / "results.jsonl").open(encoding="utf-8"))
+    return Figure(f"crosscheck report of the {folder.name} run ({rows:,} rows)", s["median"],
+                  "s", f"<= {REPORT_S} s", s["median"] <= REPORT_S, {"rows": rows, **s},
+                  note=f"median of {RUNS}, range {s['min']:.2f}-{s['max']:.2f} s "
+                       "(whole process)")
 
 
-def render_figure(folder: Path) -> Figure:
-    """The report of a full run rendered three times in a fresh interpreter (render alone)."""
-    done = subprocess.run([sys.executable, "-c", RENDER, str(folder)], cwd=ROOT,
-                          capture_output=True, text=True, check=False)
-    if done.returncode != 0:
-        return Figure("report render of the full run", float("nan"), "s", f"<= {RENDER_S} s",
-                      False, {}, note=done.stderr[-300:])
-    s = spread(json.loads(done.stdout.strip().splitlines()[-1]))
-    return Figure("report render of the full run", s["median"], "s", f"<= {RENDER_S} s",
-                  s["median"] <= RENDER_S, s,
-                  note=f"median of 3, range {s['min']:.2f}-{s['max']:.2f} s (render() alone)")
+def fresh_clone_figure(measurements: Path) -> Figure:
+    """``make test`` on a fresh clone, as ``python -m tools.measure_setup --test`` measured it
+    (docs/measurements/setup.json): read, not re-measured (it clones and builds a venv)."""
+    try:
+        data = json.loads(measurements.read_text(encoding="utf-8"))["make test"]
+        seconds = float(data["seconds"])
+        note = (f"measured {data['measured']} at commit "
+                f"{str(data['machine'].get('git_commit', ''))[:12]} by python -m "
+                "tools.measure_setup --test (one run; not re-measured here)")
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        return Figure("make test on a fresh clone", float("nan"), "s", "<= 240 s", False, {},
+                      note=f"no measurement in {measurements}: {exc}")
+    return Figure("make test on a fresh clone", seconds, "s", "<= 240 s", seconds <= 240.0,
+                  data, note=note)
 
 
 def figures(quick: bool) -> list[Callable[[], list[Figure]]]:
     """The steps of this module, in order, sharing one temporary folder for the runs."""
     keep = Path(tempfile.mkdtemp(prefix="crosscheck-bench-"))
 
-    def render_step() -> list[Figure]:
-        folder = keep / ("full" if (keep / "full").exists() else "quick-0")
-        return [render_figure(folder)]
+    def report_step() -> list[Figure]:
+        folder = keep / ("full" if (keep / "full").exists() else "quick-all")
+        return [report_figure(folder),
+                fresh_clone_figure(ROOT / "docs" / "measurements" / "setup.json")]
 
-    return [lambda: suite_figures(quick, keep), lambda: [help_figure()], render_step]
+    return [lambda: suite_figures(quick, keep), lambda: [help_figure()], report_step]
