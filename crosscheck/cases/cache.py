@@ -21,25 +21,18 @@ that cannot be written only costs the speed-up.
 Where: ``$CROSSCHECK_CACHE`` if set, else ``$XDG_CACHE_HOME/crosscheck/cases``
 (``~/.cache/crosscheck/cases``).  ``CROSSCHECK_NO_CACHE=1`` turns it off; so does
 ``load_paths(..., cache=False)``.  Deleting the folder is always safe.  Entries are
-pickles: like any cache, the folder must be your own.
+pickles: like any cache, the folder must be your own.  The mechanics (folder, key, entries
+checked by their SHA-256, pruning) are :mod:`crosscheck.core.disk_cache`, shared with the
+scene truths' cache.
 """
 
 from __future__ import annotations
 
-import hashlib
-import os
-import pickle
-import platform
-import sys
-import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cache
 from pathlib import Path
 
-import pydantic
-
-import crosscheck
+from crosscheck.core import disk_cache
 from crosscheck.core.schema import (
     AabbCase,
     AnyCase,
@@ -53,7 +46,6 @@ FORMAT = 1
 """The layout of an entry; bump it when :class:`Entry` changes."""
 PACKAGES = ("crosscheck/cases", "crosscheck/core", "crosscheck/truth", "reference_impl")
 """The source folders whose code decides what a case file loads to."""
-ROOT = Path(__file__).resolve().parents[2]
 CASE_TYPES = (AabbCase, SphereCase, ResponseCase, SceneCase, ToiCase)
 LIMIT = 2000
 """Most entries kept (a hit refreshes nothing: an entry's age is its write time)."""
@@ -67,74 +59,32 @@ class Entry:
     cases: list[AnyCase]
 
 
-@cache
 def code_hash() -> str:
     """The hash of everything but the file that decides what a file loads to."""
-    digest = hashlib.sha256(f"{FORMAT} {crosscheck.__version__} {pydantic.VERSION} "
-                            f"{platform.python_implementation()} {sys.version}".encode())
-    for folder in PACKAGES:
-        for source in sorted((ROOT / folder).glob("*.py")):
-            digest.update(source.name.encode() + b"\0" + source.read_bytes() + b"\0")
-    return digest.hexdigest()
+    return disk_cache.code_hash(PACKAGES, FORMAT)
 
 
 def folder() -> Path | None:
     """The cache folder, or None when caching is turned off."""
-    if os.environ.get("CROSSCHECK_NO_CACHE", "") not in ("", "0"):
-        return None
-    if os.environ.get("CROSSCHECK_CACHE"):
-        return Path(os.environ["CROSSCHECK_CACHE"])
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "crosscheck" / "cases"
+    return disk_cache.folder()
 
 
 def key(path: Path, data: bytes) -> str:
     """The entry name of case file ``path`` holding ``data``."""
-    digest = hashlib.sha256(code_hash().encode() + b"\0" + str(path).encode() + b"\0")
-    digest.update(data)
-    return digest.hexdigest()
+    return disk_cache.key(code_hash(), str(path).encode(), data)
+
+
+def _valid(entry: object) -> bool:
+    return (isinstance(entry, Entry) and isinstance(entry.cases, list)
+            and all(isinstance(c, CASE_TYPES) for c in entry.cases))
 
 
 def get(where: Path, name: str) -> Entry | None:
     """The stored entry ``name``, or None if it is missing or not exactly what was stored."""
-    try:
-        raw = (where / f"{name}.pickle").read_bytes()
-    except OSError:
-        return None
-    check, payload = raw[:32], raw[32:]
-    if len(raw) <= 32 or hashlib.sha256(payload).digest() != check:
-        return None
-    try:
-        entry = pickle.loads(payload)
-    except Exception:  # a payload of an older class layout: load the file afresh
-        return None
-    if not (isinstance(entry, Entry) and isinstance(entry.cases, list)
-            and all(isinstance(c, CASE_TYPES) for c in entry.cases)):
-        return None
-    return entry
+    entry = disk_cache.get(where, name, _valid)
+    return entry if isinstance(entry, Entry) else None
 
 
 def put(where: Path, name: str, blocks: int, cases: Sequence[AnyCase]) -> None:
     """Store an error-free file's cases; a folder that cannot be written is skipped."""
-    payload = pickle.dumps(Entry(blocks, list(cases)), protocol=pickle.HIGHEST_PROTOCOL)
-    try:
-        where.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=where, suffix=".tmp")
-    except OSError:
-        return
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(hashlib.sha256(payload).digest() + payload)
-        os.replace(temporary, where / f"{name}.pickle")
-        _prune(where)
-    except OSError:
-        Path(temporary).unlink(missing_ok=True)
-
-
-def _prune(where: Path) -> None:
-    """Keep the folder bounded: past :data:`LIMIT` entries, drop the older half."""
-    stored = list(where.glob("*.pickle"))
-    if len(stored) > LIMIT:
-        stored.sort(key=lambda p: p.stat().st_mtime)
-        for old in stored[:len(stored) // 2]:
-            old.unlink(missing_ok=True)
+    disk_cache.put(where, name, Entry(blocks, list(cases)), LIMIT)

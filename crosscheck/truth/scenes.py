@@ -27,8 +27,10 @@ import math
 from collections.abc import Sequence
 from dataclasses import replace
 from fractions import Fraction
+from pathlib import Path
 from typing import Any, cast
 
+from crosscheck.core import disk_cache
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Observation, Trajectory, Undefined, Value
@@ -53,11 +55,41 @@ def truth(case: SceneCase) -> Observation:
     if key not in _CACHE:
         if len(_CACHE) >= 256:
             _CACHE.pop(next(iter(_CACHE)))
-        _CACHE[key] = _truth(case)
+        entry = _entry(key)
+        found = disk_cache.get(*entry, _is_observation) if entry else None
+        if not isinstance(found, Observation):
+            found = _truth(case)
+            if entry:
+                disk_cache.put(*entry, found, DISK_LIMIT)
+        _CACHE[key] = found
     return _CACHE[key]
 
 
 _CACHE: dict[str, Observation] = {}
+
+DISK_FORMAT = 1
+"""The layout of a stored truth (an :class:`Observation` pickle); bump it if that changes."""
+DISK_PACKAGES = ("crosscheck/core", "crosscheck/truth", "reference_impl")
+"""The code a scene's exact run depends on: a change to any of it is a new key."""
+DISK_LIMIT = 5000
+"""Most stored truths kept (the suite has a few hundred scenes)."""
+
+
+def _entry(key: str) -> tuple[Path, str] | None:
+    """Where the exact run of the scene ``key`` is stored on disk (None: caching is off).
+
+    The exact event-driven run of a long scene costs seconds and depends only on the scene
+    and the reference's code, so it is kept in the harness's disk cache
+    (:mod:`crosscheck.core.disk_cache`, sub-folder ``truths``): every run, report and test
+    after the first reads it."""
+    where = disk_cache.folder("truths")
+    if where is None:
+        return None
+    return where, disk_cache.key(disk_cache.code_hash(DISK_PACKAGES, DISK_FORMAT), key.encode())
+
+
+def _is_observation(value: object) -> bool:
+    return isinstance(value, Observation)
 
 
 OPEN_SPACE = "open space: no ground and no recorded trajectory"
