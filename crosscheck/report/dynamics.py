@@ -10,7 +10,9 @@ swept) through its time steps, each point labelled with its ``dt``.  A point
 whose exact run has an impact exactly on a step boundary is flagged (marker,
 hover and caption; :func:`crosscheck.truth.scenes.aligned`): an engine that
 resolves contacts a step late meets such an impact on time, so its error there
-is an artefact of the alignment, not accuracy.
+is an artefact of the alignment, not accuracy.  Those impact times are what the run
+stored of the exact run (``scene_facts.jsonl``, :mod:`crosscheck.results.scene_facts`);
+for a run before format 7 they are recomputed from the stored case.
 
 The section is folded per scene: in view, a table of each scene x engine's most
 accurate run (its position error in mean radii, time step and real-time factor;
@@ -34,7 +36,8 @@ from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.report import axes
 from crosscheck.report.speed import seconds
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
-from crosscheck.truth import scenes
+from crosscheck.results import scene_facts
+from crosscheck.results.scene_facts import SceneFacts
 
 ALIGNED_SYMBOL = "circle-x"
 """The marker of a point whose exact run has an impact on a step boundary."""
@@ -42,9 +45,15 @@ ALIGNED_NOTE = ("circled x: an impact of the exact run falls on a step boundary 
                 "step-late engine meets it on time, so its error there is no measure of accuracy")
 
 
-def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
-    """One row per scene case x engine: dt, iterations, rtf, errors and the energy change."""
+def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
+                 facts: Mapping[str, SceneFacts] | None = None) -> pd.DataFrame:
+    """One row per scene case x engine: dt, iterations, rtf, errors and the energy change.
+
+    ``facts``: what the run stored of each scene case's exact run (``scene_facts.jsonl``,
+    :func:`crosscheck.results.scene_facts.read_facts`); a case without them (a run before
+    format 7) has them recomputed, once per case."""
     rows = frame[(frame["kind"] == "sphere_scene") & (frame["status"] != Status.SKIP)]
+    known = dict(facts or {})
     out = []
     for (case_id, engine), group in rows.groupby(["case_id", "engine"], sort=False):
         case = cases.get(str(case_id))
@@ -52,11 +61,14 @@ def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
         pos = by_q.get("positions")
         if pos is None or not isinstance(case, SceneCase) or pos.status == Status.SKIP:
             continue
-        out.append(_point(str(case_id), str(engine), case, by_q))
+        if case.id not in known:
+            known[case.id] = scene_facts.recomputed(case)
+        out.append(_point(str(case_id), str(engine), case, by_q, known[case.id]))
     return pd.DataFrame(out)
 
 
-def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> dict[str, Any]:
+def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any],
+           facts: SceneFacts) -> dict[str, Any]:
     pos, energy = by_q["positions"], by_q.get("energy")
     dt = float(case.dt or DEFAULT_DT)
     steps = case.step_count
@@ -70,7 +82,7 @@ def _point(case_id: str, engine: str, case: SceneCase, by_q: dict[str, Any]) -> 
         "rtf_spread": _rtf_spread(steps * dt, wall, float(pos.query_iqr_s)),
         "rtf": steps * dt / wall if wall > 0 else math.nan,
         "cost": wall / (steps * dt) if wall > 0 else math.nan,
-        "aligned": tuple(scenes.aligned(case, scenes.truth(case).impacts or ())),
+        "aligned": facts.aligned,
         "position_error": float(pos.error),
         "velocity_error": _error(by_q.get("velocities")),
         "momentum_error": _error(by_q.get("momentum")),
@@ -331,11 +343,12 @@ def _hover(r: Any) -> str:
     return "<br>".join(lines)
 
 
-def section(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
-            order: list[str]) -> dict[str, Any]:
+def section(frame: pd.DataFrame, cases: Mapping[str, AnyCase], order: list[str],
+            facts: Mapping[str, SceneFacts] | None = None) -> dict[str, Any]:
     """What the report template needs: per scene its :func:`headline`, its summary line and
-    its chart; the engines (in run order) and the number of runs."""
-    points = scene_points(frame, cases)
+    its chart; the engines (in run order) and the number of runs (``facts``: as for
+    :func:`scene_points`)."""
+    points = scene_points(frame, cases, facts)
     if points.empty:
         return {"scenes": [], "engines": [], "charts": [], "runs": 0}
     drawn_charts = charts(points, order)

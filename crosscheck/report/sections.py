@@ -41,6 +41,7 @@ from crosscheck.report.mirror import asymmetries
 from crosscheck.report.style import packed
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.results.runinfo import RunInfo
+from crosscheck.results.scene_facts import read_facts
 from crosscheck.results.series import read_series
 from crosscheck.results.store import StoredRun
 from crosscheck.results.timings import read_timings
@@ -167,10 +168,13 @@ def _timing(view: RunView) -> Context:
 
 
 def _dynamics(view: RunView) -> Context | None:
-    """Each scene x engine's most accurate run in view; every run and the chart folded per
-    scene; energy against time per scene family, from ``series.jsonl`` when the run stored it;
-    moved and resized scenes against the engine's own origin run (None without scene runs)."""
-    built = dynamics.section(view.frame, view.cases, view.order)
+    """Each scene x engine's most accurate run in view (its impacts on a step boundary from
+    ``scene_facts.jsonl``, recomputed where the run stored none); every run and the chart
+    folded per scene; energy against time per scene family, from ``series.jsonl`` when the
+    run stored it; moved and resized scenes against the engine's own origin run (None without
+    scene runs)."""
+    built = dynamics.section(view.frame, view.cases, view.order,
+                             read_facts(view.stored.directory))
     if not built["runs"]:
         return None
     built["scenes"] = [{**s, "chart": Markup(s["chart"])} for s in built["scenes"]]

@@ -37,6 +37,11 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   the results gain ``query_instructions`` and ``engine_instructions`` (empty on a run of an
   earlier format), and ``timing`` here gains ``cost`` (how the counting went).  Nothing in
   run.json changes shape: the update only stamps the version.
+- **7**: ``scene_facts.jsonl`` holds what each scene case's exact run showed that the report
+  needs (its impacts on a step boundary, :mod:`crosscheck.results.scene_facts`), so a report
+  no longer runs the exact reference; a run of an earlier format has no such file, and the
+  report recomputes the facts of each scene case from its stored case (the same page).
+  Nothing in run.json changes shape: the update only stamps the version.
 
 A run.json of a later format (a newer crosscheck wrote it) is refused by
 :func:`migrate` with its version and how to upgrade; ``tests/data/format3-run`` and
@@ -62,7 +67,7 @@ from typing import Any
 
 from crosscheck.core.options import RunOptions
 
-FORMAT_VERSION = 6
+FORMAT_VERSION = 7
 """The version of run.json (and of the files beside it) that this harness writes."""
 
 
@@ -167,8 +172,13 @@ def _update_to_6(data: dict[str, Any]) -> dict[str, Any]:
     return {**data, "format_version": 6}  # no rounds, no counts: the readers' defaults
 
 
+def _update_to_7(data: dict[str, Any]) -> dict[str, Any]:
+    return {**data, "format_version": 7}  # no scene_facts.jsonl: the report recomputes them
+
+
 _UPDATES: dict[int, Callable[[dict[str, Any]], dict[str, Any]]] = {
-    1: _update_to_2, 2: _update_to_3, 3: _update_to_4, 4: _update_to_5, 5: _update_to_6}
+    1: _update_to_2, 2: _update_to_3, 3: _update_to_4, 4: _update_to_5, 5: _update_to_6,
+    6: _update_to_7}
 """Version N -> a function that turns a version-N run.json into version N + 1."""
 
 

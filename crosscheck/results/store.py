@@ -16,6 +16,9 @@
   (:mod:`crosscheck.results.counts`), joined to the results' timing columns when read;
 - ``series.jsonl``: each recorded scene's relative energy against time, per engine and for
   the exact reference (:mod:`crosscheck.results.series`), appended with the case's rows;
+- ``scene_facts.jsonl``: what each scene case's exact run showed that the report needs (its
+  impacts on a step boundary; :mod:`crosscheck.results.scene_facts`), appended with the
+  case's rows;
 - ``repro/``: a standalone script per breaking case x engine (:func:`repro_name`, written by
   :mod:`crosscheck.studies.repro`; :func:`written_repros` says which are there).
 
@@ -49,7 +52,7 @@ import pandas as pd
 from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.core.values import upgrade
-from crosscheck.results import counts, legacy, repeats, series
+from crosscheck.results import counts, legacy, repeats, scene_facts, series
 from crosscheck.results.rows import line
 from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
@@ -95,6 +98,7 @@ class ResultsStore:
             _replace_if_exists(directory / repeats.FILE)
             _replace_if_exists(directory / counts.FILE)
             _replace_if_exists(directory / series.FILE)
+            _replace_if_exists(directory / scene_facts.FILE)
         self.repeated: set[tuple[str, str]] = set(repeats.read_repeats(directory) if resume else ())
         timings = read_timings(directory) if resume else None
         self.timed: set[tuple[str, str]] = (
@@ -152,6 +156,19 @@ class ResultsStore:
                 handle.write(text)
         except OSError as exc:
             raise StoreError(f"cannot write {self.directory / series.FILE}: "
+                             f"{exc.strerror or exc}") from exc
+
+    def append_scene_facts(self, records: Iterable[scene_facts.SceneFacts]) -> None:
+        """Append scene cases' facts to ``scene_facts.jsonl`` in one write and flush (nothing
+        to write: the file is not touched)."""
+        text = "".join(record.to_json() + "\n" for record in records)
+        if not text:
+            return
+        try:
+            with (self.directory / scene_facts.FILE).open("a", encoding="utf-8") as handle:
+                handle.write(text)
+        except OSError as exc:
+            raise StoreError(f"cannot write {self.directory / scene_facts.FILE}: "
                              f"{exc.strerror or exc}") from exc
 
     def append_repeat(self, record: repeats.RepeatRecord) -> None:

@@ -15,9 +15,11 @@ which shares the row's one definition with the per-record writer), without a Rec
 row.  A chunk is
 written when it is full, :data:`FLUSH_S` after the last write, and when the run
 ends or is interrupted, so an interrupted run keeps every outcome it received.  A chunk's
-recorded scenes first append their energy against time to ``series.jsonl``
-(:func:`energy_series`; the report's energy charts draw them); the per-record path below
-writes rows only.
+scene cases first append what their exact run showed to ``scene_facts.jsonl``
+(:func:`crosscheck.results.scene_facts.facts_of`, from the truth already computed: the
+report reads it instead of running the reference again) and their recorded energy against
+time to ``series.jsonl`` (:func:`energy_series`; the report's energy charts draw them); the
+per-record path below writes rows only (the report then recomputes the facts).
 ``run(..., columnar=False)`` scores record by record in the lanes (:func:`score_case`),
 as before; ``tests/truth/test_columnar.py`` checks that both write the same rows.
 """
@@ -38,6 +40,7 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, PairCase, SceneCase, ToiCase
 from crosscheck.core.values import encode
 from crosscheck.results.rows import ColumnLines, line
+from crosscheck.results.scene_facts import facts_of
 from crosscheck.results.series import EXACT, SeriesRecord, series_of
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.distributed import DaskLanes
@@ -313,6 +316,8 @@ class _Chunk:
     def flush(self) -> None:
         pending, self.pending = self.pending, []
         self.written = time.monotonic()
+        self.store.append_scene_facts(facts for executed in pending
+                                      if (facts := facts_of(executed.case, executed.truth)))
         self.store.append_series(record for executed in pending
                                  for record in energy_series(executed, self.adapters))
         for k, adapter in enumerate(self.adapters):
