@@ -54,16 +54,20 @@ def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
     format 7) has them recomputed, once per case."""
     rows = frame[(frame["kind"] == "sphere_scene") & (frame["status"] != Status.SKIP)]
     known = dict(facts or {})
+    # the rows of each pair in one pass, in the order first met (a groupby and an itertuples
+    # per pair cost more than the rest of the section)
+    pairs: dict[tuple[str, str], dict[str, Any]] = {}
+    for r in rows.itertuples(index=False):
+        pairs.setdefault((str(r.case_id), str(r.engine)), {})[str(r.quantity)] = r
     out = []
-    for (case_id, engine), group in rows.groupby(["case_id", "engine"], sort=False):
-        case = cases.get(str(case_id))
-        by_q = {str(r.quantity): r for r in group.itertuples(index=False)}
+    for (case_id, engine), by_q in pairs.items():
+        case = cases.get(case_id)
         pos = by_q.get("positions")
         if pos is None or not isinstance(case, SceneCase) or pos.status == Status.SKIP:
             continue
         if case.id not in known:
             known[case.id] = scene_facts.recomputed(case)
-        out.append(_point(str(case_id), str(engine), case, by_q, known[case.id]))
+        out.append(_point(case_id, engine, case, by_q, known[case.id]))
     return pd.DataFrame(out)
 
 
