@@ -5,6 +5,10 @@ is given: one script (or, with ``--issue``, one Markdown bug report around it), 
 ``--engine``, one per engine that disagrees on the case, printed one after another, each
 headed by a comment line naming its engine (which engines it chose is said on stderr).
 With ``--out FILE`` one goes to FILE and several to ``FILE-<engine>.py`` (``.md``) each.
+
+A run writes no scripts: ``--all`` (without a CASE_ID) writes the script of every breaking
+case x engine pair of the run into ``RUN_DIR/repro/`` (or ``--out DIR``), the folder the
+report links them from once it is rendered again.
 """
 
 from __future__ import annotations
@@ -31,7 +35,11 @@ neither agree nor skip; if none does, every engine that ran it), printed one aft
 another, each headed by a comment line naming its engine; save them with --out.  --issue
 prints a Markdown bug report instead: engine and version, platform, the script (and for
 MuJoCo its MJCF), expected and got, the error against the float64 bound, the verdict and
-the conventions it consulted, and the case file block."""
+the conventions it consulted, and the case file block.  A run writes no script files:
+--all, without a CASE_ID, writes the script of every case x engine pair with a disagree,
+error, crash or timeout row into RUN_DIR/repro/ (or --out DIR), one <case>_<engine>.py each
+(engines without a script writer, plug-ins, are left out), to archive or attach; the report
+links those in RUN_DIR/repro/ once rendered again (crosscheck report RUN_DIR)."""
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -39,14 +47,20 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p = sub.add_parser("repro", help="a standalone script reproducing a case on an engine",
                        description=DESCRIPTION)
     p.add_argument("run_dir", type=Path, metavar="RUN_DIR", help="a run folder")
-    p.add_argument("case_id", metavar="CASE_ID", help="a case of that run")
+    p.add_argument("case_id", metavar="CASE_ID", nargs="?",
+                   help="a case of that run (required, except with --all)")
     p.add_argument("--engine", help="engine (default: every engine that disagrees on the "
                                     "case, else every engine that ran it)")
     p.add_argument("--issue", action="store_true",
                    help="print a Markdown bug report around the script instead")
-    p.add_argument("--out", type=Path, metavar="FILE",
-                   help="write it to FILE instead of stdout (several: FILE-<engine>.py, or "
-                        ".md with --issue, one each)")
+    p.add_argument("--all", action="store_true",
+                   help="write the script of every breaking case x engine pair of the run "
+                        "into RUN_DIR/repro/ (or --out DIR); takes no CASE_ID, --engine or "
+                        "--issue")
+    p.add_argument("--out", type=Path, metavar="PATH",
+                   help="write it to the file PATH instead of stdout (several: "
+                        "PATH-<engine>.py, or .md with --issue, one each); with --all, the "
+                        "folder the scripts go to")
     p.set_defaults(func=cmd_repro)
 
 
@@ -87,11 +101,49 @@ def headed(made: Sequence[Script], bodies: Sequence[str], issue: bool) -> str:
     return "\n".join(out)
 
 
+def _arguments_problem(args: argparse.Namespace) -> str | None:
+    """Why these arguments ask for nothing this command does, or None."""
+    if not args.all:
+        return None if args.case_id is not None else (
+            "give a CASE_ID of the run, or --all for every breaking pair's script")
+    given = [f"CASE_ID {args.case_id!r}" if args.case_id is not None else "",
+             "--engine" if args.engine is not None else "", "--issue" if args.issue else ""]
+    given = [g for g in given if g]
+    if given:
+        return (f"--all writes every breaking pair's script; it takes no {', '.join(given)} "
+                f"(drop --all for one case's scripts)")
+    return None
+
+
+def write_all(run_dir: Path, out: Path | None) -> int:
+    """``--all``: every breaking pair's script into ``out`` (default: the run's ``repro/``)."""
+    from crosscheck.results.store import REPRO_DIR, StoreError
+    from crosscheck.studies.repro import write_run_scripts
+
+    folder = run_dir / REPRO_DIR if out is None else out
+    try:
+        written = write_run_scripts(run_dir, out)
+    except (StoreError, OSError) as exc:
+        fail(f"cannot write the scripts of {run_dir} into {folder}: {exc}")
+        return 2
+    say(f"{len(written)} script(s) written into {folder} (one per breaking case x engine "
+        "with a script writer)")
+    if written and folder.resolve() == (run_dir / REPRO_DIR).resolve():
+        say(f"the report links them once rendered again: crosscheck report {run_dir}")
+    return 0
+
+
 def cmd_repro(args: argparse.Namespace) -> int:
     from crosscheck.results.store import StoreError, read_run
     from crosscheck.studies.repro import ReproError, engines_for, scripts
     from crosscheck.studies.repro.script import RunRows
 
+    problem = _arguments_problem(args)
+    if problem:
+        fail(problem)
+        return 2
+    if args.all:
+        return write_all(args.run_dir, args.out)
     try:
         stored = read_run(args.run_dir)
         made = scripts(stored, args.case_id, args.engine)

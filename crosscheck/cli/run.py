@@ -48,7 +48,6 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     from crosscheck.results.store import StoreError
     from crosscheck.run.distributed import ClusterLost
     from crosscheck.run.launch import launch
-    from crosscheck.studies.repro import write_run_scripts
 
     started = time.monotonic()
     say(f"running {len(cases)} cases x {len(engines)} engines "
@@ -58,7 +57,6 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
         with phase_bars() as phases:
             info = launch(store, cases, engines, options, info, phases=phases)
         _say_repeat_check(info)
-        write_run_scripts(store.directory)  # repro/<case>_<engine>.py, linked from the report
         rendered = _render(store.directory)
     except KeyboardInterrupt:  # in the run, or after its last row (a resume then renders)
         err.print(f"interrupted; finished rows are kept. Resume with: {hint}",

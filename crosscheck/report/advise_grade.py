@@ -1,12 +1,12 @@
 """``advise``'s graded answer for one engine variant over a profile's envelope.
 
 An engine's grade: how much of the envelope it answers (coverage), the share of
-its answers within the needed accuracy, its worst error with the case and the
-repro script, its failure modes and declared conventions with their numbers,
-its cost (median wall-clock time per query over cases, with the interquartile range, and,
-in a run made with ``--timer instructions``, the median instructions per query over its
-counted cases, with theirs), its
-coverage per kind and dimension (the part of the envelope it answers), its
+its answers within the needed accuracy, its worst error with the case, the command
+that prints its repro script and the script when the run folder holds it, its failure
+modes and declared conventions with their numbers, its cost (median wall-clock time per
+query over cases, with the interquartile range, and, in a run made with ``--timer
+instructions``, the median instructions per query over its counted cases, with theirs),
+its coverage per kind and dimension (the part of the envelope it answers), its
 robustness on the bad-input cases of the same kinds (judged apart), and how many of the
 envelope's cases the repeat check asked again and how many of those answered differently
 (``nondeterministic``).
@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import pandas as pd
 
 from crosscheck.core.model import Status
+from crosscheck.report import repro_links
 from crosscheck.report.advise_judge import CONVENTION, FAILED, SKIP, WRONG
 from crosscheck.report.profiles import BASELINES, worst_statuses
 from crosscheck.report.query_cost import column
@@ -45,8 +46,11 @@ class Worst:
     """The error (for a hit verdict: the pair's exact |gap|); None: no number."""
     allowed: float
     repro: str | None
-    """The run's repro script of the case on this engine, when written."""
+    """The run's repro script of the case on this engine, when the run folder holds it
+    (written by ``crosscheck repro RUN --all``)."""
     reason: str
+    repro_command: str
+    """The command that prints that script (:func:`crosscheck.report.repro_links.command`)."""
 
 
 @dataclass(frozen=True)
@@ -230,7 +234,7 @@ def _worst(run: StoredRun, engine: str, failing: pd.DataFrame) -> Worst | None:
     return Worst(case_id, str(row["quantity"]), str(row["status"]), _text(row["category"]),
                  _finite(row["measure"]), float(row["allowed"]),
                  str(repro_path(run.directory, case_id, engine)) if written else None,
-                 _text(row["reason"]))
+                 _text(row["reason"]), repro_links.command(run.directory, case_id, engine))
 
 
 def _text(value: object) -> str:

@@ -24,12 +24,12 @@ True
 from __future__ import annotations
 
 import re
-import shlex
 import xml.etree.ElementTree as ET
 from collections import Counter
 from collections.abc import Collection, Sequence
 from pathlib import Path
 
+from crosscheck.report import repro_links
 from crosscheck.results.baseline import Entry, Finding, Verdict
 
 MESSAGE_CHARS = 160
@@ -40,8 +40,7 @@ CAP = 50
 
 def repro_command(run_dir: str | Path, finding: Finding) -> str:
     """The command that writes a script reproducing the finding's case on its engine."""
-    return shlex.join(["crosscheck", "repro", str(run_dir), finding.case,
-                       "--engine", finding.engine])
+    return repro_links.command(run_dir, finding.case, finding.engine)
 
 
 def side(entry: Entry | None) -> str:

@@ -138,7 +138,7 @@ def _verdict(view: RunView) -> Context | None:
         return None
     repros = view.stored.repros
     return verdict.verdict(view.frame, repros, view.info.repeat_check) \
-        | profiles.context(view.frame, repros)
+        | profiles.context(view.frame, repros) | {"run_dir": str(view.stored.directory)}
 
 
 def _errors(view: RunView) -> Context | None:
@@ -199,9 +199,11 @@ def _stability(view: RunView) -> Context | None:
 
 
 def _disagreements(view: RunView) -> Context:
-    """The results table: every case x engine once, packed, with each row's repro link (if
-    written) and the case inputs the page's case details are built from."""
-    return table.results_table(view.frame, view.cases, view.stored.repros)
+    """The results table: every case x engine once, packed, with the run folder (each breaking
+    row's repro command is built from it in the page), each row's repro link (if written) and
+    the case inputs the page's case details are built from."""
+    return table.results_table(view.frame, view.cases, view.stored.repros,
+                               str(view.stored.directory))
 
 
 def _advise(view: RunView) -> Context:

@@ -23,7 +23,7 @@ import plotly.graph_objects as go
 import plotly.io as pio
 from jinja2 import Environment, PackageLoader, select_autoescape
 
-from crosscheck.report import bundle, speed
+from crosscheck.report import bundle, repro_links, speed
 
 COLOURS = ("#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f",
            "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac")
@@ -40,12 +40,14 @@ PLOT_CONFIG = {"displaylogo": False, "responsive": True}
 def templates() -> Environment:
     """The Jinja environment of every page (autoescaping on, templates in ``report/templates``;
     every template can write a time with ``seconds`` and ``median_iqr``, a count of
-    instructions with ``instructions`` and ``instructions_iqr``)."""
+    instructions with ``instructions`` and ``instructions_iqr``, and the command that prints a
+    repro script with ``repro_command``)."""
     env = Environment(loader=PackageLoader("crosscheck.report", "templates"),
                       autoescape=select_autoescape(default=True, default_for_string=True))
     env.globals.update(seconds=speed.seconds, median_iqr=speed.median_iqr,
                        instructions=speed.instructions,
-                       instructions_iqr=speed.instructions_iqr)
+                       instructions_iqr=speed.instructions_iqr,
+                       repro_command=repro_links.command)
     return env
 
 

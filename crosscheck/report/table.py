@@ -35,9 +35,9 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
+from crosscheck.report import repro_links
 from crosscheck.report.style import datatables, packed
 from crosscheck.report.tables import case_group
-from crosscheck.results.store import REPRO_DIR, repro_name
 
 INPUTS = {"a", "b", "restitution", "tolerance"}
 """The fields of a case shown as its inputs in its details."""
@@ -63,9 +63,11 @@ def _case(case_id: str, case: AnyCase | None, first: Mapping[str, Any]) -> dict[
 
 
 def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
-                 repros: Collection[str]) -> dict[str, Any]:
-    """The table's data: ``quantities`` (in run order), ``cases`` (inputs, by index) and
-    ``rows`` (one per case x engine: worst status, largest error, repro link, query time,
+                 repros: Collection[str], run_dir: str = "") -> dict[str, Any]:
+    """The table's data: ``run`` (the run folder, ``run_dir``: the page builds each breaking
+    row's repro command from it, :mod:`crosscheck.report.repro_links`), ``quantities`` (in
+    run order), ``cases`` (inputs, by index) and ``rows`` (one per case x engine: worst
+    status, largest error, repro link when its script is in the folder, query time,
     instructions per query where counted,
     per quantity ``[status, category, error, value, truth, tolerance, reason]``, and for a
     nondeterministic pair its second answer, ``again``)."""
@@ -82,10 +84,9 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             case_list.append(_case(case_id, cases.get(case_id), record))
         row = rows.get((case_id, engine))
         if row is None:
-            name = f"{repro_name(case_id, engine)}.py"
             row = rows[(case_id, engine)] = {
                 "case": index[case_id], "engine": engine, "q": {},
-                "repro": f"{REPRO_DIR}/{name}" if name in repros else "",
+                "repro": repro_links.link(case_id, engine, repros),
                 "query_s": _number(record.get("query_s", math.nan)),
                 "query_iqr_s": _number(record.get("query_iqr_s", math.nan)),
                 "folded": False, "twins": []}
@@ -110,7 +111,8 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
         if original is not None and _verdicts(original) == _verdicts(row):
             row["folded"] = True
             original["twins"].append(row["case"])
-    return {"quantities": quantities, "cases": case_list, "rows": list(rows.values())}
+    return {"run": run_dir, "quantities": quantities, "cases": case_list,
+            "rows": list(rows.values())}
 
 
 def _verdicts(row: Mapping[str, Any]) -> tuple[dict[str, tuple[str, str]], bool]:
@@ -118,10 +120,11 @@ def _verdicts(row: Mapping[str, Any]) -> tuple[dict[str, tuple[str, str]], bool]
 
 
 def results_table(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
-                  repros: Collection[str]) -> dict[str, Any]:
+                  repros: Collection[str], run_dir: str = "") -> dict[str, Any]:
     """The section's context: the packed data, the packed DataTables bundle and CSS, and the
-    counts its heading shows (``repros``: the run's repro scripts, by file name)."""
-    data = results_data(frame, cases, repros)
+    counts its heading shows (``repros``: the run's repro scripts, by file name; ``run_dir``:
+    the run folder, in each breaking row's repro command)."""
+    data = results_data(frame, cases, repros, run_dir)
     dt_js, dt_css = datatables()
     shown = sum(not row["folded"] for row in data["rows"])
     return {"packed": packed(json.dumps(data, separators=(",", ":"), allow_nan=False)),

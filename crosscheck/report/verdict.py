@@ -6,7 +6,9 @@ cost was counted, else by median wall-clock query time: :mod:`crosscheck.report.
 and its failure modes.  A failure mode is the (status, category,
 reason pattern) of breaking rows (disagree, error, crash, timeout), where the
 reason pattern is the reason with every number replaced by ``#``: reasons that
-differ only in their numbers are one mode.
+differ only in their numbers are one mode.  Its example case shows the command that prints
+its repro script, and links the script when the run folder holds it
+(:mod:`crosscheck.report.repro_links`).
 
 The share of an engine on a kind is agree / (agree + breaking rows): skip rows
 (the engine cannot do it) and undefined rows (no defined value, whatever the
@@ -27,9 +29,9 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
+from crosscheck.report import repro_links
 from crosscheck.report.query_cost import column
 from crosscheck.report.tables import share_colour
-from crosscheck.results.store import REPRO_DIR, repro_name
 
 KINDS = ("aabb", "sphere", "sphere_response", "sphere_toi", "sphere_scene")
 """The kinds in their column order; a run's other kinds follow, in run order."""
@@ -109,7 +111,9 @@ class Mode:
     count: int
     example: str
     repro: str
-    """``repro/<name>.py`` when the example's script is in the run folder, else ``""``."""
+    """``repro/<name>.py`` when the example's script is in the run folder, else ``""`` (the
+    page gives the command that prints it either way:
+    :func:`crosscheck.report.repro_links.command`)."""
     reason: str = ""
     """The example row's own reason, its numbers intact."""
 
@@ -179,12 +183,12 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
     bad = frame[frame["status"].isin(Status.members("breaking"))]
     if bad.empty:
         return []
-    names = [f"{repro_name(str(c), str(e))}.py" for c, e in zip(bad["case_id"], bad["engine"],
-                                                                strict=True)]
+    links = [repro_links.link(str(c), str(e), written)
+             for c, e in zip(bad["case_id"], bad["engine"], strict=True)]
     reasons = bad["reason"].fillna("").astype(str)
     bad = bad.assign(_pattern=reasons.map(reason_pattern), _reason=reasons,
-                     _category=bad["category"].fillna("").astype(str), _repro=names,
-                     _has=[n in written for n in names])
+                     _category=bad["category"].fillna("").astype(str), _repro=links,
+                     _has=[bool(link) for link in links])
     keys = ["engine", "status", "_category", "_pattern"]
     counts = bad.groupby(keys, sort=False).size().rename("count")
     firsts = bad.sort_values("_has", ascending=False, kind="stable").groupby(
@@ -193,7 +197,7 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
     modes = modes.sort_values("count", ascending=False, kind="stable")
     return [Mode(engine=str(r["engine"]), status=str(r["status"]), category=str(r["_category"]),
                  pattern=str(r["_pattern"]), count=int(r["count"]), example=str(r["case_id"]),
-                 repro=f"{REPRO_DIR}/{r['_repro']}" if r["_has"] else "",
+                 repro=str(r["_repro"]),
                  reason=str(r["_reason"]))
             for r in modes.to_dict("records")]
 

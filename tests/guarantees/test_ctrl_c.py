@@ -71,25 +71,25 @@ def test_ctrl_c_of_a_timed_two_file_run_and_a_resume_from_the_command_line(
 def test_ctrl_c_after_the_last_row_exits_130_and_a_resume_renders_the_report(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
         capsys: pytest.CaptureFixture[str]) -> None:
-    """A Ctrl-C that lands after the last row (while the repro scripts or the report are
-    written) is still a clean stop: exit 130 with the resume hint, never a traceback; the
-    resume then has no row left to run and writes the report."""
-    import crosscheck.studies.repro as repro
+    """A Ctrl-C that lands after the last row (while the report is written) is still a clean
+    stop: exit 130 with the resume hint, never a traceback; the resume then has no row left
+    to run and writes the report."""
+    import crosscheck.report.render as report
 
     out = tmp_path / "run"
-    real = repro.write_run_scripts
+    real = report.render
 
-    def interrupted(directory: Path) -> list[Path]:
+    def interrupted(directory: Path) -> dict[str, Path]:
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(repro, "write_run_scripts", interrupted)
+    monkeypatch.setattr(report, "render", interrupted)
     args = ["run", str(ROOT / "cases" / "sphere.toml"), "--engine", "reference", "--quick",
             "--out", str(out)]
     assert main(args) == 130
     assert f"crosscheck run --resume {out}" in capsys.readouterr().err.replace("\n", "")
     rows = len(read_results(out))
     assert not (out / "report.html").exists()
-    monkeypatch.setattr(repro, "write_run_scripts", real)
+    monkeypatch.setattr(report, "render", real)
     assert main(["run", "--resume", str(out)]) == 0
     assert len(read_results(out)) == rows
     assert (out / "report.html").exists()

@@ -9,6 +9,8 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import shlex
+import shutil
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -224,13 +226,22 @@ def test_the_cheapest_passing_engine_comes_first_with_its_spread(stored: StoredR
     assert advice.passing[-1].median_query_s is None
 
 
-def test_the_worst_answer_links_its_repro_when_the_run_wrote_one(stored: StoredRun) -> None:
-    worst = grade(advise(stored, Envelope()), "fake-off").worst
-    assert worst is not None
-    written = f"{repro_name(worst.case_id, 'fake-off')}.py" in stored.repros
-    assert (worst.repro is not None) == written
-    if worst.repro is not None:
-        assert Path(worst.repro).is_file()
+def test_the_worst_answer_gives_its_repro_command_and_the_script_once_written(
+        run_dir: Path, tmp_path: Path) -> None:
+    """A run writes no script: the worst answer gives the command that prints it; once the
+    folder holds the script (``crosscheck repro RUN --all``), its path too."""
+    run = tmp_path / "run"
+    shutil.copytree(run_dir, run)
+    worst = grade(advise(read_run(run), Envelope()), "fake-off").worst
+    assert worst is not None and worst.repro is None
+    assert worst.repro_command == shlex.join(
+        ["crosscheck", "repro", str(run), worst.case_id, "--engine", "fake-off"])
+    script = run / "repro" / f"{repro_name(worst.case_id, 'fake-off')}.py"
+    script.parent.mkdir()
+    script.write_text("# a repro script\n", encoding="utf-8")
+    again = grade(advise(read_run(run), Envelope()), "fake-off").worst
+    assert again is not None and again.repro == str(script)
+    assert again.repro_command == worst.repro_command
 
 
 def test_impossible_envelopes_name_the_option(stored: StoredRun) -> None:
@@ -279,6 +290,8 @@ def test_cli_json_keeps_passing_and_adds_the_grades(
     assert data["envelope"]["offset"] == 100.0 and data["dims"] == [3]
     off = next(e for e in data["failing"] if e["engine"] == "fake-off")
     assert off["worst"]["case_id"] and off["failure_modes"][0]["cases"] >= 1
+    assert off["worst"]["repro"] is None
+    assert off["worst"]["repro_command"].startswith(f"crosscheck repro {run_dir} ")
     assert [e["engine"] for e in data["baselines"]] == ["reference"]
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import json
 import math
+import shlex
+import shutil
 from pathlib import Path
 from typing import Any
 
@@ -15,7 +17,7 @@ from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
 from crosscheck.report.speed import instructions_iqr, median_iqr
-from crosscheck.results.store import ResultsStore
+from crosscheck.results.store import ResultsStore, repro_name
 from crosscheck.run.launch import launch, new_info
 from tests.conftest import ROOT, sphere
 from tests.fakes import AlwaysRight, OffByOne
@@ -232,6 +234,65 @@ def test_the_advise_form_grades_and_ranks_the_engines(fakes_dir: Path) -> None:
     assert [row[1] for row in relative] == ["passes", "passes"]
     assert "tolerance: must be a finite number >= 0" in refused
     assert "No case of this run lies inside this envelope" in empty
+
+
+ROW_REPROS = """rows => rows.map(r => {
+    const cell = r.cells[0], id = cell.querySelector('a.case-id'),
+          code = cell.querySelector('details.repro-command code'),
+          link = cell.querySelector('a.repro');
+    return [id.title, r.cells[1].textContent, code ? code.textContent : null,
+            link ? link.getAttribute('href') : null];
+})"""
+"""Each shown row of the results table: case id, engine, its repro command, its script link."""
+
+
+def test_breaking_rows_fold_their_repro_command_and_a_written_script_is_linked(
+        fakes_dir: Path, tmp_path: Path) -> None:
+    """A run writes no script: each breaking row of the results table folds the command that
+    prints it in a ``<code>`` (no link), and so does the advise form's worst answer; the
+    page quotes a word as ``shlex`` does.  Once the folder holds a script (``crosscheck repro
+    RUN --all``) and the report is rendered again, its row links it, the command beside."""
+    import pandas as pd
+    run = tmp_path / "run"
+    shutil.copytree(fakes_dir, run)
+    render(run)
+    results = pd.read_csv(run / "results.csv", keep_default_na=False)
+    breaking = {(str(c), str(e)) for c, e, s in zip(results["case_id"], results["engine"],
+                                                   results["status"], strict=True)
+                if s in ("disagree", "error", "crash", "timeout")}
+    assert ("s0", "fake-off") in breaking
+    tricky = [str(tmp_path / "a run"), "it's a case", "e"]
+    messages: list[str] = []
+    with opened(run / "report.html", messages) as page:
+        page.wait_for_selector("#results-table[data-ready]")
+        rows = page.eval_on_selector_all("#results-table tbody tr", ROW_REPROS)
+        summary = page.locator("#results-table details.repro-command summary").first
+        hidden = page.locator("#results-table details.repro-command code").first.is_visible()
+        summary.click()
+        shown = page.locator("#results-table details.repro-command code").first.is_visible()
+        quoted = page.evaluate("words => window.reproCommand(...words)", tricky)
+        submit(page, {"tolerance": "0.5"})
+        worst = page.eval_on_selector("#advise-out tr[data-engine='fake-off'] code",
+                                      "code => code.textContent")
+    assert errors(messages) == []
+    assert {(c, e) for c, e, _, _ in rows} == breaking  # the page shows the breaking rows
+    assert all(command == shlex.join(["crosscheck", "repro", str(run), c, "--engine", e])
+               and link is None for c, e, command, link in rows)
+    assert not hidden and shown  # folded until asked
+    assert quoted == shlex.join(["crosscheck", "repro", *tricky[:2], "--engine", tricky[2]])
+    assert worst.startswith(f"crosscheck repro {run} ") and worst.endswith(" --engine fake-off")
+    script = run / "repro" / f"{repro_name('s0', 'fake-off')}.py"
+    script.parent.mkdir()
+    script.write_text("# a repro script\n", encoding="utf-8")
+    render(run)
+    with opened(run / "report.html", messages) as page:
+        page.wait_for_selector("#results-table[data-ready]")
+        again = {(c, e): (command, link) for c, e, command, link in
+                 page.eval_on_selector_all("#results-table tbody tr", ROW_REPROS)}
+    assert again["s0", "fake-off"] == (
+        shlex.join(["crosscheck", "repro", str(run), "s0", "--engine", "fake-off"]),
+        f"repro/{script.name}")
+    assert all(link is None for pair, (_, link) in again.items() if pair != ("s0", "fake-off"))
 
 
 REAL_PROFILES = [

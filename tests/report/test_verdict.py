@@ -129,6 +129,26 @@ def test_a_repro_link_only_when_its_script_is_in_the_run_folder(tmp_path: Path) 
     assert modes["bad", "crash"].repro == "" and modes["bad", "crash"].example == "b1"
 
 
+def test_every_failure_mode_shows_its_repro_command_and_links_only_a_written_script(
+        tmp_path: Path) -> None:
+    """A run writes no script: each mode's example gives the command that prints it (the run
+    folder quoted for a shell); where the folder holds the script, it is linked too."""
+    run = tmp_path / "a run"
+    (run / "repro").mkdir(parents=True)
+    script = f"{repro_name('s2', 'bad')}.py"
+    (run / "repro" / script).write_text("# fake repro\n")
+    html = templates().get_template("_verdict.html.j2").render(
+        **verdict.verdict(frame(), written_repros(run)), run_dir=str(run))
+    commands = {f"crosscheck repro &#39;{run}&#39; {case} --engine {engine}"
+                for case, engine in (("s2", "bad"), ("b1", "bad"), ("b1", "boxonly"))}
+    for command in commands:  # every mode's example, in each list that shows it
+        assert f"<code>{command}</code>" in html
+    assert html.count("<code>crosscheck repro ") == 2 * 3  # the top modes, then all of them
+    assert html.count('class="repro" href=') == 2  # s2 on bad: in the top list and in all
+    assert f'href="repro/{script}"' in html
+    assert "command</summary><code>crosscheck repro &#39;" in html  # beside the link
+
+
 def test_the_block_shows_the_top_modes_and_lists_them_all() -> None:
     reasons = ["first 1", "second 2", "third 3", "fourth 4"]
     rows = [row(f"c{i}.{n}", "sphere", "e", "distance", "disagree", "error", f"{reason} {n}")

@@ -1,4 +1,5 @@
-"""``crosscheck repro``: stdout unless --out, every disagreeing engine, and issue-ready reports.
+"""``crosscheck repro``: stdout unless --out, every disagreeing engine, issue-ready reports, and
+``--all``: a run writes no script, its report gives the command, ``--all`` writes them all.
 
 Reads the small real run of ``tests/studies/conftest.py``.  What a report must hold comes
 from the stored run itself (run.json's engine, version and machine, results.csv's rows, the
@@ -7,20 +8,26 @@ case's source file), never from an engine's known answer.
 
 from __future__ import annotations
 
+import html
 import json
 import re
+import shlex
 import subprocess
 import sys
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from crosscheck.cli import main
+from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import SceneCase
-from crosscheck.results.store import REPRO_DIR, read_run, repro_name
+from crosscheck.results.store import REPRO_DIR, ResultsStore, read_run, repro_name
+from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.repro.script import RunRows, breaking_pairs, scripts
-from tests.conftest import ROOT
+from tests import fakes
+from tests.conftest import ROOT, embedded, sphere
 
 pytestmark = pytest.mark.engine
 
@@ -125,18 +132,108 @@ def test_an_expanded_case_shows_its_block_and_itself_and_mujoco_its_mjcf(
     assert model.startswith("<mujoco") and model in _fenced(report, "python")[0]
 
 
-def test_crosscheck_run_writes_the_scripts_beside_its_report(tmp_path: Path) -> None:
-    out = tmp_path / "run"
-    cases = ROOT / "cases" / "float_traps.toml"
-    assert main(["run", str(cases), "--quick", "--engine", "box2d", "--engine", "rapier",
-                 "--out", str(out)]) == 0
-    runs = RunRows(read_run(out))
-    pairs = breaking_pairs(runs)
+@pytest.fixture(scope="module")
+def floats_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """``crosscheck run --quick`` of the float traps on Box2D and Rapier (both disagree)."""
+    out = tmp_path_factory.mktemp("floats") / "run"
+    assert main(["run", str(ROOT / "cases" / "float_traps.toml"), "--quick", "--engine",
+                 "box2d", "--engine", "rapier", "--out", str(out)]) == 0
+    return out
+
+
+def _table(run: Path) -> tuple[str, dict[tuple[str, str], dict[str, Any]]]:
+    """The run folder the report's results table carries, and its rows by (case id, engine)."""
+    data = embedded((run / "report.html").read_text(encoding="utf-8"), "results-data")
+    return data["run"], {(data["cases"][r["case"]]["id"], r["engine"]): r for r in data["rows"]}
+
+
+def test_a_run_writes_no_script_and_its_report_gives_the_command(floats_run: Path) -> None:
+    """No ``repro/`` after a run: the report's table carries the run folder once, from which
+    the page builds each breaking row's command, and no row links a script."""
+    assert not (floats_run / REPRO_DIR).exists()
+    folder, rows = _table(floats_run)
+    assert folder == str(floats_run)
+    pairs = breaking_pairs(RunRows(read_run(floats_run)))
     assert {e for _, e in pairs} == {"box2d", "rapier"}
-    assert {p.name for p in (out / REPRO_DIR).glob("*.py")} == {
-        f"{repro_name(*pair)}.py" for pair in pairs}
-    assert f'href="{REPRO_DIR}/{repro_name(*pairs[0])}.py"' in (
-        out / "report.html").read_text(encoding="utf-8")
+    assert all(row["repro"] == "" for row in rows.values())
+    assert all(str(rows[pair]["status"]) in ("disagree", "error", "crash", "timeout")
+               for pair in pairs)
+    page = (floats_run / "report.html").read_text(encoding="utf-8")
+    assert f'href="{REPRO_DIR}/' not in page
+    commands = {shlex.join(["crosscheck", "repro", str(floats_run), case, "--engine", engine])
+                for case, engine in pairs}
+    modes = [html.unescape(command) for command in verdict_modes(page)]
+    assert modes and set(modes) <= commands  # each failure mode's example, as a command
+
+
+def verdict_modes(html: str) -> list[str]:
+    """The repro commands of the verdict block's failure modes (server-rendered; the block
+    holds no script)."""
+    start = html.index('<div id="verdict"')
+    return re.findall(r'<details class="repro-command"><summary[^>]*>[^<]*</summary>'
+                      r"<code>([^<]*)</code>", html[start:html.index("<script", start)])
+
+
+def test_repro_all_writes_every_breaking_pairs_script_and_the_report_links_them(
+        floats_run: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    run = tmp_path / "run"
+    subprocess.run(["cp", "-r", str(floats_run), str(run)], check=True)
+    pairs = breaking_pairs(RunRows(read_run(run)))
+    expected = {f"{repro_name(*pair)}.py" for pair in pairs}
+    elsewhere = tmp_path / "scripts"
+    assert main(["repro", str(run), "--all", "--out", str(elsewhere)]) == 0
+    assert {p.name for p in elsewhere.iterdir()} == expected
+    assert not (run / REPRO_DIR).exists()
+    capsys.readouterr()
+    assert main(["repro", str(run), "--all"]) == 0
+    said = " ".join(capsys.readouterr().out.split())
+    assert f"{len(expected)} script(s) written into {run / REPRO_DIR}" in said
+    assert f"crosscheck report {run}" in said
+    assert {p.name for p in (run / REPRO_DIR).iterdir()} == expected
+    case, engine = pairs[0]
+    assert (run / REPRO_DIR / f"{repro_name(case, engine)}.py").read_text(
+        encoding="utf-8") == scripts(read_run(run), case, engine)[0].text
+    assert main(["report", str(run)]) == 0
+    folder, rows = _table(run)
+    assert folder == str(run)
+    linked = {pair for pair, row in rows.items() if row["repro"]}
+    assert linked == set(pairs)
+    assert all(rows[pair]["repro"] == f"{REPRO_DIR}/{repro_name(*pair)}.py" for pair in pairs)
+    html = (run / "report.html").read_text(encoding="utf-8")
+    assert f'href="{REPRO_DIR}/{repro_name(case, engine)}.py"' in html
+
+
+def test_the_command_the_report_gives_says_so_for_an_engine_without_a_writer(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The report gives every breaking row the command; on an engine without a script writer
+    (a plug-in, here a fake) it refuses with the reason, and ``--all`` leaves it out."""
+    run = tmp_path / "run"
+    cases, engines = [sphere(0.0, 2.0, id="s0")], [fakes.OffByOne()]
+    options = RunOptions(quick=True, isolate=False)
+    launch(ResultsStore(run), cases, engines, options,
+           new_info(run, "test", options, engines, cases))
+    assert breaking_pairs(RunRows(read_run(run))) == [("s0", "fake-off")]
+    assert main(["repro", str(run), "s0", "--engine", "fake-off"]) == 2
+    said = " ".join(capsys.readouterr().err.split())
+    assert "no repro script writer for engine 'fake-off'" in said and "built-in" in said
+    assert main(["repro", str(run), "--all"]) == 0
+    assert "0 script(s) written" in " ".join(capsys.readouterr().out.split())
+    assert not (run / REPRO_DIR).exists()
+
+
+@pytest.mark.parametrize(("argv", "said"), [
+    (["CASE", "--all"], "it takes no CASE_ID 'CASE'"),
+    (["--all", "--engine", "box2d"], "it takes no --engine"),
+    (["--all", "--issue"], "it takes no --issue"),
+    ([], "give a CASE_ID of the run, or --all"),
+])
+def test_all_takes_no_case_and_a_case_is_needed_without_it(
+        argv: list[str], said: str, tmp_path: Path,
+        capsys: pytest.CaptureFixture[str]) -> None:
+    """Refused before the run folder is read (exit 2, a message naming what to drop)."""
+    assert main(["repro", str(tmp_path / "no-such-run"), *argv]) == 2
+    assert said in " ".join(capsys.readouterr().err.split())
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_help_says_where_scripts_go(capsys: pytest.CaptureFixture[str]) -> None:

@@ -24,9 +24,10 @@ measures computed as the harness computes them (:mod:`crosscheck.studies.repro.m
 space only ``energy_drift``, the others a comment.
 
 Everything comes from the stored run (:func:`crosscheck.results.store.read_run`): the
-cases, the rows, the engines and their conventions.  :func:`write_run_scripts` writes
-``RUN_DIR/repro/<repro_name>.py`` for every case x engine with a disagree, error, crash or
-timeout row; the report links them.
+cases, the rows, the engines and their conventions.  A run writes no script:
+``crosscheck repro`` prints one on demand, and :func:`write_run_scripts` (``crosscheck repro
+RUN_DIR --all``) writes ``RUN_DIR/repro/<repro_name>.py`` for every case x engine with a
+disagree, error, crash or timeout row; the report links those it finds there.
 """
 
 from __future__ import annotations
@@ -264,7 +265,8 @@ def build(runs: RunRows, case_id: str, engine: str) -> Script:
         raise ReproError(f"{engine} did not run {case_id}: {rows[0]['reason']}")
     found = _writer(engine)
     if found is None:
-        raise ReproError(f"no repro script writer for engine {engine!r}")
+        raise ReproError(f"no repro script writer for engine {engine!r} (crosscheck repro "
+                         "writes scripts for the built-in engines only)")
     adapter, writer = found
     try:
         code = writer(adapter, case, hung(rows))
@@ -323,8 +325,10 @@ def breaking_pairs(runs: RunRows) -> list[tuple[str, str]]:
             if any(r["status"] in breaking for r in rows)]
 
 
-def write_run_scripts(directory: Path) -> list[Path]:
-    """Write ``directory/repro/<repro_name>.py`` for every breaking case x engine; the paths.
+def write_run_scripts(directory: Path, out: Path | None = None) -> list[Path]:
+    """Write ``<repro_name>.py`` for every breaking case x engine of the run in
+    ``directory`` into ``out`` (default: the run's ``repro/``, where the report links them);
+    the paths.  A run writes none: ``crosscheck repro RUN_DIR --all`` calls this.
 
     Pairs without a script (an engine without a writer: a plug-in) are left out.
     """
@@ -335,8 +339,9 @@ def write_run_scripts(directory: Path) -> list[Path]:
             made = build(runs, case_id, engine)
         except ReproError:
             continue
-        path = repro_path(directory, case_id, engine)
-        path.parent.mkdir(exist_ok=True)
+        path = (repro_path(directory, case_id, engine) if out is None
+                else out / f"{made.name}.py")
+        path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(made.text, encoding="utf-8")
         written.append(path)
     return written
