@@ -19,8 +19,10 @@
 - ``scene_facts.jsonl``: what each scene case's exact run showed that the report needs (its
   impacts on a step boundary; :mod:`crosscheck.results.scene_facts`), appended with the
   case's rows;
-- ``repro/``: a standalone script per breaking case x engine (:func:`repro_name`, written by
-  :mod:`crosscheck.studies.repro`; :func:`written_repros` says which are there).
+- ``repro/``: a standalone script per breaking case x engine (:func:`repro_name`), only
+  once ``crosscheck repro RUN --all`` wrote them (:mod:`crosscheck.studies.repro`; a run
+  writes none: every script is printed on demand); :func:`written_repros` says which are
+  there.
 
 Running writes these; reporting only reads them, through :func:`read_run` (a
 :class:`StoredRun` also answers the format the run was written in, and its repro scripts).
