@@ -44,9 +44,17 @@ def typed(text: object) -> tuple[str | None, Any]:
 
 
 def _columns(cells: pd.Series, prefix: str) -> dict[str, list[Any]]:
+    """The typed columns of one JSON text column; each distinct text is parsed once (a
+    results table repeats ``true``, ``false``, ``null`` and many truths thousands of times)."""
     out: dict[str, list[Any]] = {f"{prefix}_{kind}": [] for kind in KINDS}
+    seen: dict[object, tuple[str | None, Any]] = {}
     for cell in cells:
-        kind, value = typed(cell)
+        found = seen.get(cell) if isinstance(cell, str) else None
+        if found is None:
+            found = typed(cell)
+            if isinstance(cell, str):
+                seen[cell] = found
+        kind, value = found
         for name in KINDS:
             out[f"{prefix}_{name}"].append(value if kind == name else None)
     return out
