@@ -143,6 +143,11 @@ def _error(entry: Entry | None) -> float:
     return math.nan if entry is None else entry.error
 
 
+COLUMNS = ["mode", "case_id", "quantity", "verdict", "before", "after", "error_before",
+           "error_after", "reason", "repro_before", "repro_after"]
+"""The columns of ``changes.csv`` (before the two engine labels)."""
+
+
 def table(changes: Changes) -> pd.DataFrame:
     """Every changed row: its mode, verdict, both sides' status, category and error, the
     reason and both repro commands."""
@@ -156,9 +161,7 @@ def table(changes: Changes) -> pd.DataFrame:
                 "error_after": _error(f.got), "reason": f.reason,
                 "repro_before": changes.before.repro(f.case),
                 "repro_after": changes.after.repro(f.case)})
-    columns = ["mode", "case_id", "quantity", "verdict", "before", "after", "error_before",
-               "error_after", "reason", "repro_before", "repro_after"]
-    return pd.DataFrame(rows, columns=columns)
+    return pd.DataFrame(rows, columns=COLUMNS)
 
 
 def _cell(text: str) -> str:
@@ -198,7 +201,7 @@ def write(all_changes: Sequence[Changes], out: Path) -> dict[str, Path]:
     paths["markdown"].write_text(markdown(all_changes), encoding="utf-8")
     frames = [table(c).assign(before_engine=c.before.label, after_engine=c.after.label)
               for c in all_changes]
-    (pd.concat(frames, ignore_index=True) if frames else table(Changes(
-        Side(out, ""), Side(out, ""), 0)).assign(before_engine="", after_engine="")
-     ).to_csv(paths["csv"], index=False)
+    empty = pd.DataFrame(columns=[*COLUMNS, "before_engine", "after_engine"])
+    (pd.concat(frames, ignore_index=True) if frames else empty).to_csv(paths["csv"],
+                                                                        index=False)
     return paths

@@ -148,29 +148,24 @@ class ResultsStore:
         self.counted.add((record.case_id, record.engine))
 
     def append_series(self, records: Iterable[series.SeriesRecord]) -> None:
-        """Append scene energy series to ``series.jsonl`` in one write and flush (nothing to
-        write: the file is not touched)."""
-        text = "".join(record.to_json() + "\n" for record in records)
-        if not text:
-            return
-        try:
-            with (self.directory / series.FILE).open("a", encoding="utf-8") as handle:
-                handle.write(text)
-        except OSError as exc:
-            raise StoreError(f"cannot write {self.directory / series.FILE}: "
-                             f"{exc.strerror or exc}") from exc
+        """Append scene energy series to ``series.jsonl``."""
+        self._append_records(series.FILE, (record.to_json() for record in records))
 
     def append_scene_facts(self, records: Iterable[scene_facts.SceneFacts]) -> None:
-        """Append scene cases' facts to ``scene_facts.jsonl`` in one write and flush (nothing
-        to write: the file is not touched)."""
-        text = "".join(record.to_json() + "\n" for record in records)
+        """Append scene cases' facts to ``scene_facts.jsonl``."""
+        self._append_records(scene_facts.FILE, (record.to_json() for record in records))
+
+    def _append_records(self, name: str, lines: Iterable[str]) -> None:
+        """Append JSON lines to the file ``name`` of the run folder in one write and flush
+        (nothing to write: the file is not touched)."""
+        text = "".join(line + "\n" for line in lines)
         if not text:
             return
         try:
-            with (self.directory / scene_facts.FILE).open("a", encoding="utf-8") as handle:
+            with (self.directory / name).open("a", encoding="utf-8") as handle:
                 handle.write(text)
         except OSError as exc:
-            raise StoreError(f"cannot write {self.directory / scene_facts.FILE}: "
+            raise StoreError(f"cannot write {self.directory / name}: "
                              f"{exc.strerror or exc}") from exc
 
     def append_repeat(self, record: repeats.RepeatRecord) -> None:
