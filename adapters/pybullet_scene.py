@@ -7,7 +7,7 @@ against the exact reference; :mod:`adapters.pybullet_engine` answers single pair
 instead.  Types and input checks are shared with :mod:`adapters.pymunk_scene` in
 :mod:`adapters.scene`.
 
-Building (``prepare_scene``, untimed): a new DIRECT client per scene (``connect`` of
+Building (``prepare_scene``, untimed): a DIRECT client of its own per scene (``connect`` of
 :mod:`adapters.pybullet_setup`, never the pooled clients of ``pybullet_engine``; the same
 module's ``engine()`` and ``quiet()`` import pybullet and keep its C-level output off
 stdout/stderr), gravity 0 (the scene's gravity, ``setGravity``, when it has one: open
@@ -21,7 +21,11 @@ declared bodies, and one static body per wall (below).  ``run_scene`` times only
 ``stepSimulation`` (a ``functools.partial``: no Python frame per step) through
 ``adapters.scene.step_and_record`` and reads ``getBasePositionAndOrientation`` /
 ``getBaseVelocity`` after it (and between recorded runs of steps, untimed);
-``release_scene`` disconnects the client (bodies and shapes go with it).
+``release_scene`` empties the client with ``resetSimulation`` (bodies and shapes go with it)
+and keeps it for the next scene of the same world settings, which sets gravity 0 and those
+settings again (:data:`IDLE_CLIENTS` at most per settings; a connect costs ~10 ms, a reset
+well under one).  A scene runs bit for bit the same in a reset client as in a new one: the
+scene suite's PyBullet rows were compared both ways when this was introduced.
 
 Walls, as pybullet users model a ground (``plane.urdf`` is a plane): each wall is a
 ``createCollisionShape(GEOM_PLANE, planeNormal=n)`` (a ``btStaticPlaneShape``, plane constant
@@ -179,6 +183,11 @@ __all__ = ["Body", "SceneRun", "Tuning", "body_settings", "prepare_scene", "rele
 
 ZERO: Vec3 = (0.0, 0.0, 0.0)
 
+IDLE_CLIENTS = 2
+"""Emptied clients kept per world settings for the next scenes (the rest are disconnected)."""
+
+_IDLE: dict[tuple[tuple[str, float], ...], list[int]] = {}
+
 
 @dataclass(frozen=True)
 class Tuning:
@@ -235,6 +244,14 @@ class Prepared:
     dim: int
     bodies: tuple[int, ...]
     walls: tuple[int, ...] = ()
+    settings: tuple[tuple[str, float], ...] = ()
+    """The client's world settings (its ``setPhysicsEngineParameter`` arguments)."""
+
+
+def _client(settings: dict[str, float]) -> int:
+    """An emptied client of these world settings, or a new one."""
+    idle = _IDLE.get(tuple(sorted(settings.items())))
+    return idle.pop() if idle else connect(settings)
 
 
 def world_settings(dt: float, iterations: int | None,
@@ -304,7 +321,9 @@ def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: floa
     """
     check_scene(bodies, dim, restitution, dt)
     around = check_surroundings(surroundings, dim)
-    cid = connect(world_settings(dt, iterations, tuning))
+    settings = world_settings(dt, iterations, tuning)
+    cid = _client(settings)
+    key = tuple(sorted(settings.items()))
     shapes: dict[float, int] = {}
     try:
         if any(around.gravity):
@@ -312,9 +331,9 @@ def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: floa
         walls = tuple(add_wall(cid, wall, restitution, tuning) for wall in around.walls)
         ids = tuple(add_sphere(cid, shapes, body, restitution, tuning) for body in bodies)
     except Exception:
-        release_scene(Prepared(cid, dim, ()))
+        release_scene(Prepared(cid, dim, (), settings=key))
         raise
-    return Prepared(cid, dim, ids, walls)
+    return Prepared(cid, dim, ids, walls, key)
 
 
 def state(prepared: Any) -> tuple[list[Vec3], list[Vec3]]:
@@ -347,7 +366,18 @@ def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_
 
 
 def release_scene(prepared: Any) -> None:
-    """Disconnect the scene's client (its bodies and shapes go with it)."""
+    """Empty the scene's client (its bodies and shapes go with it) and keep it for a next
+    scene of the same settings, with gravity 0 and those settings set again; disconnect it
+    when :data:`IDLE_CLIENTS` such are kept already."""
     scene: Prepared = prepared
+    bt, cid = engine(), scene.cid
+    idle = _IDLE.setdefault(scene.settings, [])
     with quiet():
-        engine().disconnect(physicsClientId=scene.cid)
+        if len(idle) >= IDLE_CLIENTS:
+            bt.disconnect(physicsClientId=cid)
+            return
+        bt.resetSimulation(physicsClientId=cid)
+        bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
+        if scene.settings:
+            bt.setPhysicsEngineParameter(**dict(scene.settings), physicsClientId=cid)
+    idle.append(cid)

@@ -17,7 +17,7 @@ class RunOptions:
     """How a run runs, the same for every case (the run's options, recorded in run.json).
 
     ``quick`` is the run's ``--quick``: no timing phase, and scenes over
-    ``crosscheck.run.runner.QUICK_SCENE_STEPS`` steps skipped.  ``timeout_s``
+    ``crosscheck.run.casework.QUICK_SCENE_STEPS`` steps skipped.  ``timeout_s``
     limits one case x engine (prepare, query and timing) in its worker;
     ``isolate`` False runs engines in this process (no crash safety); ``jobs``
     is the number of cases run at once in the verdict pass; ``scheduler`` a

@@ -5,7 +5,8 @@ context manager whose :meth:`~DaskLanes.map` applies ``fn(item, executor)``
 to every item and yields the results as they finish, with a bounded window
 of pending work.  Each item is submitted as one task to a
 ``dask.distributed.Client``; ``fn`` and the item must be picklable (the
-runner sends a :class:`~crosscheck.run.runner.CaseJob` and ``(case, done pairs of that case)``).
+runner sends a :class:`~crosscheck.run.runner.CaseJob` and a few cases,
+``(case, done pairs of that case)`` each: :data:`~crosscheck.run.casework.ITEM_CASES`).
 
 On each Dask worker the engines keep their isolation: every worker thread
 has its own :class:`~crosscheck.run.worker.WorkerPool`, cached at module level
@@ -90,7 +91,7 @@ def worker_executor(options: RunOptions) -> Executor:
         pool = _local.pool = WorkerPool(options)
         with _pools_lock:
             _pools.append(pool)
-    return pool.execute
+    return pool
 
 
 def _remote(fn: Callable[[T, Executor], R], item: T, options: RunOptions) -> R:

@@ -21,9 +21,9 @@ import threading
 import time
 import traceback
 import types
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Any, Protocol, TypeVar
+from typing import Any, Protocol, TypeVar, runtime_checkable
 
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Observation, Status
@@ -207,6 +207,30 @@ class Executor(Protocol):
 
     def __call__(self, adapter: Adapter, case: AnyCase, options: RunOptions,
                  timed: bool = False, skip: frozenset[str] = frozenset()) -> Outcome: ...
+
+
+Call = tuple[Adapter, "AnyCase | Step", RunOptions, bool, frozenset[str]]
+"""One task for an executor: the adapter, the case (or a step of the timing phase's rounds),
+the case's options, whether to time it, and the quantities to skip."""
+
+
+@runtime_checkable
+class BatchExecutor(Executor, Protocol):
+    """An executor that also runs many calls at once (a worker pool: each engine's calls in
+    turn in its worker, the engines' workers side by side)."""
+
+    def many(self, calls: Sequence[Call]) -> list[Outcome]: ...
+
+
+def run_calls(executor: Executor,
+              calls: Sequence[tuple[Adapter, AnyCase, RunOptions, bool, frozenset[str]]],
+              ) -> list[Outcome]:
+    """Every call's outcome, in order: all at once on a :class:`BatchExecutor`, one after
+    another on any other executor (in-process, or the Dask lanes' per-case calls)."""
+    if isinstance(executor, BatchExecutor):
+        return executor.many(calls)
+    return [executor(adapter, case, options, timed, skip)
+            for adapter, case, options, timed, skip in calls]
 
 
 T = TypeVar("T")

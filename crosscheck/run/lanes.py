@@ -50,7 +50,7 @@ class LocalLanes:
             pool = self._local.pool = WorkerPool(self.options)
             with self._lock:
                 self._pools.append(pool)
-        return pool.execute
+        return pool
 
     def _call(self, fn: Callable[[T, Executor], R], item: T) -> R:
         return fn(item, self._executor())

@@ -36,10 +36,11 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.repeats import Answer, RepeatRecord, changed, read_repeats
 from crosscheck.results.store import ResultsStore
+from crosscheck.run.casework import execute_case
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, execute
 from crosscheck.run.lanes import LocalLanes
-from crosscheck.run.runner import execute_case, score_outcome
+from crosscheck.run.runner import score_outcome
 from crosscheck.run.worker import fresh_worker
 
 REASKED = frozenset({Status.DISAGREE, Status.ERROR, Status.CRASH})

@@ -34,8 +34,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
-from crosscheck.core.contract import HANG_PROBE_S, Adapter
-from crosscheck.core.model import Observation, Record, Status, quantities_of
+from crosscheck.core.contract import Adapter
+from crosscheck.core.model import Observation, Record, quantities_of
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, PairCase, SceneCase, ToiCase
 from crosscheck.core.values import encode
@@ -43,10 +43,17 @@ from crosscheck.results.rows import ColumnLines, line
 from crosscheck.results.scene_facts import facts_of
 from crosscheck.results.series import EXACT, SeriesRecord, series_of
 from crosscheck.results.store import ResultsStore
+from crosscheck.run.casework import (
+    ITEM_CASES,
+    Executed,
+    Pairs,
+    execute_case,
+    execute_cases,
+)
 from crosscheck.run.distributed import DaskLanes
-from crosscheck.run.execute import Executor, Lanes, Outcome, case_options
+from crosscheck.run.execute import Executor, Lanes, Outcome
 from crosscheck.run.lanes import LocalLanes
-from crosscheck.truth import measure_rules, oracle
+from crosscheck.truth import measure_rules
 from crosscheck.truth.columnar import judge_batch
 from crosscheck.truth.score import Verdict, judge
 
@@ -100,9 +107,6 @@ Progress = Callable[[int], None]
 """Called with the number of case x engine pairs just finished."""
 
 
-Pairs = set[tuple[str, str]] | frozenset[tuple[str, str]]
-
-
 def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
              options: RunOptions, done: Pairs = frozenset()) -> list[Record]:
     """Every record of one case: the truth once, then each adapter not already done.
@@ -116,27 +120,6 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
     executed = execute_case(case, adapters, executor, options, done)
     return [record for k, outcome in executed.outcomes
             for record in score_outcome(case, adapters[k], outcome, executed.truth)]
-
-
-@dataclass(frozen=True)
-class Executed:
-    """One case run on the engines of a job, not yet scored: what a lane returns when the
-    parent scores in columns."""
-
-    case: AnyCase
-    truth: Observation
-    outcomes: tuple[tuple[int, Outcome], ...]
-    """(index of the adapter in the job's adapters, its outcome) for each pair not done."""
-
-
-def execute_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
-                 options: RunOptions, done: Pairs = frozenset()) -> Executed:
-    """The truth of ``case`` once, then its outcome on each adapter not already done."""
-    skipped = _quick_skip(case) if options.quick else None
-    truth = oracle.truth(case) if skipped is None else Observation()
-    return Executed(case, truth, tuple(
-        (k, skipped or _execute(executor, adapter, case, options))
-        for k, adapter in enumerate(adapters) if (case.id, adapter.name) not in done))
 
 
 def score_outcome(case: AnyCase, adapter: Adapter, outcome: Outcome,
@@ -166,7 +149,8 @@ def _instance(cls: type[Adapter]) -> Adapter:
 
 @dataclass(frozen=True)
 class CaseJob:
-    """``run_case`` of one ``(case, done pairs)`` item on ``adapters``: picklable.
+    """The cases of one item (``(case, done pairs)`` each, :data:`ITEM_CASES` at most) on
+    ``adapters``: picklable.
 
     Locally the job holds the adapter instances; pickled (to a Dask worker) it
     sends only their classes, instantiated once per worker process there.
@@ -175,13 +159,14 @@ class CaseJob:
     adapters: tuple[Adapter, ...]
     options: RunOptions
     columnar: bool = False
-    """Return the case's :class:`Executed` outcomes, for the parent to score in columns."""
+    """Return each case's :class:`Executed` outcomes, for the parent to score in columns."""
 
-    def __call__(self, item: tuple[AnyCase, Pairs], executor: Executor) -> list[Record] | Executed:
-        case, done = item
+    def __call__(self, item: Sequence[tuple[AnyCase, Pairs]],
+                 executor: Executor) -> list[list[Record]] | list[Executed]:
         if self.columnar:
-            return execute_case(case, self.adapters, executor, self.options, done)
-        return run_case(case, self.adapters, executor, self.options, done)
+            return execute_cases(item, self.adapters, executor, self.options)
+        return [run_case(case, self.adapters, executor, self.options, done)
+                for case, done in item]
 
     def __reduce__(self) -> tuple[Any, ...]:
         return _case_job, (tuple(type(a) for a in self.adapters), self.options, self.columnar)
@@ -190,59 +175,6 @@ class CaseJob:
 def _case_job(classes: Sequence[type[Adapter]], options: RunOptions,
               columnar: bool = False) -> CaseJob:
     return CaseJob(tuple(_instance(cls) for cls in classes), options, columnar)
-
-
-QUICK_SCENE_STEPS = 1000
-"""``--quick`` runs a scene only up to this many steps (the rest are ``skip`` rows)."""
-
-
-def _quick_skip(case: AnyCase) -> Outcome | None:
-    if isinstance(case, SceneCase) and case.step_count > QUICK_SCENE_STEPS:
-        return Outcome(None, Status.SKIP, f"--quick runs scenes of at most {QUICK_SCENE_STEPS} "
-                                          f"steps; this one takes {case.step_count}")
-    return None
-
-
-def _execute(executor: Executor, adapter: Adapter, case: AnyCase, options: RunOptions) -> Outcome:
-    """Execute, probing a declared known hang under HANG_PROBE_S and saying so.
-
-    The full query is probed first (a fixed engine answers it).  If the probe times out
-    and the adapter names only some quantities as hanging, the query runs again without
-    them under the run's limit; they are marked ``hung`` (the rest is its outcome).
-    In-process (``isolate`` False) nothing could stop a hang, so the declared hanging
-    quantities are never started (:func:`_skip_declared_hang`).
-    """
-    hang = adapter.known_hang(case)
-    options = case_options(case, options)
-    if hang is None:
-        return executor(adapter, case, options)
-    if not options.isolate:
-        return _skip_declared_hang(executor, adapter, case, options, hang)
-    limit = min(options.timeout_s, HANG_PROBE_S)
-    outcome = executor(adapter, case, replace(options, timeout_s=limit), False)
-    if outcome.status is not Status.TIMEOUT:
-        return outcome
-    reason = f"{outcome.reason} (declared known hang: {hang})"
-    every = frozenset(quantities_of(case.kind_enum))
-    hanging = adapter.hanging_quantities(case) & every
-    if not hanging or hanging == every:
-        return replace(outcome, reason=reason)
-    rest = executor(adapter, case, options, False, hanging)
-    return replace(rest, hung=hanging, hang_reason=reason)
-
-
-def _skip_declared_hang(executor: Executor, adapter: Adapter, case: AnyCase,
-                        options: RunOptions, hang: str) -> Outcome:
-    """In-process: the declared hanging quantities are ``skip`` rows naming the declaration;
-    the others come from ``query_without`` them (all ``skip`` when every quantity hangs)."""
-    reason = (f"declared known hang, not run in-process (--no-isolation has no time limit "
-              f"to stop it): {hang}")
-    every = frozenset(quantities_of(case.kind_enum))
-    hanging = adapter.hanging_quantities(case) & every
-    if not hanging or hanging == every:
-        return Outcome(None, Status.SKIP, reason)
-    rest = executor(adapter, case, options, False, hanging)
-    return replace(rest, hung=hanging, hang_reason=reason, hang_status=Status.SKIP)
 
 
 def run(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: ResultsStore,
@@ -273,15 +205,17 @@ def run_pending(cases: Sequence[AnyCase], adapters: Sequence[Adapter], store: Re
     done: dict[str, set[tuple[str, str]]] = {}
     for pair in store.done:
         done.setdefault(pair[0], set()).add(pair)
-    items = ((case, frozenset(done.get(case.id, ()))) for case in todo)
+    items = ([(case, frozenset(done.get(case.id, ()))) for case in todo[i:i + ITEM_CASES]]
+             for i in range(0, len(todo), ITEM_CASES))
     lanes: Lanes = DaskLanes(options) if options.scheduler else LocalLanes(options)
     chunk = _Chunk(store, adapters)
     with lanes:
         try:
-            for result in lanes.map(CaseJob(tuple(adapters), options, columnar), items):
-                chunk.add(result)
+            for results in lanes.map(CaseJob(tuple(adapters), options, columnar), items):
+                for result in results:
+                    chunk.add(result)
                 if progress:
-                    progress(len(adapters))
+                    progress(len(adapters) * len(results))
         finally:  # also on Ctrl-C or a failed write: what was received is written
             chunk.flush()
     return chunk.count

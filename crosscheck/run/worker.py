@@ -2,8 +2,9 @@
 
 A :class:`WorkerPool` keeps one long-lived worker per engine library, shared by
 its variants (engine clients such as a PyBullet connection live there and are
-reused across cases).  Each task is sent over a pipe; the parent waits at most
-``timeout_s``:
+reused across cases).  Each task is sent over a pipe (the process itself, and how a
+silent or greedy one is caught, is :mod:`crosscheck.run.worker_process`); the parent
+waits at most ``timeout_s`` for each answer:
 
 - an answer: the :class:`~crosscheck.run.execute.Outcome` of the case;
 - the pipe closes (the worker died: segfault, abort, ``os._exit``): a
@@ -12,22 +13,31 @@ reused across cases).  Each task is sent over a pipe; the parent waits at most
 - the case blows ``worker_memory_mb`` on its own (it grows the worker by more
   than a fresh worker, its engine loaded, may grow under the limit): the worker
   is killed and the outcome is ``crash`` with the reason "memory limit" (a
-  watchdog in the parent reads ``/proc/<pid>/statm`` every :data:`WATCH_S` while
-  it waits; an answer that comes sooner costs nothing).
+  watchdog in the parent reads ``/proc/<pid>/statm`` every
+  :data:`~crosscheck.run.worker_process.WATCH_S` while it waits; an answer that comes
+  sooner costs nothing).
+
+A batch of calls (:meth:`WorkerPool.many`: the cases of a lane's item on every engine)
+runs on all its engines' workers at once, and each worker holds up to :data:`WINDOW`
+tasks: the one it runs and the next, so that it starts the next case as soon as it has
+answered, instead of waiting a round trip (and the parent's threads) for it.  A task's
+time limit counts from when its worker could begin it (the previous answer, or the send
+to an idle worker).  When a worker dies or is killed, the task it was running gets the
+outcome and the tasks queued behind it go to a fresh worker.
 
 A worker whose resident memory is over the limit after it answered (an engine
-leaking case after case) is recycled before the next case; the case during
-which a leak piles past the limit is not blamed for it.  Resident memory is
-watched rather than capped with ``RLIMIT_AS``/``RLIMIT_DATA``: numpy, OpenBLAS and
-the engines reserve far more address space than they touch, so a cap on virtual
-memory fails imports and turns an engine's ``std::bad_alloc`` into an abort,
-while RSS is what a leak actually costs the machine.  Where ``/proc`` is missing
-the limit is not enforced.
+leaking case after case) is sent nothing more and recycled once it has answered the
+task already queued; the case during which a leak piles past the limit is not blamed
+for it.  Resident memory is watched rather than capped with ``RLIMIT_AS``/``RLIMIT_DATA``:
+numpy, OpenBLAS and the engines reserve far more address space than they touch, so a cap
+on virtual memory fails imports and turns an engine's ``std::bad_alloc`` into an abort,
+while RSS is what a leak actually costs the machine.  Where ``/proc`` is missing the
+limit is not enforced.
 
 A dead or killed worker is replaced on the next task.  The timing phase sends the steps
-of its rounds (:class:`~crosscheck.run.execute.Step`) to the engine workers, and the
-machine yardstick to a worker of its own on the same CPU.  Workers are started by
-the ``forkserver`` method, which is safe with the parent's threads (the
+of its rounds (:class:`~crosscheck.run.execute.Step`) to the engine workers, one at a
+time, and the machine yardstick to a worker of its own on the same CPU.  Workers are
+started by the ``forkserver`` method, which is safe with the parent's threads (the
 progress bar) and cheap to restart.  Their C-level stdout and stderr go to
 /dev/null, so engine banners and warnings never reach the CLI.  (How a worker process
 is started, silenced, watched and told dead is :mod:`crosscheck.run.processes`, shared
@@ -36,169 +46,45 @@ with the fuzz lanes.)
 
 from __future__ import annotations
 
-import math
 import os
-import sys
 import time
-from multiprocessing.connection import Connection
-from multiprocessing.process import BaseProcess
-from typing import Any
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from multiprocessing.connection import Connection, wait
 
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.run.envs import PinnedEnv
-from crosscheck.run.execute import (
-    Outcome,
-    Step,
-    Yardstick,
-    execute,
-    probe_binding,
-)
+from crosscheck.run.execute import Call, Outcome, Step, Yardstick
 from crosscheck.run.pinned import environment
-from crosscheck.run.processes import CONTEXT, SPAWN, Resident, death, quiet_child, start
 from crosscheck.run.timing import Timing
+from crosscheck.run.worker_process import (
+    BINDING,
+    WATCH_S,
+    WorkerProcess,
+    memory_limit,
+    payload,
+)
 
-# every worker imports these: imported once in the forkserver, no worker start pays for them
-CONTEXT.set_forkserver_preload(["crosscheck.run.execute", "crosscheck.run.worker"])
-
-BINDING = "binding"
 YARDSTICK = "(yardstick)"
 """The key of the yardstick's own worker among the engines' (no engine has this name)."""
-Task = tuple[type[Adapter] | None, AnyCase | Step | Yardstick | str | None, RunOptions, bool,
-             frozenset[str]]
-"""What a worker is sent: a case to run (whether to time it, the quantities to skip),
-``None`` to warm up, :data:`BINDING` to time the cheapest call into the engine, a step of
-the timing phase's rounds, or the yardstick (no adapter)."""
 
 STARTUP_TIMEOUT_S = 120.0
 """Time a new worker may take to start and load its engine; not charged to any case."""
 
-WATCH_S = 0.05
-"""How often the parent reads a busy worker's resident memory while it waits for an answer."""
-
 RECHECK_S = 0.1
 """Between cases, resident memory is read at most this often (a read costs ~5 us)."""
 
+WINDOW = 2
+"""Tasks of a batch a worker holds at once: the one it runs and the next."""
 
-def _serve(conn: Connection) -> None:
-    """Worker main loop: run tasks until the parent closes the pipe.
-
-    Ctrl-C is the parent's to handle: a worker ignores SIGINT, so an
-    interrupted run never records a worker's death as an engine crash
-    (:func:`~crosscheck.run.processes.quiet_child`).
-    """
-    quiet_child()
-    adapters: dict[type[Adapter], Adapter] = {}
-    while True:
-        try:
-            cls, case, options, timed, skip = conn.recv()
-        except (EOFError, OSError):
-            return
-        if isinstance(case, Yardstick):
-            conn.send(case.measure(options))
-            continue
-        assert cls is not None
-        adapter = adapters.setdefault(cls, cls())
-        if isinstance(case, Step):
-            conn.send(case.take(adapter, options))
-        elif case is None:  # warm-up: import the engine and connect, outside any case's time
-            adapter.available()
-            conn.send(None)
-        elif isinstance(case, str):
-            conn.send(probe_binding(adapter, options))
-        else:
-            conn.send(execute(adapter, case, options, timed, skip))
-
-
-def _serve_pinned(conn: Connection, site_packages: str) -> None:
-    """:func:`_serve` in a pinned version's interpreter: a spawned process gets the parent's
-    ``sys.path``, so the environment's own packages are put first again, before any task
-    (and so any engine) is unpickled."""
-    sys.path.insert(0, site_packages)
-    _serve(conn)
-
-
-def memory_limit(what: str, limit_mb: float) -> str:
-    """The reason of a ``crash`` for a worker over ``--worker-memory``."""
-    return f"memory limit: {what}, past --worker-memory {limit_mb:g} MB"
-
-
-class _Worker:
-    """One worker process and its pipe, its resident memory watched against ``memory_mb``."""
-
-    def __init__(self, memory_mb: float, env: PinnedEnv | None = None) -> None:
-        self.memory_mb = memory_mb
-        self.conn, child = CONTEXT.Pipe()
-        if env is None:
-            self.process: BaseProcess = CONTEXT.Process(target=_serve, args=(child,),
-                                                        daemon=True)
-            start(self.process)
-        else:  # the pinned version's own interpreter
-            self.process = SPAWN.Process(target=_serve_pinned,
-                                         args=(child, str(env.site_packages)), daemon=True)
-            start(self.process, str(env.python))
-        child.close()
-        self.resident = Resident(self.process.pid)
-        self.last_mb = 0.0  # at the last check: after the last answer, so as a case begins
-        self.checked = -math.inf  # time.monotonic() of that check
-        self.warmed: set[type[Adapter]] = set()  # adapters warmed up in this process
-        self.fresh_mb = 0.0  # once its engine was loaded
-
-    def over_limit(self, unless_within_s: float = 0.0) -> bool:
-        """Whether the worker's resident memory is over its limit (kept as ``last_mb``); not
-        read again if it was read less than ``unless_within_s`` ago."""
-        now = time.monotonic()
-        if now - self.checked >= unless_within_s:
-            self.last_mb, self.checked = self.resident.mb(), now
-        return self.last_mb > self.memory_mb
-
-    def call(self, task: Task, timeout_s: float) -> Any:
-        try:
-            self.conn.send(task)
-            stopped = self._wait(timeout_s)
-            return stopped if stopped is not None else self.conn.recv()
-        except (EOFError, OSError, BrokenPipeError):
-            self.process.join(timeout=2)
-            return Outcome(None, Status.CRASH, death(self.process.exitcode))
-
-    def _wait(self, timeout_s: float) -> Outcome | None:
-        """None once an answer is ready; else the worker is killed and the outcome says why:
-        no answer within ``timeout_s``, or the case alone grew the worker by more than a fresh
-        one may grow (checked every WATCH_S).  A smaller growth past the limit (a leak piling
-        up) finishes the case and is recycled after it: RSS stays under twice the limit."""
-        deadline = time.monotonic() + timeout_s
-        while not self.conn.poll(max(0.0, min(WATCH_S, deadline - time.monotonic()))):
-            resident = self.resident.mb()
-            if resident - self.last_mb > self.memory_mb - self.fresh_mb:
-                self.kill()
-                what = (f"this case alone grew the worker from {self.last_mb:.0f} to "
-                        f"{resident:.0f} MB (a fresh one holds {self.fresh_mb:.0f} MB)"
-                        if self.fresh_mb else
-                        f"the worker reached {resident:.0f} MB while loading its engine")
-                return Outcome(None, Status.CRASH, memory_limit(what, self.memory_mb))
-            if time.monotonic() >= deadline:
-                self.kill()
-                return Outcome(None, Status.TIMEOUT, f"no answer within {timeout_s:g} s")
-        return None
-
-    def alive(self) -> bool:
-        return self.process.is_alive()
-
-    def kill(self) -> None:
-        if self.process.is_alive():
-            self.process.kill()
-        self.process.join(timeout=5)
-        self.conn.close()
-        self.resident.close()
-
-    def close(self) -> None:
-        self.conn.close()
-        self.process.join(timeout=2)
-        if self.process.is_alive():
-            self.kill()
-        self.resident.close()
+PIPELINE_BYTES = 32_768
+"""A task pickled larger than this is sent only to an idle worker.  Sent behind a running
+one it could fill the pipe while that one's answer fills the other way, and both sides
+would wait for each other; a pipe holds 64 KiB on Linux."""
 
 
 def pin(pid: int, cpu: int | None) -> bool:
@@ -210,6 +96,19 @@ def pin(pid: int, cpu: int | None) -> bool:
     except OSError:
         return False
     return True
+
+
+@dataclass
+class _Flight:
+    """One engine's share of a batch: calls not sent yet, and those its worker holds."""
+
+    queue: deque[int] = field(default_factory=deque)
+    flying: deque[int] = field(default_factory=deque)
+    since: float = 0.0
+    """When the worker could begin the first task it holds (the time limit counts from it)."""
+    watched: float = 0.0
+    recycle: bool = False
+    """Over its memory limit after an answer: sent nothing more, recycled once idle."""
 
 
 class WorkerPool:
@@ -231,9 +130,9 @@ class WorkerPool:
         self.cpu = cpu
         self.recycled = 0
         self.started = 0
-        self._workers: dict[str, _Worker] = {}
+        self._workers: dict[str, WorkerProcess] = {}
 
-    def _worker(self, adapter: Adapter, options: RunOptions) -> _Worker | Outcome:
+    def _worker(self, adapter: Adapter, options: RunOptions) -> WorkerProcess | Outcome:
         """The engine's live worker, started and the adapter warmed up in it if need be; or
         why it cannot."""
         worker = self._live(adapter.engine, options, environment(adapter))
@@ -253,13 +152,14 @@ class WorkerPool:
         worker.warmed.add(type(adapter))
         return worker
 
-    def _live(self, key: str, options: RunOptions, env: PinnedEnv | None = None) -> _Worker:
+    def _live(self, key: str, options: RunOptions,
+              env: PinnedEnv | None = None) -> WorkerProcess:
         """The live worker under ``key`` (an engine, or :data:`YARDSTICK`), started (in
         ``env``'s interpreter, for a pinned engine version) and pinned to the CPU if need
         be."""
         worker = self._workers.get(key)
         if worker is None or not worker.alive():
-            worker = self._workers[key] = _Worker(options.worker_memory_mb, env)
+            worker = self._workers[key] = WorkerProcess(options.worker_memory_mb, env)
             self.started += 1
             pin(worker.process.pid or 0, self.cpu)
         return worker
@@ -296,17 +196,103 @@ class WorkerPool:
                 timed: bool = False, skip: frozenset[str] = frozenset()) -> Outcome:
         """Run ``case`` on ``adapter`` (without the quantities in ``skip``), or a step of the
         timing phase's rounds, in the adapter's worker, within the time limit."""
-        worker = self._worker(adapter, options)
-        if isinstance(worker, Outcome):
-            return worker
-        outcome = worker.call((type(adapter), case, options, timed, skip), options.timeout_s)
-        assert isinstance(outcome, Outcome)
-        if outcome.status in (Status.CRASH, Status.TIMEOUT):
-            self._drop(adapter)
-        elif worker.over_limit(RECHECK_S):  # it answered, but leaked past the limit: recycle
-            self._drop(adapter)
+        return self.many([(adapter, case, options, timed, skip)])[0]
+
+    __call__ = execute
+
+    def many(self, calls: Sequence[Call]) -> list[Outcome]:
+        """The outcome of every call, in order: each engine's calls run in turn in its
+        worker, the engines' workers at once, each worker holding up to :data:`WINDOW`."""
+        outcomes: list[Outcome | None] = [None] * len(calls)
+        flights: dict[str, _Flight] = {}
+        for k, call in enumerate(calls):
+            flights.setdefault(call[0].engine, _Flight()).queue.append(k)
+        while True:
+            for key, flight in flights.items():
+                self._feed(key, flight, calls, outcomes)
+            busy = {self._workers[key].conn: key for key, f in flights.items() if f.flying}
+            if not busy:
+                break
+            ready = set(wait(list(busy), timeout=self._patience(busy, flights, calls)))
+            now = time.monotonic()
+            for conn, key in busy.items():
+                if conn in ready:
+                    self._take(key, flights[key], calls, outcomes)
+                elif now - flights[key].watched >= WATCH_S:
+                    self._watch(key, flights[key], calls, outcomes)
+        assert all(outcome is not None for outcome in outcomes)
+        return outcomes  # type: ignore[return-value]
+
+    def _patience(self, busy: dict[Connection, str], flights: dict[str, _Flight],
+                  calls: Sequence[Call]) -> float:
+        """How long to wait for an answer before watching the busy workers again."""
+        now = time.monotonic()
+        due = min(flights[key].since + calls[flights[key].flying[0]][2].timeout_s
+                  for key in busy.values())
+        return max(0.0, min(WATCH_S, due - now))
+
+    def _feed(self, key: str, flight: _Flight, calls: Sequence[Call],
+              outcomes: list[Outcome | None]) -> None:
+        """Send the engine's next calls until its worker holds :data:`WINDOW` of them."""
+        while flight.queue and len(flight.flying) < WINDOW and not flight.recycle:
+            k = flight.queue[0]
+            adapter, case, options, timed, skip = calls[k]
+            if flight.flying:
+                worker = self._workers[key]
+                if type(adapter) not in worker.warmed:
+                    return  # warmed up once the worker is idle (its answers come in order)
+            else:
+                started = self._worker(adapter, options)
+                if isinstance(started, Outcome):
+                    outcomes[flight.queue.popleft()] = started
+                    continue
+                worker = started
+            data = payload((type(adapter), case, options, timed, skip))
+            if flight.flying and len(data) > PIPELINE_BYTES:
+                return
+            if not worker.send(data):
+                if flight.flying:
+                    return  # dead: the answer of the task it held says how
+                outcomes[flight.queue.popleft()] = worker.died()
+                self._drop(adapter)
+                continue
+            if not flight.flying:
+                flight.since = flight.watched = time.monotonic()
+            flight.flying.append(flight.queue.popleft())
+
+    def _take(self, key: str, flight: _Flight, calls: Sequence[Call],
+              outcomes: list[Outcome | None]) -> None:
+        """The answer of the engine's oldest task in flight (it is ready)."""
+        worker = self._workers[key]
+        answer = worker.answer()
+        assert isinstance(answer, Outcome)
+        outcomes[flight.flying.popleft()] = answer
+        flight.since = flight.watched = time.monotonic()
+        if answer.status in (Status.CRASH, Status.TIMEOUT):
+            self._requeue(key, flight)
+        elif not flight.recycle and worker.over_limit(RECHECK_S):
+            flight.recycle = True  # it answered, but leaked past the limit
+        if flight.recycle and not flight.flying:
+            self._workers.pop(key).kill()
             self.recycled += 1
-        return outcome
+            flight.recycle = False
+
+    def _watch(self, key: str, flight: _Flight, calls: Sequence[Call],
+               outcomes: list[Outcome | None]) -> None:
+        """Kill the engine's worker if its task in flight is over time or memory."""
+        flight.watched = time.monotonic()
+        timeout_s = calls[flight.flying[0]][2].timeout_s
+        stopped = self._workers[key].watch(flight.since + timeout_s, timeout_s)
+        if stopped is not None:
+            outcomes[flight.flying.popleft()] = stopped
+            self._requeue(key, flight)
+
+    def _requeue(self, key: str, flight: _Flight) -> None:
+        """The worker is dead or done for: kill it, and send what it held to a fresh one."""
+        self._workers.pop(key).kill()
+        flight.queue.extendleft(reversed(flight.flying))
+        flight.flying.clear()
+        flight.recycle = False
 
     def close(self, at_once: bool = False) -> None:
         """Stop every worker (``at_once``: kill it, without letting it tidy up)."""

@@ -17,7 +17,8 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
 from crosscheck.report import dynamics, style
 from crosscheck.results.store import ResultsStore, read_cases, read_results
-from crosscheck.run.runner import QUICK_SCENE_STEPS, run
+from crosscheck.run.casework import QUICK_SCENE_STEPS
+from crosscheck.run.runner import run
 from crosscheck.truth import scenes
 from tests.conftest import ROOT
 

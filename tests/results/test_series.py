@@ -21,8 +21,9 @@ from crosscheck.results.series import (
     series_of,
 )
 from crosscheck.results.store import ResultsStore
+from crosscheck.run.casework import Executed
 from crosscheck.run.execute import Outcome
-from crosscheck.run.runner import Executed, energy_series, run
+from crosscheck.run.runner import energy_series, run
 from crosscheck.truth.scene_measures import energy_scale
 
 

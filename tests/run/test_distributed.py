@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
@@ -23,6 +24,7 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.run.casework import ITEM_CASES
 from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import ROOT, sphere
@@ -82,7 +84,7 @@ def test_cluster_results_match_local(cluster: LocalCluster, tmp_path: Path) -> N
     before = _tasks(cluster)
     remote = _run(tmp_path / "remote", cases, engines,
                   RunOptions(quick=True, jobs=2, scheduler=cluster.scheduler_address))
-    assert _tasks(cluster) - before == len(cases)
+    assert _tasks(cluster) - before == math.ceil(len(cases) / ITEM_CASES)  # a task per item
     assert len(local) > 0
     pd.testing.assert_frame_equal(local.drop(columns=TIMING), remote.drop(columns=TIMING))
 
@@ -127,7 +129,7 @@ def test_cli_scheduler_reaches_the_run(cluster: LocalCluster, tmp_path: Path) ->
     assert info["options"]["scheduler"] == address
     frame = read_results(out)
     assert set(frame["engine"]) == {"reference"} and len(frame) > 0
-    assert _tasks(cluster) - before == len(load_paths(CASE_FILES[:1]).cases)
+    assert _tasks(cluster) - before == math.ceil(len(load_paths(CASE_FILES[:1]).cases) / ITEM_CASES)
 
     before = _tasks(cluster)
     fuzz_out = tmp_path / "fuzz"
