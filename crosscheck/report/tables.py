@@ -90,11 +90,23 @@ def case_group(source: str) -> str:
     return PurePosixPath(source).stem if source else "(no file)"
 
 
+def case_groups(sources: pd.Series) -> pd.Series:
+    """:func:`case_group` of every row's source, each distinct source named once.
+
+    >>> case_groups(pd.Series(["cases/a.toml", None, "cases/a.toml"])).tolist()
+    ['a', '(no file)', 'a']
+    """
+    codes, texts = pd.factorize(sources.fillna(""))
+    names = [case_group(str(text)) for text in texts]
+    return pd.Series([names[code] for code in codes], index=sources.index, dtype="str",
+                     name="group")
+
+
 def group_counts(frame: pd.DataFrame) -> pd.DataFrame:
     """Per engine x case group: counts of each status (case x quantity rows)."""
     if frame.empty:
         return pd.DataFrame(columns=["engine", "group", *STATUSES])
-    groups = frame["source"].fillna("").map(case_group).rename("group")
+    groups = case_groups(frame["source"])
     counts = pd.crosstab([frame["engine"], groups], frame["status"])
     return counts.reindex(columns=STATUSES, fill_value=0).reset_index()
 
@@ -120,7 +132,7 @@ def _cell(counts: dict[Any, Any]) -> dict[str, Any]:
 
 def group_matrix(frame: pd.DataFrame) -> dict[str, Any]:
     """The engines x case groups matrix for the report: column heads and coloured cells."""
-    group_of = frame["source"].fillna("").map(case_group)
+    group_of = case_groups(frame["source"])
     groups = list(dict.fromkeys(group_of))
     cases = group_of[~frame["case_id"].duplicated()].value_counts()
     counts = {(r["engine"], r["group"]): r for r in group_counts(frame).to_dict("records")}

@@ -97,8 +97,11 @@ def with_repeats(frame: pd.DataFrame, directory: Path) -> pd.DataFrame:
     (:data:`NOT_CHECKED` on every other row), in the frame's row order."""
     records = read_repeats(directory)
     columns: dict[str, list[Any]] = {name: [] for name in REPEAT_COLUMNS}
-    for case_id, engine, quantity in zip(frame["case_id"], frame["engine"], frame["quantity"],
-                                         strict=True):
+    if not records:  # nothing asked again: every row is NOT_CHECKED
+        columns = {name: [value] * len(frame) for name, value in NOT_CHECKED.items()}
+    keys = zip(frame["case_id"].tolist(), frame["engine"].tolist(), frame["quantity"].tolist(),
+               strict=True) if records else ()
+    for case_id, engine, quantity in keys:
         record = records.get((str(case_id), str(engine)))
         answer = record.answers.get(str(quantity)) if record else None
         if record is None or answer is None:
