@@ -23,8 +23,9 @@ declared bodies, and one static body per wall (below).  ``run_scene`` times only
 ``getBaseVelocity`` after it (and between recorded runs of steps, untimed);
 ``release_scene`` empties the client with ``resetSimulation`` (bodies and shapes go with it)
 and keeps it for the next scene of the same world settings, which sets gravity 0 and those
-settings again (:data:`IDLE_CLIENTS` at most per settings; a connect costs ~10 ms, a reset
-well under one).  A scene runs bit for bit the same in a reset client as in a new one: the
+settings again (:data:`IDLE_CLIENTS` kept in all, the least recently used disconnected: a
+connect costs 30-50 ms here, and well over 200 ms once a process holds 16 clients; a reset
+0.2 ms).  A scene runs bit for bit the same in a reset client as in a new one: the
 scene suite's PyBullet rows were compared both ways when this was introduced.
 
 Walls, as pybullet users model a ground (``plane.urdf`` is a plane): each wall is a
@@ -178,15 +179,18 @@ from adapters.scene import (
 )
 from crosscheck.core.geometry import Vec3, to3
 
-__all__ = ["Body", "SceneRun", "Tuning", "body_settings", "prepare_scene", "release_scene",
-           "run_scene", "wall_settings"]
+__all__ = ["Body", "SceneRun", "Tuning", "body_settings", "drop_idle_clients", "idle_clients",
+           "prepare_scene", "release_scene", "run_scene", "wall_settings"]
 
 ZERO: Vec3 = (0.0, 0.0, 0.0)
 
-IDLE_CLIENTS = 2
-"""Emptied clients kept per world settings for the next scenes (the rest are disconnected)."""
+IDLE_CLIENTS = 6
+"""Emptied clients kept for the next scenes, whatever their settings (the suite's scenes use
+a dozen settings per variant; two of them are most scenes')."""
 
-_IDLE: dict[tuple[tuple[str, float], ...], list[int]] = {}
+Settings = tuple[tuple[str, float], ...]
+_IDLE: list[tuple[Settings, int]] = []
+"""Emptied clients and their world settings, least recently released first."""
 
 
 @dataclass(frozen=True)
@@ -244,14 +248,17 @@ class Prepared:
     dim: int
     bodies: tuple[int, ...]
     walls: tuple[int, ...] = ()
-    settings: tuple[tuple[str, float], ...] = ()
+    settings: Settings = ()
     """The client's world settings (its ``setPhysicsEngineParameter`` arguments)."""
 
 
 def _client(settings: dict[str, float]) -> int:
-    """An emptied client of these world settings, or a new one."""
-    idle = _IDLE.get(tuple(sorted(settings.items())))
-    return idle.pop() if idle else connect(settings)
+    """The most recently emptied client of these world settings, or a new one."""
+    key = tuple(sorted(settings.items()))
+    for k in range(len(_IDLE) - 1, -1, -1):
+        if _IDLE[k][0] == key:
+            return _IDLE.pop(k)[1]
+    return connect(settings)
 
 
 def world_settings(dt: float, iterations: int | None,
@@ -365,19 +372,29 @@ def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_
     return SceneRun(positions, velocities, wall, steps, samples)
 
 
+def idle_clients() -> int:
+    """How many emptied clients are kept for the next scenes."""
+    return len(_IDLE)
+
+
+def drop_idle_clients() -> None:
+    """Disconnect every kept client (the next scene connects a new one)."""
+    with quiet():
+        while _IDLE:
+            engine().disconnect(physicsClientId=_IDLE.pop()[1])
+
+
 def release_scene(prepared: Any) -> None:
     """Empty the scene's client (its bodies and shapes go with it) and keep it for a next
-    scene of the same settings, with gravity 0 and those settings set again; disconnect it
-    when :data:`IDLE_CLIENTS` such are kept already."""
+    scene of the same settings, with gravity 0 and those settings set again; past
+    :data:`IDLE_CLIENTS` kept, the least recently released is disconnected."""
     scene: Prepared = prepared
     bt, cid = engine(), scene.cid
-    idle = _IDLE.setdefault(scene.settings, [])
     with quiet():
-        if len(idle) >= IDLE_CLIENTS:
-            bt.disconnect(physicsClientId=cid)
-            return
         bt.resetSimulation(physicsClientId=cid)
         bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
         if scene.settings:
             bt.setPhysicsEngineParameter(**dict(scene.settings), physicsClientId=cid)
-    idle.append(cid)
+        _IDLE.append((scene.settings, cid))
+        if len(_IDLE) > IDLE_CLIENTS:
+            bt.disconnect(physicsClientId=_IDLE.pop(0)[1])

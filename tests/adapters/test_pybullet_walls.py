@@ -228,3 +228,24 @@ def test_samples_have_the_scene_shape_and_time_comes_from_the_clock(dim: int) ->
     assert tuple(map(tuple, samples.positions[-1])) == recorded.positions
     assert recorded.wall_s == 4.0  # one clock pair around each of the 4 runs of steps
     assert plain.wall_s == 1.0 and plain.samples is None and plain.steps == 5
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_a_reused_client_runs_a_scene_bit_for_bit_as_a_new_one(name: str) -> None:
+    """Released scenes leave emptied clients for the next ones (``resetSimulation``): an
+    open-space collision run in a client that last held a scene of the same settings with
+    gravity and a wall must end exactly as in a new client (no gravity, no wall left)."""
+    pybullet_scene.drop_idle_clients()
+    pair = [((0.0, 0.0), R, 1.0, (0.4, 0.0)), ((0.5, 0.05), R, 2.0, (-0.3, 0.0))]
+    fresh = run(name, pair, 2, 0.8, 1 / 240, 300, None)
+    assert pybullet_scene.idle_clients() == 1
+    run(name, [((0.0, 0.0, 2.0), 2 * R, 3.0, (1.0, -1.0, 0.5))], 3, 0.5, 1e-3, 50,
+        ground(3, 2.0))  # other settings: another client
+    run(name, [((0.1, 0.2), R, 1.0, (0.0, -1.0))], 2, 0.5, 1 / 240, 120,
+        ground(2, 3.0))  # the same settings: the first client, now with gravity and a wall
+    assert pybullet_scene.idle_clients() == 2
+    reused = run(name, pair, 2, 0.8, 1 / 240, 300, None)
+    assert (reused.positions, reused.velocities) == (fresh.positions, fresh.velocities)
+    assert fresh.samples is not None and reused.samples is not None
+    assert (reused.samples.positions.tolist(), reused.samples.velocities.tolist()) == (
+        fresh.samples.positions.tolist(), fresh.samples.velocities.tolist())
