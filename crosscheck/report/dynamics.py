@@ -26,7 +26,8 @@ from __future__ import annotations
 import html
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Hashable, Mapping
+from types import SimpleNamespace
 from typing import Any
 
 import pandas as pd
@@ -34,6 +35,7 @@ import pandas as pd
 from crosscheck.core.model import Status
 from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.report import axes
+from crosscheck.report.frames import records
 from crosscheck.report.speed import seconds
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 from crosscheck.results import scene_facts
@@ -122,18 +124,26 @@ def _energy_change(row: Any, case: SceneCase) -> float:
     return (value - truth) / e0 if e0 > 0 else math.nan
 
 
-def _most_accurate(group: pd.DataFrame) -> pd.Series:
-    """The run of ``group`` with the smallest finite position error (ties: the fastest);
-    the first run when none has one."""
-    error = group["position_error"].astype(float)
-    finite = group[error.map(math.isfinite)]
-    if finite.empty:
-        return group.iloc[0]
-    return finite.sort_values(["position_error", "rtf"], ascending=[True, False],
-                              kind="stable").iloc[0]
+def _nan_last(value: float | None) -> tuple[bool, float]:
+    """A sort key that puts NaN (or None) after every number, as pandas' ``sort_values`` does.
+
+    >>> sorted([2.0, None, math.nan, 1.0], key=_nan_last)[:2]
+    [1.0, 2.0]
+    """
+    return (True, 0.0) if value is None or math.isnan(value) else (False, float(value))
 
 
-def _run(row: pd.Series) -> dict[str, Any]:
+def _most_accurate(runs: list[dict[Hashable, Any]]) -> dict[Hashable, Any]:
+    """The run with the smallest finite position error (ties: the fastest; a NaN real-time
+    factor last); the first run when none has one."""
+    finite = [r for r in runs if math.isfinite(float(r["position_error"]))]
+    if not finite:
+        return runs[0]
+    return min(finite, key=lambda r: (float(r["position_error"]),
+                                      *_nan_last(-r["rtf"])))
+
+
+def _run(row: Mapping[Hashable, Any]) -> dict[str, Any]:
     """One run as the template shows it (``step`` and ``factor``: its time step and real-time
     factor as text)."""
     keys = ("case_id", "engine", "variant", "dt", "steps", "position_error",
@@ -151,8 +161,10 @@ def headline(group: pd.DataFrame) -> dict[str, Any]:
     digits: an exact tie is common, and a speed difference among tied runs is mostly noise);
     ``tied`` (those engines), ``top`` (the fastest of them) and every run (``runs``, by
     engine, solver iterations and time step)."""
-    best = {str(engine): _run(_most_accurate(runs))
-            for engine, runs in group.groupby("engine", sort=False)}
+    by_engine: dict[str, list[dict[Hashable, Any]]] = {}  # groupby's, in plain Python
+    for row in records(group):
+        by_engine.setdefault(str(row["engine"]), []).append(row)
+    best = {engine: _run(_most_accurate(runs)) for engine, runs in by_engine.items()}
     errors = [r["position_error"] for r in best.values() if math.isfinite(r["position_error"])]
     smallest = f"{min(errors):.3g}" if errors else None
     for run in best.values():
@@ -160,11 +172,11 @@ def headline(group: pd.DataFrame) -> dict[str, Any]:
     tied = [engine for engine, run in best.items() if run["top"]]
     fastest = sorted(tied, key=lambda e: -best[e]["rtf"] if math.isfinite(best[e]["rtf"])
                      else math.inf)
-    ordered = pd.concat([runs.sort_values(["iterations", "dt"], kind="stable")
-                         for _, runs in group.groupby("engine", sort=False)])
+    ordered = [row for runs in by_engine.values() for row in sorted(
+        runs, key=lambda r: (*_nan_last(r["iterations"]), *_nan_last(r["dt"])))]
     return {"best": best, "tied": tied, "top": best[fastest[0]] if fastest else None,
-            "runs": [_run(r) for _, r in ordered.iterrows()],
-            "aligned": int(group["aligned"].map(bool).sum())}
+            "runs": [_run(r) for r in ordered],
+            "aligned": sum(bool(r["aligned"]) for r in ordered)}
 
 
 def factor(rtf: float) -> str:
@@ -327,7 +339,8 @@ def _curve(curve: pd.DataFrame, variant: str, styles: dict[str, int]) -> dict[st
                    "size": [13 if f else 9 for f in flagged], "color": colour,
                    "line": {"color": ["#b22222" if f else colour for f in flagged],
                             "width": [2 if f else 0 for f in flagged]}},
-        "hovertext": [_hover(r) for r in curve.itertuples(index=False)], "hoverinfo": "text"}
+        "hovertext": [_hover(SimpleNamespace(**{str(k): v for k, v in r.items()}))
+                      for r in records(curve)], "hoverinfo": "text"}
 
 
 def _hover(r: Any) -> str:

@@ -23,6 +23,7 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.core.values import decode, text_of
+from crosscheck.report.frames import records
 
 _PARTNER = {"v1": "v2", "v2": "v1"}
 COLUMNS = ["case_id", "engine", "quantity", "value", "swapped_value", "expected_swapped",
@@ -61,7 +62,7 @@ def compared(frame: pd.DataFrame) -> pd.DataFrame:
     both = frame[cols].merge(twins, on=["case_id", "engine", "quantity"],
                              suffixes=("", "_swapped"))
     rows = []
-    for row in both.to_dict("records"):
+    for row in records(both):
         original, swapped = decode(row["value"]), decode(row["value_swapped"])
         if original is None or swapped is None:
             continue

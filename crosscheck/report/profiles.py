@@ -191,9 +191,9 @@ def profile_rows(frame: pd.DataFrame, wanted: Profile) -> pd.DataFrame:
     return rows
 
 
-def _score(engine: str, rows: pd.DataFrame, common: pd.Index, total: int,
+def _score(engine: str, mine: pd.DataFrame, common: pd.Index, total: int,
            repros: Collection[str]) -> EngineScore:
-    mine = rows[rows["engine"] == engine]
+    """``engine`` on the profile, from its rows of it (``mine``)."""
     on_ground = mine[_keys(mine).isin(common)]
     judged = on_ground[on_ground["status"].isin(Status.members("judged"))]
     cost = query_cost.cost_of(mine)
@@ -207,30 +207,37 @@ def _keys(rows: pd.DataFrame) -> pd.Index:
     return pd.Index(rows["case_id"].astype(str) + "\x00" + rows["quantity"].astype(str))
 
 
+def _by_engine(rows: pd.DataFrame) -> dict[str, pd.DataFrame]:
+    """The rows of each engine, split once (not a mask over every row per engine)."""
+    return {str(engine): group for engine, group in rows.groupby("engine", sort=False)}
+
+
 def profile(frame: pd.DataFrame, wanted: Profile,
             repros: Collection[str] = ()) -> ProfileVerdict:
     """``wanted`` judged on common ground (see the module docstring)."""
     rows = profile_rows(frame, wanted)
     slots = set(_slots(rows))
-    engines = [str(e) for e in dict.fromkeys(rows["engine"])]
+    engines = [str(e) for e in rows["engine"].unique()]
     answered = _answered(rows)
+    rows_of, answered_of = _by_engine(rows), _by_engine(answered)
+    none = answered.iloc[:0]
     ranked, not_ranked = [], []
     for engine in (e for e in engines if e not in BASELINES):
-        mine = answered[answered["engine"] == engine]
+        mine = answered_of.get(engine, none)
         lacks = tuple(sorted(slots - set(_slots(mine))))
         if lacks:
             not_ranked.append(NotRanked(engine, len(mine), lacks))
         else:
             ranked.append(engine)
-    per_engine = [set(_keys(answered[answered["engine"] == e])) for e in ranked]
+    per_engine = [set(_keys(answered_of.get(e, none))) for e in ranked]
     common = pd.Index(sorted(set.intersection(*per_engine))) if per_engine else pd.Index([])
     total = len(rows.drop_duplicates(["case_id", "quantity"]))
-    scores = [_score(e, rows, common, total, repros) for e in ranked]
+    scores = [_score(e, rows_of[e], common, total, repros) for e in ranked]
     counts = query_cost.by_counts(s.both for s in scores)
     scores.sort(key=lambda s: (s.score.share is None, -(s.score.share or 0.0), -s.coverage,
                                *s.both.key(counts)))
-    baselines = [_score(e, rows, common, total, repros) for e in engines
-                 if e in BASELINES and len(answered[answered["engine"] == e])]
+    baselines = [_score(e, rows_of[e], common, total, repros) for e in engines
+                 if e in BASELINES and len(answered_of.get(e, none))]
     cases = len({str(key).split("\x00")[0] for key in common})
     return ProfileVerdict(wanted, total, len(common), cases, scores, baselines, not_ranked,
                           counts)

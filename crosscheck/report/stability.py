@@ -58,6 +58,7 @@ from crosscheck.core.schema import (
     SceneCase,
     SphereCase,
 )
+from crosscheck.report.frames import records
 from crosscheck.results.store import read_run
 from crosscheck.truth.categories import length_scale, velocity_scale
 from crosscheck.truth.scene_rules import PASSED_THROUGH
@@ -195,10 +196,13 @@ def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
     swapped twin; its sweep is the block it came from (``origin``), its ``family``
     the 3-D sweep of a 2-D twin (read from ``cases``), else its sweep.
     """
-    found = [None if twin else _single_parameter(str(coords))
-             for coords, twin in zip(frame["coords"], frame["twin_of"], strict=True)]
+    parsed: dict[str, tuple[str, float, str] | None] = {}  # each case's coords on every row
+    found = [None if twin else parsed[text] if (text := str(coords)) in parsed
+             else parsed.setdefault(text, _single_parameter(text))
+             for coords, twin in zip(frame["coords"].tolist(), frame["twin_of"].tolist(),
+                                     strict=True)]
     keep = [f is not None and kind in HEADLINE
-            for f, kind in zip(found, frame["kind"], strict=True)]
+            for f, kind in zip(found, frame["kind"].tolist(), strict=True)]
     if not any(keep):
         return pd.DataFrame(columns=POINT_COLUMNS)
     chosen = [f for f, k in zip(found, keep, strict=True) if k and f is not None]
@@ -255,7 +259,7 @@ def _breaks(at: float, status: str, category: str, first: bool,
 
 def walk(rows: pd.DataFrame) -> dict[str, Any]:
     """The threshold of one sweep walk x engine x quantity (rows: its points, any order)."""
-    return _walk(rows.to_dict("records"))
+    return _walk(records(rows))
 
 
 def _easy_first(points: list[dict[Hashable, Any]], up: bool) -> list[dict[Hashable, Any]]:
@@ -296,7 +300,7 @@ def thresholds(points: pd.DataFrame) -> pd.DataFrame:
     """
     rows = []
     walks: dict[tuple[Any, ...], list[dict[Hashable, Any]]] = {}  # groupby's, in plain Python
-    for point in points.to_dict("records"):
+    for point in records(points):
         key = (point["sweep"], point["direction"], point["engine"], point["quantity"])
         if not any(isinstance(k, float) and math.isnan(k) for k in key):
             walks.setdefault(key, []).append(point)
@@ -319,13 +323,13 @@ def _shown(table: pd.DataFrame) -> pd.DataFrame:
     """Mark (``headline``) the row the matrix shows for each engine x column: its headline
     quantity's walk, or the fallback quantity's when only that one has a verdict (its
     verdict then says so)."""
-    records: list[dict[Hashable, Any]] = table.to_dict("records")
+    rows_of = records(table)
     cells: dict[tuple[Any, Any], list[int]] = {}  # groupby's, in plain Python
-    for i, record in enumerate(records):
+    for i, record in enumerate(rows_of):
         cells.setdefault((record["engine"], record["column"]), []).append(i)
     headline, verdicts = table["headline"].tolist(), table["verdict"].tolist()
     for rows in cells.values():
-        walks = [records[i] for i in rows]
+        walks = [rows_of[i] for i in rows]
         kind = str(walks[0]["kind"])
         chosen = _choice(walks, kind)
         headline[rows[chosen]] = True
@@ -395,7 +399,7 @@ def horizons(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
     long scene block x ``dt`` x engine, every one a headline row of its own column."""
     rows = frame[(frame["kind"] == "sphere_scene") & (frame["quantity"] == "divergence")]
     out = []
-    for row in rows.to_dict("records"):
+    for row in records(rows):
         case = cases.get(str(row["case_id"]))
         if not isinstance(case, SceneCase) or set(case.coords) - {"dt", "iterations"}:
             continue
@@ -474,7 +478,7 @@ def _columns(shown: pd.DataFrame) -> list[dict[str, Any]]:
     rank = {name: {v: i for i, v in enumerate(dict.fromkeys(firsts[name]))}
             for name in ("axis", "family")}
     columns = []
-    for row in firsts.to_dict("records"):
+    for row in records(firsts):
         param, dim = str(row["param"]), int(row["dim"])
         walks = [d.name for d in DIRECTIONS[param]]
         twin = f", the 2-D twin of {row['family']}" if row["sweep"] != row["family"] else ""
@@ -512,7 +516,7 @@ def matrix(table: pd.DataFrame) -> dict[str, Any]:
         span["note"] = str(harder.pop()) if len(harder) == 1 else "harder away from 1"
     families = [span | {"label": short_name(str(span["name"]))}
                 for span in _spans(columns, "family")]
-    cells = {(r["engine"], r["column"]): r for r in shown.to_dict("records")}
+    cells = {(r["engine"], r["column"]): r for r in records(shown)}
     rows = [{"engine": engine, "cells": [_cell(cells.get((engine, c["key"])), engine, c["where"])
                                          for c in columns]}
             for engine in dict.fromkeys(str(e) for e in table["engine"])]

@@ -27,6 +27,7 @@ from markupsafe import Markup
 
 from crosscheck.core.model import Status
 from crosscheck.report import axes
+from crosscheck.report.frames import records
 from crosscheck.report.stability import DIRECTIONS, HEADLINE, with_category
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 
@@ -108,7 +109,7 @@ def _drawn(on: pd.DataFrame, limits: tuple[float, float | None], spans: tuple[fl
     """The points of one panel with where they are drawn: ``y`` at the floor or the ceiling
     when need be, ``x`` pulled apart where engines coincide (``apart`` names the others)."""
     rows = on.reset_index(drop=True)
-    ys = [_y(r, *limits) for r in rows.to_dict("records")]
+    ys = [_y(r, *limits) for r in records(rows)]
     groups = axes.coincident(list(zip(rows["value"], ys, strict=True)), spans)
     return rows.assign(x=axes.spread(rows["value"].tolist(), groups, spans[0]), y=ys,
                        apart=axes.beside(groups, rows["engine"].astype(str).tolist()))
@@ -162,7 +163,7 @@ def figure(rows: pd.DataFrame, quantity: str, order: list[str]) -> dict[str, Any
                        (span[1] - span[0], y_axis["range"][1] - y_axis["range"][0]))
         shown = {trace["name"] for trace in data}
         lines: dict[str, list[dict[Hashable, Any]]] = {}
-        for point in drawn.to_dict("records"):
+        for point in records(drawn):
             lines.setdefault(str(point["engine"]), []).append(point)
         data += [_trace(line, order.index(engine), n, html.escape(engine) not in shown)
                  for engine, line in lines.items()]

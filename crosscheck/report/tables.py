@@ -13,6 +13,7 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.report import query_cost
+from crosscheck.report.frames import records
 
 STATUSES = [str(s) for s in Status]
 
@@ -135,7 +136,7 @@ def group_matrix(frame: pd.DataFrame) -> dict[str, Any]:
     group_of = case_groups(frame["source"])
     groups = list(dict.fromkeys(group_of))
     cases = group_of[~frame["case_id"].duplicated()].value_counts()
-    counts = {(r["engine"], r["group"]): r for r in group_counts(frame).to_dict("records")}
+    counts = {(r["engine"], r["group"]): r for r in records(group_counts(frame))}
     empty = dict.fromkeys(STATUSES, 0)
     rows = [{"engine": engine, "cells": [_cell(counts.get((engine, g), empty)) for g in groups]}
             for engine in dict.fromkeys(frame["engine"])]

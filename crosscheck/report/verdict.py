@@ -30,6 +30,7 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.report import repro_links
+from crosscheck.report.frames import each_distinct, records
 from crosscheck.report.query_cost import column
 from crosscheck.report.tables import share_colour
 
@@ -186,7 +187,7 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
     links = [repro_links.link(str(c), str(e), written)
              for c, e in zip(bad["case_id"], bad["engine"], strict=True)]
     reasons = bad["reason"].fillna("").astype(str)
-    bad = bad.assign(_pattern=reasons.map(reason_pattern), _reason=reasons,
+    bad = bad.assign(_pattern=each_distinct(reasons, reason_pattern), _reason=reasons,
                      _category=bad["category"].fillna("").astype(str), _repro=links,
                      _has=[bool(link) for link in links])
     keys = ["engine", "status", "_category", "_pattern"]
@@ -199,7 +200,7 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
                  pattern=str(r["_pattern"]), count=int(r["count"]), example=str(r["case_id"]),
                  repro=str(r["_repro"]),
                  reason=str(r["_reason"]))
-            for r in modes.to_dict("records")]
+            for r in records(modes)]
 
 
 def cells(frame: pd.DataFrame) -> dict[tuple[str, str], Cell]:
@@ -209,7 +210,7 @@ def cells(frame: pd.DataFrame) -> dict[tuple[str, str], Cell]:
     counts = {(str(e), str(k)): (int(a), int(j)) for (e, k), a, j in zip(
         agreed.index, agreed["agree"], agreed["judged"], strict=True)}
     timed = {(str(e), str(k)): r for (e, k), r in zip(
-        ranks.index, ranks.to_dict("records"), strict=True)}
+        ranks.index, records(ranks), strict=True)}
     out = {}
     for key in dict.fromkeys([*counts, *timed]):
         agree, judged = counts.get(key, (0, 0))
