@@ -6,6 +6,7 @@ import argparse
 import json
 import math
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -26,7 +27,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
     except BenchFileError as exc:
         say(str(exc))
         return 2
-    figures = measure(args.quick, progress=say)
+    figures = measure(args.quick, progress=say, full_runs=args.full_runs,
+                      campaign=args.campaign)
     out.print(_table(figures, args.quick))
     stamp = time.strftime("%Y%m%d-%H%M%S")
     path = write(figures, chosen(args.out) or ROOT / "reports" / f"bench-{stamp}", args.quick)
@@ -64,12 +66,30 @@ def _print_comparison(result: Comparison, old: Path) -> None:
     out.print(fit(table))
 
 
+def _at_least(low: int) -> Callable[[str], int]:
+    """An argparse type: a whole number >= ``low``."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{value} is under {low:,}")
+        return value
+    return parse
+
+
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``bench``."""
     p = sub.add_parser("bench", help="measure the harness's own performance against targets")
     p.add_argument("--out", metavar="DIR",
                    help=f"output folder (default: reports/bench-<time>/; {OUT_RULE})")
     p.add_argument("--quick", action="store_true", help="smaller sizes, no full-suite run")
+    p.add_argument("--full-runs", type=_at_least(1), default=3, metavar="N",
+                   help="times the full make run is timed; its figure is their median (3)")
+    p.add_argument("--campaign", type=_at_least(1_000), metavar="CASES",
+                   help="fuzz campaign cases (default 1,000,000; 2,000 with --quick); under a "
+                        "million the figure is extrapolated and only recorded")
     p.add_argument("--compare", type=Path, metavar="BENCH_JSON",
                    help="a previous bench.json: print each figure beside it, machines first")
     p.set_defaults(func=cmd_bench)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import pytest
 
+import crosscheck.studies.bench as bench_package
 from crosscheck.cli import main
 from crosscheck.studies.bench import Figure
 from crosscheck.studies.bench import comparison as bench_compare
@@ -194,3 +195,26 @@ def test_make_test_on_a_fresh_clone_is_read_from_its_measurement(tmp_path: Path)
     assert figure.value == 250.0 and not figure.ok and "abcdef123456" in figure.note
     missing = bench_suite.fresh_clone_figure(tmp_path / "none.json")
     assert math.isnan(missing.value) and not missing.ok and "no measurement" in missing.note
+
+
+def test_full_runs_and_campaign_size_reach_the_measurement_and_bad_ones_are_refused(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+        ) -> None:
+    asked: list[dict[str, object]] = []
+
+    def measured(quick: bool, **kwargs: object) -> list[Figure]:
+        asked.append({"quick": quick, **kwargs})
+        return []
+
+    monkeypatch.setattr(bench_package, "measure", measured)  # what the command imports
+    out = tmp_path / "b"
+    assert main(["bench", "--full-runs", "1", "--campaign", "20000", "--out", str(out)]) == 0
+    assert asked[0]["full_runs"] == 1 and asked[0]["campaign"] == 20_000
+    assert not asked[0]["quick"] and (out / "bench.json").exists()
+    for bad, named in ((["--full-runs", "0"], "--full-runs: 0 is under 1"),
+                       (["--campaign", "999"], "--campaign: 999 is under 1,000"),
+                       (["--campaign", "1e6"], "--campaign: '1e6' is not a whole number")):
+        with pytest.raises(SystemExit) as stopped:
+            main(["bench", *bad])
+        assert stopped.value.code == 2 and named in capsys.readouterr().err
+    assert len(asked) == 1

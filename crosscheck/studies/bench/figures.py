@@ -245,9 +245,15 @@ def dask_figure(quick: bool) -> Figure:
                         f"{walls[0]:.1f} s, cluster {walls[1]:.1f} s"))
 
 
-def measure(quick: bool, progress: Callable[[str], None] | None = None) -> list[Figure]:
-    """Every figure, in order; ``progress`` is told as each group starts and ends."""
-    whole, help_, render = suite.figures(quick)
+def measure(quick: bool, progress: Callable[[str], None] | None = None,
+            full_runs: int = suite.RUNS, campaign: int | None = None) -> list[Figure]:
+    """Every figure, in order; ``progress`` is told as each group starts and ends.
+
+    ``full_runs``: how many times the full ``make run`` is timed (its figure is their
+    median); ``campaign``: the fuzz campaign's cases (default 2,000 with ``quick``, else
+    :data:`MILLION`; under a million the figure is extrapolated and only recorded)."""
+    whole, help_, render = suite.figures(quick, full_runs)
+    cases = campaign if campaign is not None else 2_000 if quick else MILLION
     steps: list[tuple[str, Callable[[], list[Figure]]]] = [
         ("batch oracle, 1M pairs", lambda: batch_figures(1_000_000)),  # the target's size
         ("batch exact values, 1M pairs", lambda: [values_figure(1_000_000)]),
@@ -260,8 +266,7 @@ def measure(quick: bool, progress: Callable[[str], None] | None = None) -> list[
         ("crosscheck --help", help_),
         ("report render", render),
         ("Dask scale-out", lambda: [dask_figure(quick)]),
-        ("fuzz campaign", lambda: [campaign_figure(2_000 if quick else MILLION,
-                                                   suite.SEVEN)])]
+        ("fuzz campaign", lambda: [campaign_figure(cases, suite.SEVEN)])]
     figures: list[Figure] = []
     started = time.perf_counter()
     for n, (label, step) in enumerate(steps, start=1):

@@ -85,25 +85,25 @@ def _median_figure(name: str, walls: list[float], codes: list[int], limit: float
                        + ("" if all(code == 0 for code in codes) else f"; {tail}"))
 
 
-def suite_figures(quick: bool, keep: Path) -> list[Figure]:
-    """Suite wall times (each the median of :data:`RUNS` whole processes) and peak memory;
-    the last full run (or quick run of every variant) is left in ``keep/full``
-    (``keep/quick-all``) for the report figure."""
+def suite_figures(quick: bool, keep: Path, full_runs: int = RUNS) -> list[Figure]:
+    """Suite wall times (each the median of :data:`RUNS` whole processes; the full ``make
+    run`` ``full_runs`` times) and peak memory; the last full run (or quick run of every
+    variant) is left in ``keep/full`` (``keep/quick-all``) for the report figure."""
     every = available()
-    plan: list[tuple[str, list[str], str, float]] = [
+    plan: list[tuple[str, list[str], str, float, int]] = [
         ("crosscheck run --quick (seven variants)", ["--quick", *_engines(SEVEN)], "quick",
-         QUICK_S),
+         QUICK_S, RUNS),
         (f"crosscheck run --quick (every available variant: {len(every)})",
-         ["--quick", *_engines(every)], "quick-all", QUICK_ALL_S)]
+         ["--quick", *_engines(every)], "quick-all", QUICK_ALL_S, RUNS)]
     if not quick:
         plan.append((f"make run: crosscheck run --repeat-check (every available variant: "
                      f"{len(every)})", ["--repeat-check", *_engines(every)], "full",
-                     FULL_ALL_S))
+                     FULL_ALL_S, full_runs))
     figures, peaks = [], []
-    for label, extra, name, limit in plan:
+    for label, extra, name, limit, runs in plan:
         walls, codes, tail = [], [], ""
-        for n in range(RUNS):
-            folder = keep / (name if n == RUNS - 1 else f"{name}-{n}")
+        for n in range(runs):
+            folder = keep / (name if n == runs - 1 else f"{name}-{n}")
             code, wall, peak, tail = _run(extra, folder)
             walls.append(wall)
             codes.append(code)
@@ -162,7 +162,7 @@ def fresh_clone_figure(measurements: Path) -> Figure:
                   data, note=note)
 
 
-def figures(quick: bool) -> list[Callable[[], list[Figure]]]:
+def figures(quick: bool, full_runs: int = RUNS) -> list[Callable[[], list[Figure]]]:
     """The steps of this module, in order, sharing one temporary folder for the runs."""
     keep = Path(tempfile.mkdtemp(prefix="crosscheck-bench-"))
 
@@ -171,4 +171,4 @@ def figures(quick: bool) -> list[Callable[[], list[Figure]]]:
         return [report_figure(folder),
                 fresh_clone_figure(ROOT / "docs" / "measurements" / "setup.json")]
 
-    return [lambda: suite_figures(quick, keep), lambda: [help_figure()], report_step]
+    return [lambda: suite_figures(quick, keep, full_runs), lambda: [help_figure()], report_step]
