@@ -197,7 +197,14 @@ def test_hypothesis_responses(dim: int, data: st.DataObject) -> None:
 
 
 def test_truth_batch_equals_truth_on_the_suite() -> None:
-    cases = load_paths([ROOT / "cases"]).cases
+    # every case of the suite but the scenes of the other files: truth_batch hands a scene to
+    # truth() as it is, so cases/scenes.toml (both dimensions, in the suite's order) shows
+    # that they pass through in place; the gravity and gas scenes' exact runs (most of a
+    # minute on 2 cores, 371 scenes in all) would only compare truth() with itself
+    cases = [c for c in load_paths([ROOT / "cases"]).cases
+             if c.kind != "sphere_scene" or c.source.endswith("scenes.toml")]
+    assert {c.kind for c in cases} == {"aabb", "sphere", "sphere_response", "sphere_toi",
+                                       "sphere_scene"}
     batch = oracle.truth_batch(cases)
     assert [repr(o) for o in batch] == [repr(oracle.truth(c)) for c in cases]
 
