@@ -15,7 +15,7 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable
+from collections.abc import Hashable
 from typing import Any
 
 import pandas as pd
@@ -27,14 +27,3 @@ def records(frame: pd.DataFrame) -> list[dict[Hashable, Any]]:
     columns = [frame.iloc[:, i].tolist() for i in range(len(names))]
     return [dict(zip(names, values, strict=True)) for values in zip(*columns, strict=True)]
 
-
-def each_distinct(values: pd.Series, function: Callable[[Any], Any]) -> pd.Series:
-    """``values.map(function)`` with ``function`` called once per distinct value (a results
-    column repeats a few texts across thousands of rows).
-
-    >>> each_distinct(pd.Series(["a", "bb", "a"]), len).tolist()
-    [1, 2, 1]
-    """
-    codes, distinct = pd.factorize(values, use_na_sentinel=False)
-    mapped = [function(value) for value in distinct]
-    return pd.Series([mapped[code] for code in codes], index=values.index, dtype=object)

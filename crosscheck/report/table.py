@@ -71,35 +71,38 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
     instructions per query where counted,
     per quantity ``[status, category, error, value, truth, tolerance, reason]``, and for a
     nondeterministic pair its second answer, ``again``)."""
-    columns = [str(c) for c in frame.columns]
     quantities = [str(q) for q in dict.fromkeys(frame["quantity"])] if len(frame) else []
     index: dict[str, int] = {}
     case_list: list[dict[str, Any]] = []
     rows: dict[tuple[str, str], dict[str, Any]] = {}
-    for values in zip(*(frame[c].tolist() for c in columns), strict=True):
-        record = dict(zip(columns, values, strict=True))
-        case_id, engine = str(record["case_id"]), str(record["engine"])
+    whole: dict[str, list[Any]] = {}  # every column, read only for a case the run lacks
+    for i, (case_id, engine, quantity, status, category, error, value, truth, tolerance,
+            reason, query_s, query_iqr_s, counted, again, repeat_status, repeat_value,
+            twin_of) in enumerate(zip(*(_column(frame, name) for name in _READ), strict=True)):
+        case_id, engine = str(case_id), str(engine)
         if case_id not in index:
             index[case_id] = len(case_list)
-            case_list.append(_case(case_id, cases.get(case_id), record))
+            case = cases.get(case_id)
+            if case is None and not whole:
+                whole = {str(name): frame[name].tolist() for name in frame.columns}
+            first = ({name: values[i] for name, values in whole.items()} if case is None
+                     else {"twin_of": twin_of})
+            case_list.append(_case(case_id, case, first))
         row = rows.get((case_id, engine))
         if row is None:
             row = rows[(case_id, engine)] = {
                 "case": index[case_id], "engine": engine, "q": {},
                 "repro": repro_links.link(case_id, engine, repros),
-                "query_s": _number(record.get("query_s", math.nan)),
-                "query_iqr_s": _number(record.get("query_iqr_s", math.nan)),
+                "query_s": _number(query_s), "query_iqr_s": _number(query_iqr_s),
                 "folded": False, "twins": []}
-            counted = _number(record.get("query_instructions", math.nan))
+            counted = _number(counted)
             if counted is not None:  # only where counted: a run without counts packs no key
                 row["query_instructions"] = counted
-        row["q"][str(record["quantity"])] = [
-            str(record["status"]), str(record["category"] or ""), _number(record["error"]),
-            str(record["value"]), str(record["truth"]),
-            _number(record.get("tolerance", math.nan)), str(record["reason"] or "")]
-        if record.get("nondeterministic") is True:
-            row.setdefault("again", {})[str(record["quantity"])] = [
-                str(record["repeat_status"]), str(record["repeat_value"])]
+        row["q"][str(quantity)] = [
+            str(status), str(category or ""), _number(error), str(value), str(truth),
+            _number(tolerance), str(reason or "")]
+        if again is True:
+            row.setdefault("again", {})[str(quantity)] = [str(repeat_status), str(repeat_value)]
     for row in rows.values():
         statuses = [q[0] for q in row["q"].values()]
         errors = [q[2] for q in row["q"].values()
@@ -113,6 +116,23 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             original["twins"].append(row["case"])
     return {"run": run_dir, "quantities": quantities, "cases": case_list,
             "rows": list(rows.values())}
+
+
+_READ = ("case_id", "engine", "quantity", "status", "category", "error", "value", "truth",
+         "tolerance", "reason", "query_s", "query_iqr_s", "query_instructions",
+         "nondeterministic", "repeat_status", "repeat_value", "twin_of")
+"""The columns the table reads, in the order its loop unpacks them."""
+_ABSENT = {"tolerance": math.nan, "query_s": math.nan, "query_iqr_s": math.nan,
+           "query_instructions": math.nan, "nondeterministic": None, "repeat_status": None,
+           "repeat_value": None, "twin_of": ""}
+"""What a column the frame lacks reads as on every row."""
+
+
+def _column(frame: pd.DataFrame, name: str) -> list[Any]:
+    """A column's values as Python objects (``_ABSENT``'s value on every row when missing)."""
+    if name in frame.columns:
+        return list(frame[name].tolist())
+    return [_ABSENT[name]] * len(frame)
 
 
 def _verdicts(row: Mapping[str, Any]) -> tuple[dict[str, tuple[str, str]], bool]:

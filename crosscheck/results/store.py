@@ -54,7 +54,7 @@ import pandas as pd
 from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.core.values import upgrade
-from crosscheck.results import counts, legacy, repeats, scene_facts, series
+from crosscheck.results import counts, jsonlines, legacy, repeats, scene_facts, series
 from crosscheck.results.rows import line
 from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
@@ -268,16 +268,7 @@ def _lines(path: Path) -> list[tuple[str, dict[str, Any]]]:
 
 
 def _parsed_lines(path: Path) -> list[dict[str, Any]]:
-    """The rows of :func:`_lines`, parsed in one call when every line is whole JSON (a
-    ``json.loads`` per line costs about twice as much); else line by line."""
-    if not path.exists():
-        return []
-    texts = [text for text in path.read_text(encoding="utf-8").splitlines() if text.strip()]
-    try:
-        rows: list[dict[str, Any]] = json.loads("[" + ",".join(texts) + "]")
-    except json.JSONDecodeError:
-        rows = []
-    return rows if len(rows) == len(texts) else [row for _, row in _lines(path)]
+    return jsonlines.parse_lines(path)
 
 
 def _keep_finished(path: Path) -> set[tuple[str, str]]:
@@ -301,18 +292,19 @@ def read_results(directory: Path) -> pd.DataFrame:
     (``run.json``), so it does not depend on ``--jobs`` or on resuming.
     """
     rows = [legacy.record_fields(row) for row in _parsed_lines(directory / "results.jsonl")]
-    frame = pd.DataFrame(rows, columns=list(COLUMNS))
+    frame = pd.DataFrame(jsonlines.by_column(rows, COLUMNS), columns=list(COLUMNS))
     if not rows:
         return repeats.with_repeats(counts.with_counts(frame, directory), directory)
     frame = frame.astype({"dim": "int64", "loops": "int64"})
     for column in ("value", "truth"):  # formats 1-3 wrote "", undefined and bare NaN
-        frame[column] = _each_distinct(frame[column], upgrade)
+        frame[column] = jsonlines.each_distinct(frame[column], upgrade)
     case_rank = {case_id: i for i, case_id in enumerate(_case_ids(directory))}
     engine_rank = {name: i for i, name in enumerate(_engine_names(directory))}
     keys = pd.DataFrame({
         "case": frame["case_id"].map(case_rank).fillna(len(case_rank)),
         "engine": frame["engine"].map(engine_rank).fillna(len(engine_rank)),
-        "quantity": _each_distinct(frame["kind"] + "\x00" + frame["quantity"], _rank).to_numpy(),
+        "quantity": jsonlines.each_distinct(frame["kind"] + "\x00" + frame["quantity"],
+                                            _rank).to_numpy(),
     })
     order = keys.sort_values(["case", "engine", "quantity"], kind="stable").index
     frame = _with_timings(frame.loc[order].reset_index(drop=True), read_timings(directory))
@@ -323,14 +315,6 @@ def _rank(kind_quantity: str) -> int:
     """The place of a quantity among its kind's (``kind NUL quantity``)."""
     kind, quantity = kind_quantity.split("\x00")
     return quantities_of(Kind(kind)).index(quantity)
-
-
-def _each_distinct(values: pd.Series, function: Any) -> pd.Series:
-    """``values.map(function)``, the function called once per distinct value (a results column
-    repeats a few texts across every row)."""
-    codes, distinct = pd.factorize(values, use_na_sentinel=False)
-    mapped = [function(value) for value in distinct]
-    return pd.Series([mapped[code] for code in codes], index=values.index)
 
 
 def _with_timings(frame: pd.DataFrame, timings: pd.DataFrame) -> pd.DataFrame:
