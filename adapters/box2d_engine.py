@@ -377,6 +377,7 @@ class Box2dTuned(Adapter):
     """Box2D set for accuracy: no polygon skin, small step, no friction, no rotation, no sleep."""
 
     name: ClassVar[str] = "box2d"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "pybox2d"
     package: ClassVar[str] = "box2d"
     variant: ClassVar[Variant] = Variant(polygon_radius=0.0, use_radii=False, dt=1e-3,

@@ -270,6 +270,7 @@ class CoalTuned(Adapter):
     """coal with its GJK/EPA tolerance scaled to each case."""
 
     name: ClassVar[str] = "coal"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "coal"
     package: ClassVar[str] = "coal"
     settings: ClassVar[str] = (

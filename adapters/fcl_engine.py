@@ -187,6 +187,7 @@ class Fcl(Adapter):
     """FCL's ``collide`` (verdict, contact normal) and signed ``distance``."""
 
     name: ClassVar[str] = "fcl"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "python-fcl"
     package: ClassVar[str] = "python-fcl"
     settings: ClassVar[str] = (

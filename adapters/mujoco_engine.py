@@ -293,6 +293,7 @@ class MujocoDefault(Adapter):
     """MuJoCo as a user gets it: only geometry, masses and velocities are set."""
 
     name: ClassVar[str] = "mujoco-default"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "mujoco"
     package: ClassVar[str] = "mujoco-core"
     settings: ClassVar[str] = (

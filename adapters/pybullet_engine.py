@@ -403,6 +403,7 @@ class PyBulletTuned(Adapter):
     """PyBullet tuned for accuracy (see the module docstring)."""
 
     name: ClassVar[str] = "pybullet"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "pybullet"
     package: ClassVar[str] = "pybullet"
     settings: ClassVar[str] = (

@@ -281,6 +281,7 @@ class PymunkTuned(Adapter):
     """pymunk set for accuracy: small step, no slop, no positional correction, no friction."""
 
     name: ClassVar[str] = "pymunk"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "pymunk"
     package: ClassVar[str] = "pymunk"
     settings: ClassVar[str] = ("dt 1e-3 s, collision_slop 0, collision_bias 1.0 (no positional "

@@ -325,6 +325,7 @@ class RapierTuned(Adapter):
     """Rapier set for the textbook rules and accuracy (see the module docstring)."""
 
     name: ClassVar[str] = "rapier"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "rapier3d"
     package: ClassVar[str] = "rapier3d"
     settings: ClassVar[str] = (

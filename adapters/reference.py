@@ -45,6 +45,7 @@ class ReferenceF64(Adapter):
     """The textbook formula in float64."""
 
     name: ClassVar[str] = "reference"
+    light_import = True  # the engine is imported lazily (available(), prepare)
     engine: ClassVar[str] = "reference_impl"
     settings: ClassVar[str] = "textbook formula, float64"
     precision: ClassVar[oracle.Precision] = "f64"

@@ -238,6 +238,12 @@ class Adapter(ABC):
     settings: ClassVar[str] = "defaults"
     capabilities: ClassVar[frozenset[Capability]]
     conventions: ClassVar[Conventions]
+    light_import: ClassVar[bool] = False
+    """True when importing the adapter's module imports no engine library (the engine is
+    imported by :meth:`available` or later): a run's engine workers are then forked from a
+    process that imported the module already, so none pays for its imports again (a worker
+    started per pair, as the repeat check's, costs tens of milliseconds less).  Leave it
+    False unless sure: an engine imported there would be loaded in every engine's worker."""
 
     @abstractmethod
     def version(self) -> str:

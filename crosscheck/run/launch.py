@@ -40,6 +40,7 @@ from crosscheck.run.cost import cost_phase
 from crosscheck.run.repeat import repeat_check
 from crosscheck.run.runner import Progress, run_pending
 from crosscheck.run.timing_phase import time_phase
+from crosscheck.run.worker_process import preload
 
 
 def new_info(directory: Path, command: str, options: RunOptions, engines: Sequence[Adapter],
@@ -81,6 +82,7 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     row and sample is on disk, run.json says the run did not finish, and
     ``crosscheck run --resume`` completes it.
     """
+    preload(engines)
     try:
         store.add_cases(cases)  # before run.json: a folder with a run.json can be resumed
         store.write_run_info(info)
