@@ -11,6 +11,9 @@ numbers, booleans and text as Python objects, missing text as NaN.
 True
 >>> [type(v).__name__ for v in records(frame)[0].values()]
 ['int', 'str', 'float', 'bool']
+>>> big = pd.concat([frame] * SMALL, ignore_index=True)
+>>> records(big)[-2:] == frame.to_dict("records")
+True
 """
 
 from __future__ import annotations
@@ -21,9 +24,17 @@ from typing import Any
 import pandas as pd
 
 
+SMALL = 1000
+"""Below this many rows a frame is read as one object array (fewer calls), above it column by
+column (less conversion)."""
+
+
 def records(frame: pd.DataFrame) -> list[dict[Hashable, Any]]:
     """The rows of ``frame`` as dicts by column name, as ``frame.to_dict("records")``."""
     names = list(frame.columns)
+    if len(frame) < SMALL:  # one conversion of the whole block beats a call per column
+        rows = frame.to_numpy(dtype=object).tolist()
+        return [dict(zip(names, values, strict=True)) for values in rows]
     columns = [frame.iloc[:, i].tolist() for i in range(len(names))]
     return [dict(zip(names, values, strict=True)) for values in zip(*columns, strict=True)]
 

@@ -148,9 +148,27 @@ COLUMNS = ["case_id", "engine", "kind", "unit", "loops", "overhead_s", "n", "med
 their rounds' yardsticks (a ratio; NaN without them)."""
 
 
+_READ: dict[tuple[str, int, int, int], pd.DataFrame] = {}
+"""The last ``timings.jsonl`` read, by path, inode, size and modification time: a report reads
+it twice (joined to the results, then on its own), and it takes a quartile pass per line."""
+
+
 def read_timings(directory: Path) -> pd.DataFrame:
-    """The timing records of a run, one row per case x engine, with their spread."""
+    """The timing records of a run, one row per case x engine, with their spread (a file read
+    again unchanged is not parsed again: a copy of the last read is returned)."""
     path = directory / FILE
+    try:
+        stat = path.stat()
+    except OSError:
+        return _read_timings(path)
+    key = (str(path.absolute()), stat.st_ino, stat.st_size, stat.st_mtime_ns)
+    if key not in _READ:
+        _READ.clear()
+        _READ[key] = _read_timings(path)
+    return _READ[key].copy()
+
+
+def _read_timings(path: Path) -> pd.DataFrame:
     rows: list[dict[str, Any]] = []
     if path.exists():
         for line in path.read_text(encoding="utf-8").splitlines():
