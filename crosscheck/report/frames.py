@@ -23,7 +23,6 @@ from typing import Any
 
 import pandas as pd
 
-
 SMALL = 1000
 """Below this many rows a frame is read as one object array (fewer calls), above it column by
 column (less conversion)."""
