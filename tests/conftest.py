@@ -28,6 +28,14 @@ def pytest_configure(config: pytest.Config) -> None:
     os.environ.setdefault("CROSSCHECK_CACHE", tempfile.mkdtemp(prefix="crosscheck-test-cache-"))
 
 
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The tests of the whole suite's run (marked ``suite``, all in
+    tests/report/test_page_layout.py) first: under make test's ``pytest -n 2 --dist loadfile
+    --no-loadscope-reorder`` one worker starts that long run at once while the other takes the
+    remaining files, instead of the run being the last file left."""
+    items.sort(key=lambda item: item.get_closest_marker("suite") is None)  # stable
+
+
 def sphere(a: float, b: float, ra: float = 0.5, rb: float = 0.5, dim: int = 3,
            **extra: Any) -> AnyCase:
     """A sphere case with centres on the x axis."""

@@ -3,25 +3,22 @@ with no console errors, its charts, its verdict block and its advise form."""
 
 from __future__ import annotations
 
-import json
 import math
 import shlex
 import shutil
 from pathlib import Path
-from typing import Any
 
 import pytest
-from playwright.sync_api import Page
 
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
-from crosscheck.report.speed import instructions_iqr, median_iqr
 from crosscheck.results.store import ResultsStore, repro_name
 from crosscheck.run.launch import launch, new_info
 from tests.conftest import ROOT, sphere
 from tests.fakes import AlwaysRight, OffByOne
 from tests.report import counted as run
+from tests.report.advise_form import REAL_PROFILES, errors, form_and_cli, submit
 from tests.report.browser import needs_chromium, opened
 from tests.report.counted import counted_run
 
@@ -194,27 +191,6 @@ def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder
 
 
-def submit(page: Page, fields: dict[str, str]) -> list[tuple[str, ...]]:
-    """Fill the advise form (every field not given is cleared), submit it and return the answer
-    table's rows as (engine, tier, cover, within, and its cost: median ± IQR; or, where an
-    engine was counted, instructions per query ± IQR and the wall clock's median ± IQR)."""
-    for name in ("dim", "kind"):
-        page.select_option(f"#advise-form select[name={name}]", fields.get(name, ""))
-    for name in ("lo", "hi", "offset", "speed", "ratio", "tolerance", "rtol", "quantities"):
-        page.fill(f"#advise-form input[name={name}]", fields.get(name, ""))
-    page.click("#advise-go")
-    page.wait_for_function("!/Judging/.test(document.getElementById('advise-out').textContent)")
-    rows: list[tuple[str, ...]] = page.eval_on_selector_all(
-        "#advise-out tr[data-engine]",
-        "rows => rows.map(r => [r.dataset.engine].concat("
-        " Array.from(r.cells).slice(2, -1).map(c => c.textContent)))")
-    return [tuple(row) for row in rows]
-
-
-def errors(messages: list[str]) -> list[str]:
-    return [m for m in messages if m.startswith(("error", "pageerror"))]
-
-
 def test_the_advise_form_grades_and_ranks_the_engines(fakes_dir: Path) -> None:
     messages: list[str] = []
     with opened(fakes_dir / "report.html", messages) as page:
@@ -295,23 +271,6 @@ def test_breaking_rows_fold_their_repro_command_and_a_written_script_is_linked(
     assert all(link is None for pair, (_, link) in again.items() if pair != ("s0", "fake-off"))
 
 
-REAL_PROFILES = [
-    ({"dim": "3", "kind": "sphere", "lo": "0.01", "hi": "10", "offset": "10",
-      "tolerance": "1e-9"},
-     ["--dim", "3", "--kind", "sphere", "--scale", "0.01:10", "--offset", "10",
-      "--tolerance", "1e-9"]),
-    ({"dim": "2", "kind": "sphere", "lo": "0.1", "hi": "10", "offset": "1e3",
-      "tolerance": "1e-6"},
-     ["--dim", "2", "--kind", "sphere", "--scale", "0.1:10", "--offset", "1e3",
-      "--tolerance", "1e-6"]),
-    ({"kind": "sphere_response", "ratio": "1e3", "speed": "10", "tolerance": "1e-9"},
-     ["--kind", "sphere_response", "--mass-ratio", "1e3", "--speed", "10",
-      "--tolerance", "1e-9"]),
-    ({"tolerance": "1e-6", "rtol": "1e-6", "quantities": "hit,distance"},
-     ["--tolerance", "1e-6", "--rtol", "1e-6", "--quantities", "hit,distance"]),
-]
-
-
 @pytest.fixture(scope="module")
 def real_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A real run (textbook formula, pybullet, pymunk) of a real slice of the suite: spheres,
@@ -324,36 +283,6 @@ def real_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
                  "pymunk", "--samples", "3", "--min-sample", "0.001", "--timing-cases", "40",
                  "--out", str(out)]) == 0
     return out
-
-
-def form_and_cli(run_dir: Path, profiles: list[tuple[dict[str, str], list[str]]],
-                 capsys: pytest.CaptureFixture[str]) -> tuple[list[Any], list[Any], list[str]]:
-    """Per profile: the form's answer rows, advise --json's as the same rows (:func:`submit`),
-    and the page's console errors."""
-    expected = []
-    for _, options in profiles:
-        capsys.readouterr()
-        assert main(["advise", str(run_dir), *options, "--json"]) == 0
-        data = json.loads(capsys.readouterr().out)
-        graded = [*data["passing"], *data["partial"], *data["failing"], *data["baselines"]]
-        counted = any(e["median_query_instructions"] is not None for e in graded)
-        expected.append([
-            (e["engine"], e["tier"], f"{e['coverage']:.0%}",
-             "-" if e["share_within"] is None else f"{e['share_within']:.0%}",
-             *((counted_cell(e),) if counted else ()),
-             "-" if e["median_query_s"] is None
-             else median_iqr(e["median_query_s"], e["query_iqr_s"]))
-            for e in graded])
-    messages: list[str] = []
-    with opened(run_dir / "report.html", messages) as page:
-        found = [submit(page, fields) for fields, _ in profiles]
-    return found, expected, errors(messages)
-
-
-def counted_cell(grade: dict[str, Any]) -> str:
-    """A grade's instructions per query ± IQR as advise prints them ('-': not counted)."""
-    median = grade["median_query_instructions"]
-    return "-" if median is None else instructions_iqr(median, grade["query_instructions_iqr"])
 
 
 COUNTED_PROFILES = [({}, []), ({"tolerance": "2"}, ["--tolerance", "2"]),
@@ -387,31 +316,6 @@ def test_the_advise_form_on_a_real_run_ranks_as_the_cli_does(
     assert found == expected
     assert found[0][0][0] == "pybullet" and "pymunk" not in [row[0] for row in found[0]]
     assert any(row[4] != "-" for rows in found for row in rows)  # the times are compared too
-
-
-FULL_PROFILES = [
-    REAL_PROFILES[0],
-    ({"dim": "3", "kind": "aabb", "lo": "0.1", "hi": "10", "offset": "1e4",
-      "tolerance": "1e-4"},
-     ["--dim", "3", "--kind", "aabb", "--scale", "0.1:10", "--offset", "1e4",
-      "--tolerance", "1e-4"]),
-    REAL_PROFILES[1],
-    REAL_PROFILES[2],
-]
-"""The four scene profiles of docs/comparing-and-advice.md."""
-
-
-@pytest.mark.suite
-@pytest.mark.engine
-def test_the_advise_form_on_a_full_run_of_the_suite_ranks_as_the_cli_does(
-        suite_run: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    # the four profiles of the docs through the page's form and through advise --json, on
-    # the whole suite's run: the same engines, tiers, shares and times
-    found, expected, console = form_and_cli(suite_run, FULL_PROFILES, capsys)
-    assert console == []
-    assert found == expected
-    for rows in found:  # every profile has engines that pass its whole envelope
-        assert rows and rows[0][1] == "passes"
 
 
 @pytest.mark.engine

@@ -1,6 +1,9 @@
 """The whole suite's report as a reader sees it, at 1,400 and 1,024 px: no table hides columns
-without a cue, no stability cell is coloured without a verdict, and the page, as it opens
-(every fold closed), is at most :data:`PAGE_HEIGHT` tall."""
+without a cue, no stability cell is coloured without a verdict, the page, as it opens
+(every fold closed), is at most :data:`PAGE_HEIGHT` tall, and its advise form ranks as
+``crosscheck advise`` does.  Every test of the whole suite's run (marked ``suite``) lives in
+this one module, so that a parallel run (pytest -n, whole files per worker) makes the run
+once."""
 
 from __future__ import annotations
 
@@ -10,6 +13,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Page
 
+from tests.report.advise_form import FULL_PROFILES, form_and_cli
 from tests.report.browser import needs_chromium, opened
 
 pytestmark = pytest.mark.browser
@@ -143,3 +147,16 @@ def test_no_stability_cell_of_the_full_report_is_coloured_without_a_verdict(
         if "(distance: no verdict)" in title:  # a verdict of hit alone says so in the cell
             assert text.endswith("hit (no distance)"), (text, title)
     assert not [t for _, _, t in coloured if "pymunk on sweep-sphere-3d-offset " in t]  # 3-D
+
+
+@pytest.mark.suite
+@pytest.mark.engine
+def test_the_advise_form_on_a_full_run_of_the_suite_ranks_as_the_cli_does(
+        suite_run: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    # the four profiles of the docs through the page's form and through advise --json, on
+    # the whole suite's run: the same engines, tiers, shares and times
+    found, expected, console = form_and_cli(suite_run, FULL_PROFILES, capsys)
+    assert console == []
+    assert found == expected
+    for rows in found:  # every profile has engines that pass its whole envelope
+        assert rows and rows[0][1] == "passes"
