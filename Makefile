@@ -67,12 +67,17 @@ docs-figures: $(STAMP)
 	  echo "usage: make docs-figures RUN=<run folder> [BENCH=docs/bench.json]" >&2; exit 2; fi
 	$(BIN)/python -m tools.docs_figures "$(RUN)" $(if $(BENCH),--bench "$(BENCH)")
 
+# Two pytest workers (pytest-xdist), a whole test file each at a time, in the files' order: a
+# module's fixtures are made once, and the whole suite's run (tests/conftest.py puts its file
+# first) overlaps the other files.  PYTEST_ARGS="-n 0" runs in one process.
+PARALLEL := -n 2 --dist loadfile --no-loadscope-reorder
+
 test: lint browser valgrind docs
-	$(BIN)/python -m pytest -m "not slow" $(PYTEST_ARGS)
+	$(BIN)/python -m pytest -m "not slow" $(PARALLEL) $(PYTEST_ARGS)
 
 # Nightly-style: everything, including the tests marked slow (a 100,000-case run).
 test-long: lint browser valgrind docs
-	$(BIN)/python -m pytest $(PYTEST_ARGS)
+	$(BIN)/python -m pytest $(PARALLEL) $(PYTEST_ARGS)
 
 clean:
 	rm -rf $(VENV) .mypy_cache .pytest_cache .ruff_cache build
