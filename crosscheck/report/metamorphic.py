@@ -42,6 +42,7 @@ import pandas as pd
 
 from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.core.values import decode
+from crosscheck.results.jsonlines import each_distinct
 
 TOLERANCE = 1e-6
 """The relative difference from the origin run beyond which a point counts as changed.
@@ -161,13 +162,25 @@ def _swept(frame: pd.DataFrame) -> pd.DataFrame:
     rows = frame[frame["quantity"].isin(QUANTITIES) & frame["origin"].notna()]
     if rows.empty:
         return rows.assign(axis=[], at=[], rest=[])
-    coords = rows["coords"].map(_coords)
-    axis = coords.map(lambda c: next((n for n in WORLD if n in c), ""))
-    rows = rows.assign(axis=axis, at=[float(c.get(a, math.nan)) if a else math.nan
-                                      for c, a in zip(coords, axis, strict=True)],
-                       rest=coords.map(lambda c: json.dumps(
-                           {k: v for k, v in sorted(c.items()) if k not in WORLD})))
+    texts = rows["coords"].tolist()  # a case's coords on every row: each text placed once
+    placed = (each_distinct(rows["coords"], _placed).tolist()
+              if all(isinstance(t, str) for t in texts) else [_placed(t) for t in texts])
+    rows = rows.assign(axis=[p[0] for p in placed], at=[p[1] for p in placed],
+                       rest=[p[2] for p in placed])
     return rows[rows["axis"] != ""]
+
+
+def _placed(text: Any) -> tuple[str, float, str]:
+    """The world axis a point's coordinates move it along (``""``: none), where on it, and
+    the other coordinates as JSON text.
+
+    >>> _placed('{"dt": 0.01, "offset": 1000.0}')
+    ('offset', 1000.0, '{"dt": 0.01}')
+    """
+    coords = _coords(text)
+    axis = next((n for n in WORLD if n in coords), "")
+    at = float(coords.get(axis, math.nan)) if axis else math.nan
+    return axis, at, json.dumps({k: v for k, v in sorted(coords.items()) if k not in WORLD})
 
 
 def points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
