@@ -86,7 +86,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help=f"output folder (default: reports/bench-<time>/; {OUT_RULE})")
     p.add_argument("--quick", action="store_true", help="smaller sizes, no full-suite run")
     p.add_argument("--full-runs", type=_at_least(1), default=3, metavar="N",
-                   help="times the full make run is timed; its figure is their median (3)")
+                   help="times the full make run is timed; its figure is their median "
+                        "(default 3)")
     p.add_argument("--campaign", type=_at_least(1_000), metavar="CASES",
                    help="fuzz campaign cases (default 1,000,000; 2,000 with --quick); under a "
                         "million the figure is extrapolated and only recorded")

@@ -226,9 +226,10 @@ def test_setup_is_outside_the_timed_loop(module: ModuleType, tuned: bool, dim: i
 
 
 @pytest.mark.parametrize(("n", "dim"), [(2, 3), (16, 2), (30, 3)])
-def test_pybullet_client_holds_only_the_scene_and_release_disconnects(n: int,
-                                                                      dim: int) -> None:
+def test_pybullet_client_holds_only_the_scene_and_release_empties_it(n: int,
+                                                                     dim: int) -> None:
     bt = engine()
+    pybullet_scene.drop_idle_clients()
     prepared = pybullet_scene.prepare_scene(cluster(n, dim, seed=2), dim, 1.0, DT, 5,
                                             tuning(pybullet_scene, True))
     try:
@@ -236,6 +237,10 @@ def test_pybullet_client_holds_only_the_scene_and_release_disconnects(n: int,
         assert bt.isConnected(physicsClientId=prepared.cid)
     finally:
         pybullet_scene.release_scene(prepared)
+    assert bt.isConnected(physicsClientId=prepared.cid)  # kept for the next scene, empty
+    assert bt.getNumBodies(physicsClientId=prepared.cid) == 0
+    assert pybullet_scene.idle_clients() == 1
+    pybullet_scene.drop_idle_clients()
     assert not bt.isConnected(physicsClientId=prepared.cid)
 
 

@@ -251,23 +251,25 @@ def _observed(outcome: Outcome) -> Observation:
 def test_an_interrupted_columnar_run_writes_every_case_it_received(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """Chunks wait to be written; Ctrl-C (here raised by the progress callback after the
-    fifth case) still writes the cases already received, and only those."""
+    fifth lane item) still writes the cases already received, and only those."""
     monkeypatch.setattr(runner, "FLUSH_S", 1e9)  # nothing written before the end
     cases, _ = suite()
-    received = 0
+    engines = [fakes.AlwaysRight(), fakes.OffByOne()]
+    received, items = 0, 0
 
     def progress(pairs: int) -> None:
-        nonlocal received
-        received += 1
-        if received == 5:
+        nonlocal received, items
+        received += pairs // len(engines)
+        items += 1
+        if items == 5:
             raise KeyboardInterrupt
 
     store = ResultsStore(tmp_path / "run")
     with pytest.raises(KeyboardInterrupt):
-        runner.run(cases[:50], [fakes.AlwaysRight(), fakes.OffByOne()], store,
-                   replace(OPTIONS, jobs=1), progress)
+        runner.run(cases[:100], engines, store, replace(OPTIONS, jobs=1), progress)
     store.close()
     rows = _rows(tmp_path / "run")
-    assert len({r["case_id"] for r in rows}) == 5
+    assert 5 <= received < 100
+    assert len({r["case_id"] for r in rows}) == received
     assert {r["engine"] for r in rows} == {"fake-right", "fake-off"}
     assert len({(r["case_id"], r["engine"], r["quantity"]) for r in rows}) == len(rows)
