@@ -217,7 +217,7 @@ class WorkerPool:
             now = time.monotonic()
             for conn, key in busy.items():
                 if conn in ready:
-                    self._take(key, flights[key], calls, outcomes)
+                    self._take(key, flights[key], outcomes)
                 elif now - flights[key].watched >= WATCH_S:
                     self._watch(key, flights[key], calls, outcomes)
         assert all(outcome is not None for outcome in outcomes)
@@ -260,8 +260,7 @@ class WorkerPool:
                 flight.since = flight.watched = time.monotonic()
             flight.flying.append(flight.queue.popleft())
 
-    def _take(self, key: str, flight: _Flight, calls: Sequence[Call],
-              outcomes: list[Outcome | None]) -> None:
+    def _take(self, key: str, flight: _Flight, outcomes: list[Outcome | None]) -> None:
         """The answer of the engine's oldest task in flight (it is ready)."""
         worker = self._workers[key]
         answer = worker.answer()
