@@ -38,6 +38,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from crosscheck.cases import cache as case_cache
+from crosscheck.cases.cover import CoverError, expand_cover
 from crosscheck.cases.expand import (
     AXIS_NAMES,
     PLANES,
@@ -55,6 +56,7 @@ from crosscheck.core.schema import (
     LOADER_FIELDS,
     AabbBody,
     AnyCase,
+    CoverBlock,
     MovingSphere,
     Plane,
     ResponseCase,
@@ -80,7 +82,8 @@ class CaseError:
 
     @property
     def message(self) -> str:
-        case = f"case {self.case_id}: " if self.case_id != "-" else ""
+        case = ("" if self.case_id == "-" else f"{self.case_id}: "
+                if self.case_id.startswith("[[") else f"case {self.case_id}: ")
         where = f"field {self.field}: " if self.field else ""
         at = f"{self.file}:{self.line}" if self.line else self.file
         return f"{at}: {case}{where}{self.reason}"
@@ -151,9 +154,10 @@ def _load_expanded(path: Path, where: Path | None) -> tuple[int, list[AnyCase], 
         return stored.blocks, stored.cases, []
     blocks, errors = load_file(path) if text is None else load_text(path, text)
     cases = list(with_swaps(_expanded(path, blocks, errors)))
+    curated = sum(1 for block in blocks if not block.origin)  # not made by a [[cover]] block
     if where is not None and name is not None and not errors:
-        case_cache.put(where, name, len(blocks), cases)
-    return len(blocks), cases, errors
+        case_cache.put(where, name, curated, cases)
+    return curated, cases, errors
 
 
 def _expanded(path: Path, blocks: list[AnyCase], errors: list[CaseError]) -> list[AnyCase]:
@@ -227,7 +231,8 @@ def _equal(x: object, y: object) -> bool:
 
 
 def load_file(path: Path) -> tuple[list[AnyCase], list[CaseError]]:
-    """Parse one TOML file and validate each ``[[case]]`` block on its own."""
+    """Parse one TOML file and validate each ``[[case]]`` block on its own; each
+    ``[[cover]]`` block adds the cases of its design."""
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
@@ -242,22 +247,38 @@ def load_text(path: Path, text: str) -> tuple[list[AnyCase], list[CaseError]]:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         return [], [CaseError(name, "-", "", f"TOML syntax error: {exc}")]
-    blocks = data.pop("case", None)
-    errors = [CaseError(name, "-", key, "unknown top-level key (expected only [[case]])")
-              for key in data]
-    if not isinstance(blocks, list) or not blocks:
-        return [], [*errors, CaseError(name, "-", "case", "no [[case]] blocks in file")]
+    blocks, covers = data.pop("case", []), data.pop("cover", [])
+    errors = [CaseError(name, "-", key, "unknown top-level key (expected only [[case]] and "
+                                        "[[cover]])") for key in data]
+    if not isinstance(blocks, list) or not isinstance(covers, list) or not blocks + covers:
+        return [], [*errors, CaseError(name, "-", "case", "no [[case]] or [[cover]] blocks "
+                                                          "in file")]
     cases: list[AnyCase] = []
     lines = text.splitlines()
-    starts = [i for i, line in enumerate(lines) if line.strip().replace(" ", "") == "[[case]]"]
-    for index, block in enumerate(blocks):
-        span = _span(starts, index, len(lines))
-        case, block_errors = _validate_block(name, index, block)
-        block_errors = [replace(e, line=_line(lines, span, e.field)) for e in block_errors]
-        errors.extend(block_errors)
-        if case is not None and not block_errors:
-            cases.append(case)
+    for header, entries in (("[[case]]", blocks), ("[[cover]]", covers)):
+        starts = [i for i, line in enumerate(lines) if line.strip().replace(" ", "") == header]
+        for index, block in enumerate(entries):
+            span = _span(starts, index, len(lines))
+            made, block_errors = (_validate_block(name, index, block) if header == "[[case]]"
+                                  else _cover_cases(name, index, block))
+            block_errors = [replace(e, line=_line(lines, span, e.field)) for e in block_errors]
+            errors.extend(block_errors)
+            cases += made if not block_errors else []
     return cases, errors
+
+
+def _cover_cases(name: str, index: int, block: Any) -> tuple[list[AnyCase], list[CaseError]]:
+    """The cases of one ``[[cover]]`` block, or why it is wrong (file, block, field, reason)."""
+    label = "[[cover]] " + _label(index, block)
+    try:
+        design = expand_cover(CoverBlock.model_validate(block), name)
+    except ValidationError as exc:
+        return [], [_problem(name, label, dict(err)) for err in exc.errors()]
+    except CoverError as exc:
+        return [], [CaseError(name, label, exc.field, str(exc))]
+    problems = [CaseError(name, repr(c.id), f, r) for c in design.cases
+                for f, r in semantic_problems(c)]
+    return design.cases, problems
 
 
 def _span(starts: list[int], index: int, end: int) -> tuple[int, int]:
@@ -287,20 +308,20 @@ def _label(index: int, block: object) -> str:
     return repr(raw) if isinstance(raw, str) else f"#{index + 1} (no valid id)"
 
 
-def _validate_block(name: str, index: int, block: Any) -> tuple[AnyCase | None, list[CaseError]]:
+def _validate_block(name: str, index: int, block: Any) -> tuple[list[AnyCase], list[CaseError]]:
     label = _label(index, block)
     if isinstance(block, dict):
         loader_set = [key for key in LOADER_FIELDS if key in block]
         if loader_set:
-            return None, [CaseError(name, label, key, "set by the loader (where the case comes "
+            return [], [CaseError(name, label, key, "set by the loader (where the case comes "
                                     "from, its sweep coordinates, its swapped twin, its 3-D "
                                     "case), not in a case file") for key in loader_set]
         block = {**block, "source": name}
     try:
         case = CASE_ADAPTER.validate_python(block)
     except ValidationError as exc:
-        return None, [_problem(name, label, dict(err)) for err in exc.errors()]
-    return case, [CaseError(name, label, f, r) for f, r in semantic_problems(case)]
+        return [], [_problem(name, label, dict(err)) for err in exc.errors()]
+    return [case], [CaseError(name, label, f, r) for f, r in semantic_problems(case)]
 
 
 def semantic_problems(case: AnyCase) -> list[tuple[str, str]]:

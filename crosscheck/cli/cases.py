@@ -3,10 +3,17 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from crosscheck.cli.console import err, fail, report_case_errors, say
+from rich.table import Table
+
+from crosscheck.cli.console import err, fail, out, report_case_errors, say
 from crosscheck.core.model import NEW_CASE_KINDS
+
+if TYPE_CHECKING:
+    from crosscheck.core.schema import AnyCase
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
@@ -19,8 +26,27 @@ def cmd_validate(args: argparse.Namespace) -> int:
         return 1
     say(f"{'FAILED' if loaded.errors else 'ok'}: {len(loaded.errors)} errors; "
         f"{loaded.blocks} curated cases in {len(loaded.files)} files, {len(loaded.cases)} "
-        "after sweep expansion and A/B swaps", style="red" if loaded.errors else "green")
+        "after sweep expansion, [[cover]] designs and A/B swaps",
+        style="red" if loaded.errors else "green")
+    out.print(coverage_table(loaded.cases))
     return 1 if loaded.errors else 0
+
+
+def coverage_table(cases: Sequence[AnyCase]) -> Table:
+    """Per kind and dimension: the cases, and the configuration space's cells they cover two
+    and three dimensions at a time (3-way: direction x gap x size ratio, where the kind has
+    them)."""
+    from crosscheck.cases.cover import coverage
+
+    table = Table(title="coverage of the configuration space (docs/coverage.md)")
+    for column in ("kind", "dim", "cases", "2-way cells", "3-way cells"):
+        table.add_column(column, justify="left" if column == "kind" else "right")
+    for two, three in zip(coverage(cases, 2), coverage(cases, 3), strict=True):
+        table.add_row(two.kind.value, str(two.dim), str(two.cases),
+                      f"{two.covered} / {two.cells} ({two.share:.0%})",
+                      f"{three.covered} / {three.cells} ({three.share:.0%})" if three.cells
+                      else "-")
+    return table
 
 
 def _floats(text: str) -> list[float]:

@@ -309,10 +309,43 @@ AnyCase = AabbCase | SphereCase | ResponseCase | SceneCase | ToiCase
 CASE_ADAPTER: TypeAdapter[AnyCase] = TypeAdapter(Case)
 
 
-class CaseFile(_Frozen):
-    """A case file: one or more ``[[case]]`` blocks."""
+class CoverBlock(_Frozen):
+    """A ``[[cover]]`` block: a covering design over a kind's configuration space.
 
-    case: list[Case] = Field(min_length=1)
+    It expands to ordinary cases (``<id>.<dimension>=<level>,...``) such that every pair of
+    levels of every two of its dimensions is in at least one case (strength 2), and with
+    ``strength = 3`` every triple of levels of its ``strong`` dimensions too.  The
+    dimensions and levels are those of :mod:`crosscheck.cases.space` (docs/coverage.md).
+    """
+
+    id: str = Field(pattern=ID_PATTERN, description="Unique across the suite; the prefix "
+                                                      "of every generated case's id.")
+    description: str = Field(min_length=1, description="What the design covers.")
+    kind: Literal["aabb", "sphere", "sphere_response", "sphere_toi"]
+    dim: Annotated[Literal[2, 3], BeforeValidator(_whole_number)]
+    strength: Literal[2, 3] = Field(2, description=(
+        "2: every pair of levels of every two dimensions; 3: also every triple of the "
+        "`strong` dimensions."))
+    dimensions: tuple[str, ...] | None = Field(None, description=(
+        "The dimensions varied (default: all of the kind's); the others stay at their "
+        "default level."))
+    levels: dict[str, tuple[str, ...]] | None = Field(None, description=(
+        "Levels to use instead of all of a dimension's (by dimension name)."))
+    strong: tuple[str, ...] | None = Field(None, description=(
+        "With strength 3: the dimensions covered three at a time (default: direction, gap, "
+        "size_ratio, those the kind has)."))
+    seed: Annotated[int, Strict(), Field(ge=0)] = Field(0, description=(
+        "Seeds the design's choices: the same block always gives the same cases."))
+    tags: tuple[str, ...] = ()
+    swap: Annotated[bool, Strict()] = Field(True, description=(
+        "Also run every generated case with A and B swapped."))
+
+
+class CaseFile(_Frozen):
+    """A case file: ``[[case]]`` blocks and ``[[cover]]`` blocks, at least one of them."""
+
+    case: list[Case] = Field(default_factory=list)
+    cover: list[CoverBlock] = Field(default_factory=list)
 
 
 def json_schema() -> dict[str, Any]:

@@ -164,8 +164,9 @@ def test_broken_toml(write_toml: Write) -> None:
 def test_file_without_cases(write_toml: Write) -> None:
     path = write_toml("title = 'x'\n")
     messages = [e.message for e in load_paths([path]).errors]
-    assert messages == [f"{path}: field title: unknown top-level key (expected only [[case]])",
-                        f"{path}: field case: no [[case]] blocks in file"]
+    assert messages == [f"{path}: field title: unknown top-level key (expected only [[case]] "
+                        "and [[cover]])",
+                        f"{path}: field case: no [[case]] or [[cover]] blocks in file"]
 
 
 def test_duplicate_ids_across_files(write_toml: Write) -> None:
