@@ -140,6 +140,7 @@ def expand_cover(block: CoverBlock, source: str = "") -> Design:
     rng = random.Random(f"{block.id}:{block.seed}")
     misses: Counter[Tuple] = Counter()
     seen: set[str] = set()
+    reached: set[Tuple] = set()
     while uncovered:
         target = min(uncovered)
         cell = dict(target) if misses[target] == 1 else max(
@@ -155,8 +156,9 @@ def expand_cover(block: CoverBlock, source: str = "") -> Design:
                 design.unreachable.append(target)
         if got & uncovered:
             uncovered -= got
+            reached |= got
             design.cases.append(case)
-    design.unreachable.sort()
+    design.unreachable = sorted(set(design.unreachable) - reached)  # reached later after all
     return design
 
 

@@ -57,29 +57,42 @@ def value(token: str) -> float:
     return DYADIC[token]
 
 
-def realize(space: Space, cell: dict[str, str], rng: random.Random) -> dict[str, Any]:
+def realize(space: Space, cell: dict[str, str], rng: random.Random, *,
+            jitter: bool = False) -> dict[str, Any]:
     """The fields of a case of ``space``'s kind in ``cell`` (``id`` and ``description`` aside).
 
     Levels missing from ``cell`` take :data:`DEFAULTS`; ``rng`` picks what no level fixes
-    (which body is larger, the thin axis, the diagonal's axes and signs).
+    (which body is larger, the thin axis, the diagonal's axes and signs).  ``jitter`` (the
+    fuzzer): every numeric level's number times 2^U(-1/2, 1/2), still nearest its level, a
+    deep overlap anywhere in [-0.95, -0.35], and oblique directions drawn at random.
     """
     defaults = DEFAULTS | ({"gap": TOI_DEFAULT_GAP} if space.kind is Kind.SPHERE_TOI else {})
     at = defaults | cell
     dim = space.dim
     boxes = space.kind is Kind.AABB
-    big, small = DYADIC[at["scale"]], DYADIC[at["scale"]] / DYADIC[at["size_ratio"]]
+
+    def shake(x: float) -> float:
+        return x * 2.0 ** rng.uniform(-0.5, 0.5) if jitter else x
+
+    big = shake(DYADIC[at["scale"]])
+    small = big / shake(DYADIC[at["size_ratio"]])
     first, second = (big, small) if rng.random() < 0.5 else (small, big)
     v, length = _direction(at["direction"], dim, rng)
+    if jitter and at["direction"] == "oblique":
+        v, length = _random_direction(dim, rng), None
     if boxes:
-        sa, sb = _box(first, dim, at["aspect"], rng), _box(second, dim, at["aspect"], rng)
+        aspect = shake(DYADIC[at["aspect"]])
+        sa, sb = _box(first, dim, aspect, rng), _box(second, dim, aspect, rng)
         sums = [Fraction(x) + Fraction(y) for x, y in zip(sa, sb, strict=True)]
-        t = min(s / abs(c) for s, c in zip(sums, v, strict=True) if c)
-        touch = [t * c for c in v]
+        t = min(s / abs(Fraction(c)) for s, c in zip(sums, v, strict=True) if c)
+        touch = [t * Fraction(c) for c in v]
     else:
         ra, rb, touch = _spheres(first, second, v, length)
         sa, sb = [ra], [rb]
     g = 0.0 if "ulp" in at["gap"] else value(at["gap"])
-    offset = _offset(DYADIC[at["offset"]], at["offset_axis"], dim)
+    g = rng.uniform(-0.95, -0.35) if jitter and at["gap"] == "deep" else (
+        g if at["gap"] == "deep" else shake(g))
+    offset = _offset(shake(DYADIC[at["offset"]]), at["offset_axis"], dim)
     a = offset
     b = [o + float((1 + Fraction(g)) * x) for o, x in zip(offset, touch, strict=True)]
     data: dict[str, Any] = {"kind": space.kind.value, "dim": dim}
@@ -97,7 +110,7 @@ def realize(space: Space, cell: dict[str, str], rng: random.Random) -> dict[str,
     return data
 
 
-def _direction(level: str, dim: int, rng: random.Random) -> tuple[list[int], Fraction | None]:
+def _direction(level: str, dim: int, rng: random.Random) -> tuple[list[float], Fraction | None]:
     """An integer direction vector for ``level`` and its length (None: irrational)."""
     if level[0] in "+-":
         axis = "xyz".index(level[1])
@@ -113,13 +126,20 @@ def _direction(level: str, dim: int, rng: random.Random) -> tuple[list[int], Fra
     return [signs[i] if i in axes else 0 for i in range(dim)], None
 
 
-def _box(size: float, dim: int, aspect: str, rng: random.Random) -> list[float]:
+def _random_direction(dim: int, rng: random.Random) -> list[float]:
+    while True:
+        v = [rng.gauss(0.0, 1.0) for _ in range(dim)]
+        if math.hypot(*v) > 1e-3:
+            return v
+
+
+def _box(size: float, dim: int, aspect: float, rng: random.Random) -> list[float]:
     half = [size] * dim
-    half[rng.randrange(dim)] = size / DYADIC[aspect]
+    half[rng.randrange(dim)] = size / aspect
     return half
 
 
-def _spheres(first: float, second: float, v: list[int],
+def _spheres(first: float, second: float, v: list[float],
              length: Fraction | None) -> tuple[float, float, list[Fraction]]:
     """Radii and the exact touching displacement along ``v``.
 
@@ -133,7 +153,7 @@ def _spheres(first: float, second: float, v: list[int],
     bits = 47 - math.frexp(float(q))[1]
     q = Fraction(round(q * 2 ** bits), 2 ** bits)
     second = float(q * length - Fraction(first))
-    return first, second, [q * c for c in v]
+    return first, second, [q * Fraction(c) for c in v]
 
 
 def _offset(size: float, axis: str, dim: int) -> list[float]:

@@ -1,7 +1,14 @@
 """Fuzz case generation: random cases around the boundaries where engines fail.
 
-Each case draws a set of parts; the first is its *family* (the generator that
-drives it), the others modify it (its tags are ``fuzz`` and every part):
+Half the cases (every time-of-impact case) are drawn from the configuration space
+(:mod:`crosscheck.cases.space`), family ``space``: a level on every dimension of the kind
+(direction, gap from deep overlap to 1e3 sizes apart, size and aspect ratios, scale, offset
+and its axis; responses' masses, speed, restitution and angle; times of impact's speed and
+interval), the numbers jittered inside their level and oblique directions drawn at random;
+with a *bias* (cells where an engine already failed, :func:`failing_cells`) half of those
+start from a failing cell and keep most of its levels.  The others draw a set of parts; the
+first is its *family* (the generator that drives it), the others modify it (its tags are
+``fuzz`` and every part):
 
 - ``near-touching``: a touching configuration (exact along a random axis, to
   within rounding along a random direction), then B moved by a relative gap of
@@ -29,6 +36,7 @@ grouped findings.
 from __future__ import annotations
 
 import math
+import random
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
@@ -37,6 +45,8 @@ from typing import Any
 import numpy as np
 
 from crosscheck.cases.load import semantic_problems
+from crosscheck.cases.realize import realize
+from crosscheck.cases.space import Cell, classify, relative_gap, space_of
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from reference_impl import exact
@@ -51,7 +61,16 @@ PARTS: dict[Kind, tuple[str, ...]] = {
 }
 CHANCE = {"mass-ratio": 0.5, "near-touching": 0.6, "scaled": 0.4, "offset": 0.4}
 DRIVER = {"mass-ratio": "mass ratio", "near-touching": "relative gap", "scaled": "scale",
-          "offset": "offset"}
+          "offset": "offset", "space": "relative gap"}
+SPACE_SHARE = 0.5
+"""The share of cases of a kind with the families above drawn from the configuration space
+(every case of a kind without them: times of impact)."""
+BIAS_SHARE = 0.5
+"""With a bias, the share of space cases that start from a failing cell."""
+KEEP_LEVEL = 0.7
+"""A case started from a failing cell keeps each of its levels with this chance."""
+Bias = tuple[tuple[str, int, tuple[tuple[str, str], ...]], ...]
+"""Failing cells: (kind, dim, ((dimension, level), ...)), in a stable order."""
 NEAR_LIMIT = 0.1
 """A near-touching case has |exact relative gap| below this (else it is drawn again)."""
 
@@ -94,24 +113,60 @@ def chunk_rng(seed: int, chunk: int) -> Rng:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(chunk,)))
 
 
-def generate_chunk(kind: Kind, seed: int, chunk: int, n: int) -> list[Generated]:
+def generate_chunk(kind: Kind, seed: int, chunk: int, n: int, bias: Bias = ()) -> list[Generated]:
     """Chunk ``chunk`` of the first ``n`` cases of ``seed``: indices ``chunk*CHUNK`` onwards."""
     rng = chunk_rng(seed, chunk)
     first = chunk * CHUNK
-    return [_one(rng, kind, seed, index) for index in range(first, min(n, first + CHUNK))]
+    return [_one(rng, kind, seed, index, bias) for index in range(first, min(n, first + CHUNK))]
 
 
-def generate(kind: Kind, n: int, seed: int) -> list[Generated]:
+def generate(kind: Kind, n: int, seed: int, bias: Bias = ()) -> list[Generated]:
     """``n`` valid cases of ``kind`` from ``seed``, each in its family's regime."""
-    return [g for chunk in range(chunk_count(n)) for g in generate_chunk(kind, seed, chunk, n)]
+    return [g for chunk in range(chunk_count(n))
+            for g in generate_chunk(kind, seed, chunk, n, bias)]
 
 
-def _one(rng: Rng, kind: Kind, seed: int, index: int) -> Generated:
+def _one(rng: Rng, kind: Kind, seed: int, index: int, bias: Bias) -> Generated:
     for _ in range(1000):  # redraw the rare case out of regime (e.g. gap lost to the offset)
-        made = _attempt(rng, kind, case_id(kind, seed, index), index)
+        cid = case_id(kind, seed, index)
+        made = (_from_space(rng, kind, cid, index, bias)
+                if kind not in PARTS or rng.random() < SPACE_SHARE
+                else _attempt(rng, kind, cid, index))
         if made is not None:
             return made
     raise RuntimeError(f"no case in regime after 1000 draws ({kind}, seed {seed}, #{index})")
+
+
+def _from_space(rng: Rng, kind: Kind, cid: str, index: int, bias: Bias) -> Generated | None:
+    """A case at a random level of every dimension of ``kind``'s space (2-D or 3-D), or near
+    a failing cell of ``bias``; numbers jittered inside their levels."""
+    dim = int(rng.integers(2, 4))
+    space = space_of(kind, dim)
+    assert space is not None  # every kind fuzz makes has a space
+    cell: Cell = {d.name: d.levels[int(rng.integers(len(d.levels)))] for d in space.dimensions}
+    near = [items for k, d, items in bias if k == kind.value and d == dim]
+    started = bool(near) and rng.random() < BIAS_SHARE
+    if started:
+        failing = near[int(rng.integers(len(near)))]
+        cell |= {name: level for name, level in failing if rng.random() < KEEP_LEVEL}
+    data = realize(space, cell, random.Random(int(rng.integers(2 ** 63))), jitter=True)
+    words = ", ".join(f"{n.replace('_', ' ')} {v}" for n, v in cell.items())
+    start = " (near a failing cell)" if started else ""
+    case = CASE_ADAPTER.validate_python(data | {
+        "id": cid, "tags": ["fuzz", "space"],
+        "description": f"fuzz space{start}: {words}"})
+    if semantic_problems(case):
+        return None
+    gap = relative_gap(case)
+    return Generated(case, "space", ("space",), DRIVER["space"],
+                     0.0 if gap is None else gap, index)
+
+
+def failing_cells(cases: Sequence[AnyCase], failing: set[str]) -> Bias:
+    """The cells of the cases whose ids are in ``failing`` (a bias for :func:`generate`)."""
+    cells = {(c.kind, c.dim, tuple(sorted(classify(c).items()))) for c in cases
+             if c.id in failing and not c.bad_input}
+    return tuple(sorted(cells))
 
 
 def _g(x: float) -> str:
