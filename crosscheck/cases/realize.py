@@ -13,6 +13,7 @@ elsewhere: the covering design then records it as out of reach
 >>> import random
 >>> from crosscheck.cases.space import SPACES, classify
 >>> from crosscheck.core.model import Kind
+from reference_impl import exact
 >>> from crosscheck.core.schema import CASE_ADAPTER
 >>> cell = {"direction": "oblique", "gap": "0", "size_ratio": "1e3", "scale": "1e-6"}
 >>> data = realize(SPACES[Kind.SPHERE, 3], cell, random.Random(1))
@@ -30,6 +31,7 @@ from typing import Any
 
 from crosscheck.cases.space import Space
 from crosscheck.core.model import Kind
+from reference_impl import exact
 
 DYADIC = {"1e-12": 2.0 ** -40, "1e-9": 2.0 ** -30, "1e-6": 2.0 ** -20, "1e-3": 2.0 ** -10,
           "1e-1": 2.0 ** -3, "0.5": 0.5, "1": 1.0, "10": 8.0, "1e2": 128.0, "1e3": 2.0 ** 10,
@@ -104,6 +106,7 @@ def realize(space: Space, cell: dict[str, str], rng: random.Random, *,
     data |= {"a": {"center": a, "radius": sa[0]}, "b": {"center": b, "radius": sb[0]}}
     u, p = _unit_and_normal([float(x) for x in touch])
     if space.kind is Kind.SPHERE_RESPONSE:
+        _in_contact(data, touch)
         _response(data, at, u, p, rng)
     elif space.kind is Kind.SPHERE_TOI:
         _toi(data, at, u)
@@ -182,6 +185,17 @@ def _unit_and_normal(d: list[float]) -> tuple[list[float], list[float]]:
     p = [u[1] * e[2] - u[2] * e[1], u[2] * e[0] - u[0] * e[2], u[0] * e[1] - u[1] * e[0]]
     m = math.sqrt(sum(x * x for x in p))
     return u, [x / m for x in p]
+
+
+def _in_contact(data: dict[str, Any], touch: list[Fraction]) -> None:
+    """A response's spheres in contact: touching exactly where binary allows (axes,
+    Pythagorean directions), else overlapping by the fewest ulps (a diagonal)."""
+    a, b = data["a"], data["b"]
+    for _ in range(64):
+        gap = exact.sphere_contact(a["center"], a["radius"], b["center"], b["radius"])
+        if not float(getattr(gap, "distance", 0.0)) > 0:
+            return
+        _nudge(b["center"], touch, outward=False)
 
 
 def _response(data: dict[str, Any], at: dict[str, str], u: list[float], p: list[float],

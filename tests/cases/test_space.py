@@ -140,3 +140,14 @@ def test_the_docs_page_lists_every_dimension_and_level() -> None:
             row = f"| `{d.name}` |"
             assert row in text, d.name
             assert f"`{', '.join(d.levels)}`" in text, (d.name, d.levels)
+
+
+def test_responses_are_always_in_contact() -> None:
+    rng = random.Random(5)
+    for dim in (2, 3):
+        space = SPACES[Kind.SPHERE_RESPONSE, dim]
+        for _ in range(150):
+            cell = {d.name: rng.choice(d.levels) for d in space.dimensions}
+            made = case(**realize(space, cell, random.Random(rng.random())))
+            gap = relative_gap(made)
+            assert gap is not None and gap <= 0, (cell, gap)
