@@ -3,7 +3,8 @@
 ``crosscheck fuzz --kind K --n N --seed S`` starts a campaign; ``crosscheck fuzz --resume
 DIR`` finishes a killed one with the plan stored in it (only ``--jobs`` and ``--scheduler``,
 which say where chunks run, may be given with it: every other option would change the
-campaign, so it is refused by name).
+campaign, so it is refused by name).  ``--shrink N`` (default 1) shrinks the first N
+representatives of each group written; ``--no-shrink`` none.
 """
 
 from __future__ import annotations
@@ -43,6 +44,12 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--out", metavar="DIR",
                    help=f"output folder (default: reports/fuzz-K-sS-nN/; {OUT_RULE})")
     p.add_argument("--per-group", type=int, help="cases written per group (5)")
+    p.add_argument("--shrink", type=int, metavar="N",
+                   help="shrink the first N representatives of each group written (largest "
+                        "errors first) to a minimal case that fails the same way, written "
+                        "just before its original (default 1; at most 300 engine calls each)")
+    p.add_argument("--no-shrink", action="store_true", default=None,
+                   help="shrink nothing (same as --shrink 0)")
     p.add_argument("--jobs", type=int, help="chunks run at once (default: cores)")
     p.add_argument("--timeout", type=float, help="seconds per case x engine (5)")
     p.add_argument("--scheduler", metavar="ADDRESS",
@@ -52,10 +59,14 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
 
 def _command(args: argparse.Namespace) -> str:
     engines = "".join(f" --engine {name}" for name in args.engine or [])
-    return f"crosscheck fuzz --kind {args.kind} --n {args.n} --seed {args.seed}{engines}"
+    shrink = "" if args.shrink is None else f" --shrink {args.shrink}"
+    shrink += " --no-shrink" if args.no_shrink else ""
+    return (f"crosscheck fuzz --kind {args.kind} --n {args.n} --seed {args.seed}{engines}"
+            f"{shrink}")
 
 
-CAMPAIGN_OPTIONS = ("kind", "n", "seed", "engine", "out", "per_group", "timeout")
+CAMPAIGN_OPTIONS = ("kind", "n", "seed", "engine", "out", "per_group", "timeout", "shrink",
+                    "no_shrink")
 
 
 def _problem(args: argparse.Namespace) -> str | None:
@@ -75,6 +86,10 @@ def _problem(args: argparse.Namespace) -> str | None:
               (args.seed >= 0, f"--seed must be >= 0 (got {args.seed})"),
               (args.per_group is None or args.per_group >= 1,
                f"--per-group must be >= 1 (got {args.per_group})"),
+              (args.shrink is None or args.shrink >= 0,
+               f"--shrink must be >= 0 (got {args.shrink})"),
+              (args.shrink is None or not args.no_shrink,
+               f"--shrink {args.shrink} and --no-shrink contradict each other"),
               (args.timeout is None or args.timeout > 0,
                f"--timeout must be > 0 seconds (got {args.timeout})")]
     return next((message for ok, message in checks if not ok), None)
@@ -97,16 +112,17 @@ def _directory(args: argparse.Namespace) -> Path:
 
 
 def _start(args: argparse.Namespace) -> tuple[list[Group], Path]:
-    from crosscheck.studies.fuzz import fuzz
+    from crosscheck.studies.fuzz import SHRINK, fuzz
 
     engines = engine_choice.select(args.engine)
     directory = chosen(args.out) or _directory(args)
     options = RunOptions(quick=True, jobs=args.jobs or os.cpu_count() or 1,
                          timeout_s=5.0 if args.timeout is None else args.timeout,
                          scheduler=args.scheduler)
+    shrink = 0 if args.no_shrink else SHRINK if args.shrink is None else args.shrink
     with progress_bar(args.n * len(engines), "fuzz case x engine") as advance:
         return fuzz(Kind(args.kind), args.n, args.seed, directory, engines, options,
-                    args.per_group or 5, _command(args), advance), directory
+                    args.per_group or 5, _command(args), advance, shrink), directory
 
 
 def cmd_fuzz(args: argparse.Namespace) -> int:
@@ -171,5 +187,6 @@ def print_groups(groups: Sequence[Group], limit: int = 30, directory: Path | Non
         say("no case file written: every group lies within its engine's declared tolerance "
             "(listed in findings.csv)")
     for g in written:
-        say(f"  {g.slug}.toml  ({len(g.chosen)} cases; {g.status}"
+        shrunk = f" + {len(g.shrunk)} shrunk" if g.shrunk else ""
+        say(f"  {g.slug}.toml  ({len(g.chosen)} cases{shrunk}; {g.status}"
             f"{' / ' + g.category if g.category else ''})")

@@ -171,6 +171,10 @@ def test_streamed_groups_keep_the_largest_errors_and_count_every_finding(
     (["--kind", "sphere", "--n", "5", "--seed", "1", "--jobs", "0"], "--jobs must be >= 1"),
     (["--kind", "sphere", "--n", "5", "--seed", "1", "--timeout", "0"], "--timeout must be > 0"),
     (["--kind", "sphere", "--n", "5"], "--seed required"),
+    (["--kind", "sphere", "--n", "5", "--seed", "1", "--shrink", "-1"], "--shrink must be >= 0"),
+    (["--kind", "sphere", "--n", "5", "--seed", "1", "--shrink", "2", "--no-shrink"],
+     "--shrink 2 and --no-shrink contradict"),
+    (["--resume", "X", "--no-shrink"], "--no-shrink would change it"),
     (["--resume", "MISSING"], "is not a fuzz campaign"),
 ])
 def test_bad_command_lines_are_refused_before_any_work(

@@ -28,7 +28,7 @@ from typing import Any, Protocol, cast
 import pandas as pd
 
 from crosscheck.cases.writer import case_block, case_file
-from crosscheck.core.model import Status
+from crosscheck.core.model import Record, Status
 from crosscheck.core.schema import AnyCase
 
 DRIVER_SLUG = {"relative gap": "gap", "scale": "scale", "offset": "offset", "mass ratio": "ratio"}
@@ -68,6 +68,25 @@ class Provenance(Protocol):
     def index(self) -> int: ...
     @property
     def decade(self) -> str: ...
+
+
+@dataclass(frozen=True)
+class Signature:
+    """How a finding fails: its record's quantity, status and category (``""``: none).  A
+    shrunk case fails *the same way* when its record has the same signature."""
+
+    quantity: str
+    status: str
+    category: str
+
+    @classmethod
+    def of(cls, row: Mapping[str, Any]) -> Signature:
+        """The signature of a finding row (or a record's row)."""
+        return cls(str(row["quantity"]), str(row["status"]), _text(row["category"]))
+
+    def matches(self, record: Record) -> bool:
+        return (record.quantity, str(record.status), _text(record.category)) == (
+            self.quantity, self.status, self.category)
 
 
 def finding_row(record: Mapping[str, Any], gen: Provenance) -> Row:
@@ -112,6 +131,8 @@ class Group:
     """How many findings the group has (``rows`` keeps the candidates only)."""
     chosen: list[str] = field(default_factory=list)
     """Ids of the cases written in this group's file (at most ``per_group``)."""
+    shrunk: list[str] = field(default_factory=list)
+    """Ids of the shrunk cases written in this group's file, each just before its original."""
 
     @property
     def key(self) -> Key:
@@ -209,6 +230,8 @@ def _frame_rows(frame: pd.DataFrame, meta: Mapping[str, Provenance]) -> list[Row
     return [finding_row(row, meta[row["case_id"]]) for row in rows]
 
 
+SHRUNK_SUFFIX = "-shrunk"
+"""A shrunk case's id is its original's with this suffix."""
 LISTED_ONLY = frozenset({"tolerance"})
 """Categories listed in findings.csv but given no case file: the engine declared that margin."""
 
@@ -253,7 +276,10 @@ def _header(group: Group, command: str) -> str:
             f"Findings in this group: {group.count}; representative cases here: "
             f"{len(group.chosen)}\n(largest errors first, ties by index; "
             f"a case of several groups is written once only).\n"
-            f"Found by: {command}")
+            + (f"Shrunk cases here: {len(group.shrunk)} (id ending {SHRUNK_SUFFIX}, each "
+               f"just before its original:\nthe simplest case found that fails the same "
+               f"way; its description gives both findings).\n" if group.shrunk else "")
+            + f"Found by: {command}")
 
 
 def _description(case: AnyCase, group: Group, rows: list[Row]) -> str:
@@ -265,6 +291,10 @@ def _description(case: AnyCase, group: Group, rows: list[Row]) -> str:
 
 Batches = Callable[[], Iterable[list[Row]]]
 """Gives the finding rows again each time it is called, in batches in case order."""
+Shrinker = Callable[[Sequence[tuple[Group, AnyCase, Row]]], Mapping[str, tuple[AnyCase, str]]]
+"""Given findings to shrink (the group, the case, its finding row in that group), gives the
+shrunk case and its description by the original case's id, for those it could shrink
+(:func:`crosscheck.studies.fuzz.campaign.shrinker`)."""
 
 
 def write_findings(directory: Path, meta: Mapping[str, Provenance], frame: pd.DataFrame,
@@ -277,10 +307,13 @@ def write_findings(directory: Path, meta: Mapping[str, Provenance], frame: pd.Da
 
 def write_stream(directory: Path, batches: Batches,
                  cases: Callable[[set[str]], Mapping[str, AnyCase]], command: str,
-                 per_group: int) -> list[Group]:
+                 per_group: int, shrink: Shrinker | None = None,
+                 shrink_per_group: int = 0) -> list[Group]:
     """Write one case file per group that has cases of its own, and ``findings.csv``.
 
-    ``batches`` is read twice; ``cases(ids)`` gives the chosen cases.
+    ``batches`` is read twice; ``cases(ids)`` gives the chosen cases.  With ``shrink``, the
+    first ``shrink_per_group`` representatives of each group are shrunk, and each shrunk
+    case is written just before its original.
     """
     streamed = Groups(per_group)
     for batch in batches():
@@ -290,14 +323,26 @@ def write_stream(directory: Path, batches: Batches,
     owner = choose(groups, per_group)
     by_case = _write_csv(directory / "findings.csv", batches(), owner)
     chosen = cases(set(owner))
+    shrunk = shrink([(g, chosen[cid], _own(g, by_case[cid])) for g in groups
+                     for cid in g.chosen[:shrink_per_group]]) if shrink else {}
     for group in groups:
         if group.chosen:
-            blocks = [case_block(chosen[cid], description=_description(chosen[cid], group,
-                                                                        by_case[cid]))
-                      for cid in group.chosen]
+            blocks = []
+            for cid in group.chosen:
+                if cid in shrunk:
+                    small, words = shrunk[cid]
+                    group.shrunk.append(small.id)
+                    blocks.append(case_block(small, description=words))
+                blocks.append(case_block(chosen[cid], description=_description(
+                    chosen[cid], group, by_case[cid])))
             text = case_file(blocks, _header(group, command))
             (directory / f"{group.slug}.toml").write_text(text, encoding="utf-8")
     return groups
+
+
+def _own(group: Group, rows: list[Row]) -> Row:
+    """The finding of ``group`` among a case's findings."""
+    return next(row for row in rows if _key(row) == group.key)
 
 
 def _order(row: Row) -> tuple[int, str, str]:

@@ -98,15 +98,24 @@ def count_key(engine: str, quantity: str, status: str, category: str) -> str:
     return "\t".join((engine, quantity, status, category))
 
 
-def _outcome(adapter: Adapter, case: AnyCase, options: RunOptions,
-             settled: tuple[str, str] | None) -> Outcome:
-    if settled is not None:
-        return Outcome(None, Status(settled[0]), settled[1])
+def fuzz_outcome(adapter: Adapter, case: AnyCase, options: RunOptions,
+                 executor: Executor = execute) -> Outcome:
+    """How a campaign runs one case on one engine: a declared known hang is not run (its
+    outcome is ``timeout`` with the declared reason); any other case goes to ``executor``
+    (in a lane, :func:`~crosscheck.run.execute.execute` in-process; the shrinker, a worker
+    pool)."""
     hang = adapter.known_hang(case)
     if hang is not None:
         return Outcome(None, Status.TIMEOUT, f"not run in a fuzz campaign: declared known hang: "
                                              f"{hang}")
-    return execute(adapter, case, options)
+    return executor(adapter, case, options)
+
+
+def _outcome(adapter: Adapter, case: AnyCase, options: RunOptions,
+             settled: tuple[str, str] | None) -> Outcome:
+    if settled is not None:
+        return Outcome(None, Status(settled[0]), settled[1])
+    return fuzz_outcome(adapter, case, options)
 
 
 def run_engine(plan: Plan, adapter: Adapter, position: int, gens: Sequence[generator.Generated],
