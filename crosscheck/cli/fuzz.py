@@ -21,7 +21,7 @@ from rich.table import Table
 from crosscheck.cli import engines as engine_choice
 from crosscheck.cli.console import fail, fit, out, progress_bar, say
 from crosscheck.cli.folders import OUT_RULE, chosen, out_folder
-from crosscheck.core.model import PAIR_KINDS, Kind
+from crosscheck.core.model import NEW_CASE_KINDS, Kind
 from crosscheck.core.options import RunOptions
 
 if TYPE_CHECKING:
@@ -31,7 +31,8 @@ if TYPE_CHECKING:
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     """Add ``fuzz``."""
     p = sub.add_parser("fuzz", help="random cases near failure boundaries; grouped findings")
-    p.add_argument("--kind", choices=PAIR_KINDS, help="kind of case (required unless --resume)")
+    p.add_argument("--kind", choices=NEW_CASE_KINDS,
+                   help="kind of case (required unless --resume): every two-body kind")
     p.add_argument("--n", type=int, help="number of cases to generate (required unless --resume)")
     p.add_argument("--seed", type=int, help="seed >= 0; same seed, same cases (required unless "
                                            "--resume)")
@@ -50,6 +51,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                         "just before its original (default 1; at most 300 engine calls each)")
     p.add_argument("--no-shrink", action="store_true", default=None,
                    help="shrink nothing (same as --shrink 0)")
+    p.add_argument("--bias", type=Path, metavar="DIR",
+                   help="a stored run or fuzz campaign: half the configuration-space cases "
+                        "start from the cells where an engine erred, crashed or hung there")
     p.add_argument("--jobs", type=int, help="chunks run at once (default: cores)")
     p.add_argument("--timeout", type=float, help="seconds per case x engine (5)")
     p.add_argument("--scheduler", metavar="ADDRESS",
@@ -61,12 +65,13 @@ def _command(args: argparse.Namespace) -> str:
     engines = "".join(f" --engine {name}" for name in args.engine or [])
     shrink = "" if args.shrink is None else f" --shrink {args.shrink}"
     shrink += " --no-shrink" if args.no_shrink else ""
+    shrink += f" --bias {args.bias}" if args.bias is not None else ""
     return (f"crosscheck fuzz --kind {args.kind} --n {args.n} --seed {args.seed}{engines}"
             f"{shrink}")
 
 
 CAMPAIGN_OPTIONS = ("kind", "n", "seed", "engine", "out", "per_group", "timeout", "shrink",
-                    "no_shrink")
+                    "no_shrink", "bias")
 
 
 def _problem(args: argparse.Namespace) -> str | None:
@@ -91,7 +96,11 @@ def _problem(args: argparse.Namespace) -> str | None:
               (args.shrink is None or not args.no_shrink,
                f"--shrink {args.shrink} and --no-shrink contradict each other"),
               (args.timeout is None or args.timeout > 0,
-               f"--timeout must be > 0 seconds (got {args.timeout})")]
+               f"--timeout must be > 0 seconds (got {args.timeout})"),
+              (args.bias is None or (args.bias / "run.json").is_file()
+               or (args.bias / "campaign.json").is_file(),
+               f"--bias {args.bias}: not a stored run (run.json) nor a fuzz campaign "
+               "(campaign.json)")]
     return next((message for ok, message in checks if not ok), None)
 
 
@@ -113,6 +122,7 @@ def _directory(args: argparse.Namespace) -> Path:
 
 def _start(args: argparse.Namespace) -> tuple[list[Group], Path]:
     from crosscheck.studies.fuzz import SHRINK, fuzz
+    from crosscheck.studies.fuzz.bias import bias_from
 
     engines = engine_choice.select(args.engine)
     directory = chosen(args.out) or _directory(args)
@@ -120,9 +130,10 @@ def _start(args: argparse.Namespace) -> tuple[list[Group], Path]:
                          timeout_s=5.0 if args.timeout is None else args.timeout,
                          scheduler=args.scheduler)
     shrink = 0 if args.no_shrink else SHRINK if args.shrink is None else args.shrink
+    bias = bias_from(args.bias) if args.bias is not None else ()
     with progress_bar(args.n * len(engines), "fuzz case x engine") as advance:
         return fuzz(Kind(args.kind), args.n, args.seed, directory, engines, options,
-                    args.per_group or 5, _command(args), advance, shrink), directory
+                    args.per_group or 5, _command(args), advance, shrink, bias), directory
 
 
 def cmd_fuzz(args: argparse.Namespace) -> int:

@@ -3,12 +3,20 @@ toward cells where an engine already failed."""
 
 from __future__ import annotations
 
+import json
 from collections import Counter
+from pathlib import Path
+
+import pytest
 
 from crosscheck.cases.load import semantic_problems
 from crosscheck.cases.space import classify
 from crosscheck.core.model import Kind
+from crosscheck.studies.fuzz import stored_plan
+from crosscheck.studies.fuzz.bias import BiasError, bias_from
+from crosscheck.studies.fuzz.campaign import stored_bias
 from crosscheck.studies.fuzz.generator import SPACE_SHARE, failing_cells, generate
+from tests.studies.test_fuzz import fuzz_cli
 
 
 def test_times_of_impact_are_fuzzed_from_the_space() -> None:
@@ -48,3 +56,29 @@ def test_a_bias_draws_more_cases_near_the_failing_cells() -> None:
 
     plain, biased = share_at_minus_z(()), share_at_minus_z(bias)
     assert plain < 0.16 < 0.3 < biased  # 1 of 9 directions, against about half the cases
+
+
+def test_a_campaign_biased_by_another_stores_its_bias_and_resumes_it(tmp_path: Path) -> None:
+    first, second = tmp_path / "first", tmp_path / "second"
+    base = ["--kind", "sphere_toi", "--n", "200", "--seed", "3", "--engine", "reference",
+            "--no-shrink"]  # float64 sampled at the interval's ends: some rows are errors
+    assert fuzz_cli(*base, "--out", str(first)) == 0
+    bias = bias_from(first)
+    assert bias and {(kind, dim) for kind, dim, _ in bias} <= {("sphere_toi", 2),
+                                                               ("sphere_toi", 3)}
+    assert fuzz_cli(*base, "--bias", str(first), "--out", str(second)) == 0
+    plan = json.loads((second / "campaign.json").read_text())
+    assert len(plan["bias"]) == len(bias) and "--bias" in plan["command"]
+    assert stored_plan(second)["bias"] == plan["bias"]
+    campaign_bias = stored_bias(plan["bias"])
+    assert campaign_bias == bias  # what resume regenerates the chunks with
+
+
+def test_bias_must_be_a_run_or_a_campaign(tmp_path: Path, capsys: pytest.CaptureFixture[str]
+                                          ) -> None:
+    code = fuzz_cli("--kind", "aabb", "--n", "3", "--seed", "0", "--bias", str(tmp_path),
+                    "--out", str(tmp_path / "x"))
+    assert code == 2 and not (tmp_path / "x").exists()
+    assert f"--bias {tmp_path}: not a stored run" in capsys.readouterr().err.replace("\n", "")
+    with pytest.raises(BiasError):
+        bias_from(tmp_path)

@@ -158,19 +158,28 @@ def _plan_json(plan: Plan, command: str, writing: Writing) -> dict[str, Any]:
     return {"kind": plan.kind.value, "n": plan.n, "seed": plan.seed,
             "engines": [cls().name for cls in plan.engines], "per_group": writing.per_group,
             "shrink": writing.shrink, "options": plan.options.to_json(), "command": command,
-            "chunk": generator.CHUNK}
+            "chunk": generator.CHUNK,
+            "bias": [[kind, dim, [list(item) for item in cell]] for kind, dim, cell in plan.bias]}
+
+
+def stored_bias(saved: list[Any]) -> generator.Bias:
+    """A stored bias back as tuples (an old plan has none)."""
+    return tuple((str(kind), int(dim), tuple((str(n), str(v)) for n, v in cell))
+                 for kind, dim, cell in saved)
 
 
 def fuzz(kind: Kind, n: int, seed: int, directory: Path, engines: Sequence[Adapter],
          options: RunOptions, per_group: int = 5, command: str = "",
-         progress: Progress | None = None, shrink: int = SHRINK) -> list[Group]:
+         progress: Progress | None = None, shrink: int = SHRINK,
+         bias: generator.Bias = ()) -> list[Group]:
     """Start a campaign into the empty (or new) ``directory``; run it; write its findings,
-    the first ``shrink`` representatives of each group shrunk."""
+    the first ``shrink`` representatives of each group shrunk; ``bias``: failing cells the
+    configuration-space family starts from (:mod:`crosscheck.studies.fuzz.bias`)."""
     if directory.exists() and any(directory.iterdir()):
         raise CampaignError(f"{directory} is not empty; choose another --out, empty it, or "
                             f"finish a killed campaign with --resume {directory}")
     command = command or f"crosscheck fuzz --kind {kind.value} --n {n} --seed {seed}"
-    plan = Plan(kind, n, seed, tuple(type(a) for a in engines), options)
+    plan = Plan(kind, n, seed, tuple(type(a) for a in engines), options, bias)
     writing = Writing(per_group, shrink)
     (directory / CHUNKS).mkdir(parents=True)
     (directory / PLAN).write_text(json.dumps(_plan_json(plan, command, writing), indent=2)
@@ -205,7 +214,8 @@ def resume(directory: Path, engines: Callable[[Sequence[str]], Sequence[Adapter]
     where |= {"scheduler": scheduler} if scheduler else {}
     options = RunOptions.from_json(saved["options"] | where)
     plan = Plan(Kind(saved["kind"]), int(saved["n"]), int(saved["seed"]),
-                tuple(type(a) for a in engines(saved["engines"])), options)
+                tuple(type(a) for a in engines(saved["engines"])), options,
+                stored_bias(saved.get("bias", [])))
     writing = Writing(int(saved["per_group"]), int(saved.get("shrink", SHRINK)))
     return _campaign(directory, plan, saved["command"], writing, progress)
 

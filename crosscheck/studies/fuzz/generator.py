@@ -155,7 +155,7 @@ def _from_space(rng: Rng, kind: Kind, cid: str, index: int, bias: Bias) -> Gener
     case = CASE_ADAPTER.validate_python(data | {
         "id": cid, "tags": ["fuzz", "space"],
         "description": f"fuzz space{start}: {words}"})
-    if semantic_problems(case) or case.a.center == case.b.center:  # rounded into one point
+    if semantic_problems(case) or data["a"]["center"] == data["b"]["center"]:  # one point
         return None
     gap = relative_gap(case)
     return Generated(case, "space", ("space",), DRIVER["space"],

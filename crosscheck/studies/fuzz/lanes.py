@@ -61,6 +61,8 @@ class Plan:
     seed: int
     engines: tuple[type[Adapter], ...]
     options: RunOptions
+    bias: generator.Bias = ()
+    """Failing cells the space family starts from (:mod:`crosscheck.studies.fuzz.bias`)."""
 
 
 def chunk_truth(cases: Sequence[AnyCase]) -> list[Observation]:
@@ -162,7 +164,7 @@ def _lane(conn: Connection, marker: Any, plan: Plan) -> None:
             return
         chunk, state, settled, first = task
         if state is None:
-            gens = generator.generate_chunk(plan.kind, plan.seed, chunk, plan.n)
+            gens = generator.generate_chunk(plan.kind, plan.seed, chunk, plan.n, plan.bias)
             truths = chunk_truth([g.case for g in gens])
             state = pickle.dumps((gens, truths), protocol=pickle.HIGHEST_PROTOCOL)
             conn.send(("state", state))
