@@ -59,22 +59,21 @@ otherwise off by about the tolerance (a 0.5 overlap reads -0.49999958, a touch o
 diagonal +1.2e-7), but the declared margin is the solver's tolerance, not a bound on its
 error: on 20,000 random unit-scale pairs (radii 0.1 to 2, centres 0.5 to 1.5 x the radius
 sum apart) overlapping ones were off by a median 5e-7, 99th percentile 9e-7, worst 1.2e-4,
-separated ones by a median 5e-7, 99th percentile 2.6e-5, worst 1.3e-3 (27% beyond 1e-6;
-in the suite up to 1.6e-6); and the nearest points of separated spheres off by up to 4e-4 rad in
-direction.  Box-box distances along x are exact at unit scale (the absolute GJK tolerance
+separated ones by a median 5e-7, 99th percentile 2.6e-5, worst 1.3e-3 (27% beyond 1e-6; in
+the suite up to 1.6e-6); and the nearest points of separated spheres off by up to 4e-4 rad
+in direction.  Box-box distances along x are exact at unit scale (the absolute GJK tolerance
 shows on 1e-9 boxes: a 2e-9 gap reads 4.5e-9), but boxes apart along y or z, or on a
 diagonal, may read far off: unit 2-D boxes 16 apart along -y read 16.1245 with a normal
 0.124 rad off (cases/cover.toml found it; the open upstream bug [issue 508]: unit cubes 3
 apart along y read 3.16228 with the libccd solver, the one used here; along x they are
-right).  It is an engine error, not a convention: nothing FCL documents explains it.  Coincident sphere centres hang the signed
-distance (EPA with a zero search direction) [issue 346]; box-box signed distance may hang
-too [issue 578]; NaN or infinite inputs crash it (segmentation fault), except an infinite
-centre, for which it returns DBL_MAX and no nearest points.  Coincident spheres collide
-with contact normal (0, 0, 0); coincident boxes with the axis of least overlap, x on a
-tie.  A zero-size box on another's corner, or a subnormal gap, reads -1 (the "mostly -1"
-of a failed signed distance [distance_request.h]).  With ``enable_contact=False`` the
-Contact's normal and depth are uninitialised memory.
-"""
+right).  It is an engine error, not a convention: nothing FCL documents explains it.
+Coincident sphere centres hang the signed distance (EPA with a zero search direction) [issue
+346]; box-box signed distance may hang too [issue 578]; NaN or infinite inputs crash it
+(segmentation fault), except an infinite centre, for which it returns DBL_MAX and no nearest
+points.  Coincident spheres collide with contact normal (0, 0, 0); coincident boxes with the
+axis of least overlap, x on a tie.  A zero-size box on another's corner, or a subnormal gap,
+reads -1 (the "mostly -1" of a failed signed distance [distance_request.h]).  With
+``enable_contact=False`` the Contact's normal and depth are uninitialised memory.  """
 
 from __future__ import annotations
 
