@@ -386,11 +386,11 @@ def conventions(run: StoredRun) -> str:
 
 
 ADVICE_PROFILES = (
-    "--dim 3 --kind sphere --scale 0.01:10 --offset 10 --tolerance 1e-9",
-    "--dim 3 --kind aabb --scale 0.1:10 --offset 1e4 --tolerance 1e-4",
-    "--dim 2 --kind sphere --scale 0.1:10 --offset 1e3 --tolerance 1e-6",
-    "--kind sphere_response --mass-ratio 1e3 --speed 10 --tolerance 1e-9",
-    "--kind sphere_response --mass-ratio 1e3 --speed 10 --tolerance 1e-9 --scale 0:10",
+    "--dim 3 --kind sphere --scale 0.01:10 --offset 10 --tolerance 1e-9 --angle-tolerance 1e-9",
+    "--dim 3 --kind aabb --scale 0.1:10 --offset 1e4 --tolerance 1e-4 --angle-tolerance 1e-4",
+    "--dim 2 --kind sphere --scale 0.1:10 --offset 1e3 --tolerance 1e-6 --angle-tolerance 1e-6",
+    "--kind sphere_response --mass-ratio 1e3 --speed 10 --velocity-tolerance 1e-9",
+    "--kind sphere_response --mass-ratio 1e3 --speed 10 --velocity-tolerance 1e-9 --scale 0:10",
 )
 """The four scene profiles of docs/comparing-and-advice.md, as ``advise`` options, and the
 fourth again with ``--scale 0:10``, which admits zero-size bodies (without ``--scale`` every
@@ -425,7 +425,7 @@ def advice(run: StoredRun) -> str:
         by = " by instructions per query" if answer.cost_by == INSTRUCTIONS else ""
         parts += [f"{answer.cases:,} cases inside the envelope "
                   f"({', '.join(answer.kinds)}; {', '.join(f'{d}-D' for d in answer.dims)}).",
-                  "", table(["#", "engine", "tier", "coverage", "within", *costs,
+                  "", table(["#", "engine", "tier", "cases", "coverage", "within", *costs,
                              "worst answer"], rows)]
         if answer.unsupported:
             parts += [f"Answer no case (not ranked): "
@@ -452,7 +452,7 @@ def _grade_cells(engine: Any, worst: str, counted: bool = False) -> list[str]:
                     speed.instructions_iqr(engine.median_query_instructions,
                                            engine.query_instructions_iqr))
     share = "-" if engine.share_within is None else f"{engine.share_within:.0%}"
-    return [engine.engine, engine.tier, f"{engine.coverage:.0%}", share,
+    return [engine.engine, engine.tier, str(engine.answered), f"{engine.coverage:.0%}", share,
             *([instructions] if counted else []), cost, worst]
 
 

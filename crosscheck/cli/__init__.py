@@ -1,6 +1,6 @@
 """The ``crosscheck`` command line: a thin face over the library, one module per command family.
 
-Each family module (``run``, ``report`` with ``compare``, ``check`` with ``baseline``,
+Each family module (``run``, ``report`` with ``compare``, ``coverage``, ``check`` with ``baseline``,
 ``cases`` with ``validate``, ``new-case`` and ``schema``, ``engines``, ``fuzz``, ``bench``,
 ``stability``) parses its options, calls the library and prints; everything
 it does is callable from Python without rich.
@@ -25,6 +25,7 @@ from crosscheck.cli import (
     bench,
     cases,
     check,
+    coverage,
     engines,
     fuzz,
     report,
@@ -34,7 +35,8 @@ from crosscheck.cli import (
 )
 from crosscheck.results.runinfo import FORMAT_VERSION
 
-FAMILIES = (run, report, check, cases, fuzz, repro, bench, stability, advise, engines)
+FAMILIES = (run, report, coverage, check, cases, fuzz, repro, bench, stability, advise,
+            engines)
 """The command families, in the order ``crosscheck --help`` lists them."""
 
 
@@ -44,6 +46,7 @@ EXAMPLES = """examples:
   crosscheck run cases/sphere.toml --engine pybullet --engine pymunk
   crosscheck report reports/<run>         re-render a stored run
   crosscheck compare reports/<a> reports/<b>
+  crosscheck coverage reports/<run>       which cells of the space its cases ask
   crosscheck baseline reports/<run> --out baseline.jsonl
   crosscheck check reports/<run> --baseline baseline.jsonl --junit junit.xml
   crosscheck advise reports/<run> --dim 2 --kind sphere --tolerance 1e-6

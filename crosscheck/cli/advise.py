@@ -9,6 +9,7 @@ import argparse
 import json
 import math
 from collections.abc import Sequence
+from fractions import Fraction
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -16,6 +17,7 @@ from rich.text import Text
 
 from crosscheck.cli.console import fail, out, say, wrapped
 from crosscheck.core.model import Kind
+from crosscheck.core.options import QUICK_SCENE_STEPS
 
 if TYPE_CHECKING:
     from crosscheck.report.advise import Advice, EngineAdvice, Envelope
@@ -35,25 +37,46 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                    help="body sizes: every radius and half-width within LO:HI (default: any "
                         "positive size; 0:HI admits zero-size bodies)")
     p.add_argument("--offset", metavar="MAX", help="largest |coordinate| of any centre")
-    p.add_argument("--speed", metavar="MAX", help="largest |velocity component| (responses)")
-    p.add_argument("--mass-ratio", metavar="MAX", help="largest max(m)/min(m) (responses)")
+    p.add_argument("--speed", metavar="MAX",
+                   help="largest speed |v| of any body (responses, times of impact, scenes)")
+    p.add_argument("--mass-ratio", metavar="MAX",
+                   help="largest max(m)/min(m) (responses, scenes)")
+    p.add_argument("--dt", metavar="[MIN:]MAX",
+                   help="a scene's time step in seconds, e.g. 1/60 or 1/240:1/60")
+    p.add_argument("--step-travel", metavar="MAX",
+                   help="largest per-step travel |vb - va| dt / 2(ra + rb) of a scene's "
+                        "fastest pair (beyond 1 a head-on pair can cross between two steps; "
+                        "an r 0.05 ball at 300 m/s, dt 1/60: 25)")
+    p.add_argument("--interval", metavar="[MIN:]MAX",
+                   help="a time of impact's interval length in seconds")
     p.add_argument("--tag", action="append", metavar="TAG",
                    help="only cases carrying this tag (repeatable: every one), e.g. a scene "
                         "family: resting, bounce, gas")
     p.add_argument("--duration", metavar="MIN",
-                   help="scenes simulating at least MIN seconds (leaves pair cases out)")
+                   help="scenes simulating at least MIN seconds")
     p.add_argument("--tolerance", metavar="T",
-                   help="absolute accuracy needed (a hit verdict: on pairs whose exact "
-                        "|gap| exceeds it)")
+                   help="absolute accuracy needed on lengths, m: hit (a verdict, on pairs "
+                        "whose exact |gap| exceeds it), distance, settle")
+    p.add_argument("--angle-tolerance", metavar="A",
+                   help="absolute accuracy needed on angles, rad: normal")
+    p.add_argument("--velocity-tolerance", metavar="V",
+                   help="absolute accuracy needed on velocities, m/s: v1, v2, jitter")
+    p.add_argument("--time-tolerance", metavar="S",
+                   help="absolute accuracy needed on times, s: toi, bounce_time")
+    p.add_argument("--fraction-tolerance", metavar="F",
+                   help="accuracy needed on scene quantities measured as a share of their "
+                        "own scale: positions (mean radii), velocities, momentum, energy, "
+                        "energy_drift (per s), apex, divergence")
     p.add_argument("--rtol", metavar="R",
-                   help="accuracy needed relative to the smallest body extent (lengths)")
+                   help="accuracy needed on lengths relative to the smallest body extent")
     p.add_argument("--quantities", metavar="Q,Q",
                    help="the quantities that matter (default: all), e.g. hit,distance; "
                         "scenes: settle, jitter, energy_drift, apex, bounce_time, divergence")
     p.add_argument("--touching-contact", action="store_true",
                    help="touching must count as contact (a touching rule then fails)")
     p.add_argument("--strict-conventions", action="store_true",
-                   help="judge declared conventions (margins, soft contact) like any answer")
+                   help="judge declared definitions (touching rules, the reading of an "
+                        "input) like any answer; behaviours (damping, soft contact) always are")
     p.add_argument("--no-float32", action="store_true", help="float32 is not acceptable")
     p.add_argument("--json", action="store_true", help="print the advice as JSON")
     p.set_defaults(func=cmd_advise)
@@ -64,24 +87,28 @@ class OptionError(ValueError):
 
 
 def _number(option: str, text: str | None) -> float | None:
+    """A number, or a fraction such as 1/60 (None: not given)."""
     if text is None:
         return None
     try:
-        value = float(text)
-    except ValueError:
+        value = float(Fraction(text.strip())) if "/" in text else float(text)
+    except (ValueError, ZeroDivisionError):
         raise OptionError(f"{option}: not a number: {text!r}") from None
     if math.isnan(value):
         raise OptionError(f"{option}: not a number: {text!r}")
     return value
 
 
-def _scale(text: str | None) -> tuple[float, float] | None:
+def _range(option: str, text: str | None, shape: str = "[MIN:]MAX") -> tuple[float, float] | None:
+    """``MIN:MAX``, or ``MAX`` alone (from 0) where ``shape`` allows it."""
     if text is None:
         return None
     parts = text.split(":")
+    if len(parts) == 1 and shape.startswith("["):
+        parts = ["0", *parts]
     if len(parts) != 2:
-        raise OptionError(f"--scale: expected LO:HI, got {text!r}")
-    lo, hi = (_number("--scale", part) for part in parts)
+        raise OptionError(f"{option}: expected {shape}, got {text!r}")
+    lo, hi = (_number(option, part) for part in parts)
     assert lo is not None and hi is not None
     return lo, hi
 
@@ -122,14 +149,21 @@ def _tags(texts: list[str] | None) -> tuple[str, ...]:
 
 
 def envelope_of(args: argparse.Namespace) -> Envelope:
-    """The envelope the options state; OptionError or EnvelopeError naming a bad option."""
+    """The envelope the options state; OptionError or EnvelopeError naming a bad option (an
+    option that applies to none of the asked kinds among them)."""
     from crosscheck.report.advise import Envelope
 
     envelope = Envelope(
-        dims=_dims(args.dim), kinds=_kinds(args.kind), scale=_scale(args.scale),
+        dims=_dims(args.dim), kinds=_kinds(args.kind), scale=_range("--scale", args.scale, "LO:HI"),
         offset=_number("--offset", args.offset), speed=_number("--speed", args.speed),
         mass_ratio=_number("--mass-ratio", args.mass_ratio),
+        dt=_range("--dt", args.dt), step_travel=_number("--step-travel", args.step_travel),
+        interval=_range("--interval", args.interval),
         tolerance=_number("--tolerance", args.tolerance), rtol=_number("--rtol", args.rtol),
+        angle_tolerance=_number("--angle-tolerance", args.angle_tolerance),
+        velocity_tolerance=_number("--velocity-tolerance", args.velocity_tolerance),
+        time_tolerance=_number("--time-tolerance", args.time_tolerance),
+        fraction_tolerance=_number("--fraction-tolerance", args.fraction_tolerance),
         quantities=_quantities(args.quantities), touching_contact=args.touching_contact,
         strict_conventions=args.strict_conventions, float32=not args.no_float32,
         tags=_tags(args.tag), duration=_number("--duration", args.duration))
@@ -166,7 +200,9 @@ def cmd_advise(args: argparse.Namespace) -> int:
         print(json.dumps(advice.to_json(), indent=2))  # whole lines: never wrapped
         return 0 if advice.cases else 1
     if not advice.cases:
-        fail("no case of the run lies inside this envelope: widen it")
+        unasked = (f" ({advice.not_asked} would, but this --quick run did not ask them)"
+                   if advice.not_asked else "")
+        fail(f"no case of the run lies inside this envelope{unasked}: widen it")
         return 1
     print_advice(advice)
     return 0
@@ -222,8 +258,10 @@ def _g(value: float) -> str:
 TIERS = {"passes": ("pass", "green"), "partial": ("part", "yellow"), "fails": ("fail", "red"),
          "unsupported": ("none", "")}
 """Each tier's word in the table, and its colour."""
-HEADER = ("#", "engine", "tier", "cover", "within", "median ± IQR")
-"""The ranking's columns; the first three read left to right, the numbers align right."""
+HEADER = ("#", "engine", "tier", "cases", "within", "median ± IQR")
+"""The ranking's columns; the first three read left to right, the numbers align right
+(``cases``: the cases of the envelope the engine answers, which its grade rests on; of the
+envelope's, in the line above the table)."""
 COUNTED_HEADER = (*HEADER[:5], "instr/query ± IQR", "wall ± IQR")
 """The ranking's columns when an engine was counted: its instructions per query first, the
 wall-clock time beside them."""
@@ -231,7 +269,7 @@ wall-clock time beside them."""
 
 def _cells(rank: str, engine: EngineAdvice, counted: bool) -> tuple[str, ...]:
     cost = (_count(engine), _time(engine)) if counted else (_time(engine),)
-    return (rank, engine.engine, TIERS[engine.tier][0], _percent(engine.coverage),
+    return (rank, engine.engine, TIERS[engine.tier][0], str(engine.answered),
             _percent(engine.share_within), *cost)
 
 
@@ -279,17 +317,53 @@ def repeat_line(advice: Advice) -> str:
             "every other engine answered the same")
 
 
+UNIT_WORDS = {"m": "lengths", "rad": "angles", "m/s": "velocities", "s": "times",
+              "fraction": "shares of their scale"}
+"""How the accuracy line names each unit's quantities."""
+
+
+def accuracy_text(advice: Advice) -> str:
+    """The accuracy asked of each unit the answer's quantities are in, e.g. 'lengths 1e-09 m
+    or rtol 1e-06 x size, angles: agree only'."""
+    from crosscheck.report.advise_units import UNITS
+
+    need = advice.envelope
+    parts = []
+    for unit in dict.fromkeys(UNITS[q] for q in advice.quantities):
+        value = need.tolerances()[unit]
+        shown = "" if unit == "fraction" else f" {unit}"
+        text = f"{UNIT_WORDS[unit]}" + (": agree only" if value is None else
+                                        f" {value:g}{shown}")
+        if unit == "m" and need.rtol is not None:
+            text += f" or rtol {need.rtol:g} x size"
+        parts.append(text)
+    return ", ".join(parts)
+
+
+def quick_line(advice: Advice) -> str | None:
+    """What a ``--quick`` run left out of the answer (None: not a quick run)."""
+    if not advice.quick:
+        return None
+    steps = QUICK_SCENE_STEPS
+    skipped = (f"{advice.not_asked} cases of this profile not asked (scenes over {steps} "
+               "steps), " if advice.not_asked else "")
+    return (f"a --quick run: {skipped}no timing phase; rerun without --quick for "
+            f"{'them and ' if advice.not_asked else ''}the costs")
+
+
 def print_advice(advice: Advice) -> None:
     """A line per engine, ranked, its worst answer below; the baselines apart; whole at 80
     columns (details: --json)."""
     need = advice.envelope
-    accuracy = ", ".join(x for x in (
-        None if need.tolerance is None else f"tolerance {need.tolerance:g}",
-        None if need.rtol is None else f"rtol {need.rtol:g}") if x) or "agree only"
     family = "".join(f"; tag {tag}" for tag in need.tags) + (
         "" if need.duration is None else f"; at least {need.duration:g} s")
-    say(f"{advice.cases} cases ({', '.join(advice.kinds)}; "
-        f"{', '.join(f'{d}-D' for d in advice.dims)}{family}; {accuracy})")
+    say(f"the answer rests on {advice.cases} cases ({', '.join(advice.kinds)}; "
+        f"{', '.join(f'{d}-D' for d in advice.dims)}{family}); an engine's on those it "
+        "answers (cases)")
+    say(f"accuracy: {accuracy_text(advice)}")
+    quick = quick_line(advice)
+    if quick:
+        say(quick)
     rows = [*((str(rank), e) for rank, e in enumerate(advice.ranking, 1)),
             *(("b", e) for e in advice.baselines)]
     for text in ranking_lines(rows, out.width):

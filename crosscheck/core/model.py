@@ -132,12 +132,29 @@ _MEMBERS: dict[str, tuple[str, ...]] = {
 
 
 class Category(StrEnum):
-    """Why a ``disagree`` happened, judged from the adapter's declared conventions."""
+    """Why a ``disagree`` happened, judged from the adapter's declared conventions.
+
+    ``severity`` ranks them, 0 for the worst: an unexplained ``error``, then ``timestep``
+    (off by a discrete step's lag), ``convention`` (a declared convention) and ``tolerance``
+    (within the engine's declared tolerance), the mildest.  It is the one order of
+    categories: every module that sorts or colours disagreements by category asks it here.
+
+    >>> [str(c) for c in sorted(Category, key=lambda c: c.severity)]
+    ['error', 'timestep', 'convention', 'tolerance']
+    """
 
     CONVENTION = "convention"
     TOLERANCE = "tolerance"
     TIMESTEP = "timestep"
     ERROR = "error"
+
+    @property
+    def severity(self) -> int:
+        """0 (error, unexplained) ... 3 (tolerance): most severe first."""
+        return _CATEGORY_SEVERITY.index(self)
+
+
+_CATEGORY_SEVERITY = (Category.ERROR, Category.TIMESTEP, Category.CONVENTION, Category.TOLERANCE)
 
 
 PAIR_KINDS = ("aabb", "sphere", "sphere_response")

@@ -11,13 +11,16 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, fields
 from typing import Any
 
+QUICK_SCENE_STEPS = 1000
+"""``--quick`` runs a scene only up to this many steps (the rest are ``skip`` rows)."""
+
 
 @dataclass(frozen=True, slots=True)
 class RunOptions:
     """How a run runs, the same for every case (the run's options, recorded in run.json).
 
     ``quick`` is the run's ``--quick``: no timing phase, and scenes over
-    ``crosscheck.run.casework.QUICK_SCENE_STEPS`` steps skipped.  ``timeout_s``
+    :data:`QUICK_SCENE_STEPS` steps skipped (:meth:`skips`).  ``timeout_s``
     limits one case x engine (prepare, query and timing) in its worker;
     ``isolate`` False runs engines in this process (no crash safety); ``jobs``
     is the number of cases run at once in the verdict pass; ``scheduler`` a
@@ -59,6 +62,14 @@ class RunOptions:
     worker_memory_mb: float = 2048.0
     repeat_check: bool = False
     timer: str = "wall"
+
+    def skips(self, step_count: int) -> bool:
+        """Whether the run skipped a scene of ``step_count`` steps for every engine (``--quick``).
+
+        >>> RunOptions(quick=True).skips(30_000), RunOptions().skips(30_000)
+        (True, False)
+        """
+        return self.quick and step_count > QUICK_SCENE_STEPS
 
     def to_json(self) -> dict[str, Any]:
         """The options as plain JSON values."""

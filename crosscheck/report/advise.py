@@ -22,6 +22,11 @@ The user states a scene profile (:mod:`crosscheck.report.advise_profile`);
 A float32 engine ranks only when the profile accepts float32 (else it is
 listed under ``excluded``).  When nothing passes, ``closest`` names the best
 ranked engine and the few cases that decide it.
+
+The answer says what it rests on: the envelope's cases (``cases``), the cases each engine
+answers (``rests_on``), and the cases of the envelope the run never asked because it was a
+``--quick`` run (``not_asked``: scenes over
+:data:`~crosscheck.core.options.QUICK_SCENE_STEPS` steps, left out of the envelope).
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import PAIR_KINDS
+from crosscheck.core.schema import SceneCase
 from crosscheck.report.advise_grade import (
     FAILS,
     PARTIAL,
@@ -47,7 +53,7 @@ from crosscheck.report.advise_grade import (
     cost_key,
     grade,
 )
-from crosscheck.report.advise_judge import judged
+from crosscheck.report.advise_judge import engine_conventions, judged
 from crosscheck.report.advise_profile import Envelope, EnvelopeError
 from crosscheck.results.store import StoredRun
 
@@ -89,6 +95,12 @@ class Advice:
     cost_by: str = WALL
     """How ``passing`` is ordered, cheapest first: :data:`INSTRUCTIONS` (every passing engine
     was counted) or :data:`WALL`."""
+    quick: bool = False
+    """Whether the run was a ``--quick`` run (no timing phase, long scenes not asked)."""
+    not_asked: int = 0
+    """Cases inside the profile that the run asked no engine (``--quick``): not in ``cases``."""
+    rests_on: dict[str, int] = field(default_factory=dict)
+    """The cases each engine's grade rests on (those it answers), by engine."""
 
     @property
     def ranking(self) -> list[EngineAdvice]:
@@ -122,9 +134,11 @@ def requested_kinds(run: StoredRun, envelope: Envelope) -> tuple[str, ...]:
     return envelope.kinds or tuple(k for k in PAIR_KINDS if k in present)
 
 
-def envelope_rows(run: StoredRun, envelope: Envelope) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """The judged rows of the in-envelope cases of the requested kinds, and the rows of the
-    bad-input cases of those kinds and dimensions."""
+def envelope_rows(run: StoredRun, envelope: Envelope
+                  ) -> tuple[pd.DataFrame, pd.DataFrame, int]:
+    """The judged rows of the in-envelope cases of the requested kinds, the rows of the
+    bad-input cases of those kinds and dimensions, and how many in-envelope cases the run
+    asked no engine (``--quick``)."""
     kinds = requested_kinds(run, envelope)
     carried = {tag for case in run.cases.values() for tag in case.tags}
     for tag in envelope.tags:
@@ -134,16 +148,19 @@ def envelope_rows(run: StoredRun, envelope: Envelope) -> tuple[pd.DataFrame, pd.
     mine = {i: c for i, c in run.cases.items() if c.kind_enum in kinds
             and (not envelope.dims or c.dim in envelope.dims)}
     inside = {i for i, c in mine.items() if envelope.holds(c)}
+    not_asked = {i for i in inside if isinstance(case := mine[i], SceneCase)
+                 and run.info.options.skips(case.step_count)}
     bad = {i for i, c in mine.items() if c.bad_input}
     results = run.results
-    rows = judged(results[results["case_id"].isin(inside)], run.cases, envelope)
-    return rows, results[results["case_id"].isin(bad)]
+    rows = judged(results[results["case_id"].isin(inside - not_asked)], run.cases, envelope,
+                  engine_conventions(run.info.engines))
+    return rows, results[results["case_id"].isin(bad)], len(not_asked)
 
 
 def advise(run: StoredRun, envelope: Envelope) -> Advice:
     """The graded, ranked answer of ``run`` for the scene ``envelope`` describes."""
     envelope.check()
-    rows, bad = envelope_rows(run, envelope)
+    rows, bad, not_asked = envelope_rows(run, envelope)
     kinds = tuple(k for k in requested_kinds(run, envelope) if k in set(rows["kind"]))
     dims = tuple(sorted(int(d) for d in rows["dim"].unique()))
     cases = int(rows["case_id"].nunique())
@@ -173,7 +190,9 @@ def advise(run: StoredRun, envelope: Envelope) -> Advice:
         closest=None if closest is None else closest.engine,
         deciding=() if closest is None else _deciding(closest),
         repeat_checked=run.info.repeat_check is not None,
-        cost_by=INSTRUCTIONS if by_counts(passing) else WALL)
+        cost_by=INSTRUCTIONS if by_counts(passing) else WALL,
+        quick=run.info.options.quick, not_asked=not_asked,
+        rests_on={g.engine: g.answered for g in grades})
 
 
 def _deciding(engine: EngineAdvice) -> tuple[str, ...]:

@@ -67,6 +67,9 @@ class Mode:
     """The accuracy allowed at the case of the largest."""
     example: str
     reason: str
+    nature: str = ""
+    """For category ``convention``: what the convention is, ``definition`` (excused, listed
+    under ``conventions``) or ``behaviour`` (judged on its error like any answer)."""
 
 
 @dataclass(frozen=True)
@@ -242,15 +245,17 @@ def _text(value: object) -> str:
 
 
 def _modes(rows: pd.DataFrame) -> tuple[Mode, ...]:
-    """One mode per quantity x status x category, most cases first (rows worst first)."""
+    """One mode per quantity x status x category (and nature), most cases first (rows worst
+    first)."""
     modes = []
-    for (quantity, status, category), group in rows.groupby(
-            ["quantity", "status", rows["category"].fillna("")], sort=False):
+    for (quantity, status, category, nature), group in rows.groupby(
+            ["quantity", "status", rows["category"].fillna(""), rows["nature"].fillna("")],
+            sort=False):
         first = group.iloc[0]
         modes.append(Mode(str(quantity), str(status), str(category),
                           int(group["case_id"].nunique()), _finite(first["measure"]),
                           float(first["allowed"]), str(first["case_id"]),
-                          _text(first["reason"])))
+                          _text(first["reason"]), str(nature)))
     return tuple(sorted(modes, key=lambda m: -m.cases))
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 import functools
 import json
 import re
+import shlex
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -26,6 +27,7 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.report import (
     advise_page,
     charts,
+    coverage_page,
     dynamics,
     energy_chart,
     metamorphic,
@@ -37,6 +39,7 @@ from crosscheck.report import (
     table,
     verdict,
 )
+from crosscheck.report.coverage import CoverageMap, run_map
 from crosscheck.report.mirror import asymmetries
 from crosscheck.report.style import packed
 from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
@@ -100,6 +103,12 @@ class RunView:
         return asymmetries(self.frame)
 
     @functools.cached_property
+    def coverage(self) -> CoverageMap:
+        """Each cell of the configuration space the run's cases reach, per engine: its cases,
+        the worst status and the largest error in bounds (``coverage.csv``)."""
+        return run_map(self.cases, self.frame, self.order)
+
+    @functools.cached_property
     def metamorphic(self) -> pd.DataFrame:
         """Each moved or resized scene point x engine against the engine's own origin run
         (``metamorphic.csv``; empty without such sweeps)."""
@@ -149,6 +158,13 @@ def _matrix(view: RunView) -> Context:
     return {"matrix": group_matrix(view.frame)}
 
 
+def _coverage(view: RunView) -> Context | None:
+    """Heat maps of the configuration space per kind and dimension pair, coloured by the chosen
+    engine's worst status (None: no case of the run has a cell)."""
+    command = shlex.join(["crosscheck", "coverage", str(view.stored.directory)])
+    return coverage_page.section(view.coverage, view.order, command)
+
+
 def _summary(view: RunView) -> Context:
     return {"summary": view.summary.to_dict("records"), "statuses": STATUSES,
             "threshold": speed.UNSTABLE_SPREAD,
@@ -156,10 +172,13 @@ def _summary(view: RunView) -> Context:
 
 
 def _speed(view: RunView) -> Context:
+    """The speed charts; ``counted``: some kind's cost is counted instructions (the section
+    then says how they were counted)."""
     return {"speed": [{"data": chart, "html": Markup(charts.figure_html(chart, view.order))
                        if chart.plotted else None} for chart in view.speed_charts],
             "seconds": speed.seconds, "with_iqr": speed.with_iqr,
-            "threshold": speed.UNSTABLE_SPREAD}
+            "threshold": speed.UNSTABLE_SPREAD,
+            "counted": any(chart.by_counts for chart in view.speed_charts)}
 
 
 def _timing(view: RunView) -> Context:
@@ -210,7 +229,7 @@ def _advise(view: RunView) -> Context:
     """The advise form: it works in the page, over the results table's packed data and the
     facts of :func:`crosscheck.report.advise_page.form_data`."""
     kinds = [str(k) for k in dict.fromkeys(view.frame["kind"])] if len(view.frame) else []
-    data = advise_page.form_data(view.frame, view.cases, view.info.engines)
+    data = advise_page.form_data(view.frame, view.cases, view.info.engines, view.info.options)
     return {"kinds": kinds, "run_id": view.info.run_id,
             "quantities": [str(q) for q in dict.fromkeys(view.frame["quantity"])]
             if len(view.frame) else [],
@@ -242,6 +261,7 @@ SECTIONS: list[Section] = [
     Section("verdict", 5, "_verdict.html.j2", _verdict),
     Section("case errors", 10, "_errors.html.j2", _errors),
     Section("engines x case groups", 20, "_matrix.html.j2", _matrix),
+    Section("coverage", 25, "_coverage.html.j2", _coverage),
     Section("engine x kind", 30, "_summary.html.j2", _summary),
     Section("speed against error", 40, "_speed.html.j2", _speed,
             lambda c: any(chart["html"] for chart in c["speed"])),

@@ -11,7 +11,7 @@ from typing import Any
 
 import pandas as pd
 
-from crosscheck.core.model import Status
+from crosscheck.core.model import Category, Status
 from crosscheck.report import query_cost
 from crosscheck.report.frames import records
 
@@ -76,10 +76,12 @@ def summary(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 def disagreements(frame: pd.DataFrame) -> pd.DataFrame:
-    """Every row that is not agree/skip/undefined, most severe first."""
+    """Every row that is not agree/skip/undefined, most severe first: by status
+    (:attr:`Status.severity`), then category (:attr:`Category.severity`; none last), then
+    the largest error."""
     bad = frame[frame["status"].isin(Status.members("breaking"))].copy()
     severity = {str(s): s.severity for s in Status}
-    category = {"error": 0, "tolerance": 1, "convention": 2, "": 3}
+    category = {str(c): c.severity for c in Category} | {"": len(Category)}
     bad["_s"] = bad["status"].map(severity)
     bad["_c"] = bad["category"].fillna("").map(category)
     bad = bad.sort_values(["_s", "_c", "error"], ascending=[True, True, False])

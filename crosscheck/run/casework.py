@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
 from crosscheck.core.model import Observation, Status, quantities_of
-from crosscheck.core.options import RunOptions
+from crosscheck.core.options import QUICK_SCENE_STEPS, RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.run.execute import Executor, Outcome, case_options, run_calls
 from crosscheck.truth import oracle
@@ -54,7 +54,7 @@ def execute_cases(items: Sequence[tuple[AnyCase, Pairs]], adapters: Sequence[Ada
     slots: list[list[tuple[int, Outcome | int | None]]] = []
     calls: list[tuple[Adapter, AnyCase, RunOptions, bool, frozenset[str]]] = []
     for case, done in items:
-        skipped = _quick_skip(case) if options.quick else None
+        skipped = _quick_skip(case, options)
         truths.append(oracle.truth(case) if skipped is None else Observation())
         mine: list[tuple[int, Outcome | int | None]] = []
         for k, adapter in enumerate(adapters):
@@ -73,13 +73,8 @@ def execute_cases(items: Sequence[tuple[AnyCase, Pairs]], adapters: Sequence[Ada
         for (case, _), truth, mine in zip(items, truths, slots, strict=True)]
 
 
-
-QUICK_SCENE_STEPS = 1000
-"""``--quick`` runs a scene only up to this many steps (the rest are ``skip`` rows)."""
-
-
-def _quick_skip(case: AnyCase) -> Outcome | None:
-    if isinstance(case, SceneCase) and case.step_count > QUICK_SCENE_STEPS:
+def _quick_skip(case: AnyCase, options: RunOptions) -> Outcome | None:
+    if isinstance(case, SceneCase) and options.skips(case.step_count):
         return Outcome(None, Status.SKIP, f"--quick runs scenes of at most {QUICK_SCENE_STEPS} "
                                           f"steps; this one takes {case.step_count}")
     return None

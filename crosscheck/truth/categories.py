@@ -48,7 +48,16 @@ from crosscheck.truth.allowance import (
 )
 from crosscheck.truth.bounds import bound, error_of
 
-__all__ = ["Allowance", "Explained", "allowance", "approach_speed", "categorize",
+DETECTION_CONVENTIONS = ("no_value", "touching", "negative_extents")
+"""The declared conventions whose rules make a detection pair's disagreement a
+``convention``: an answer with no value under a declared rule, the touching rule, the reading
+of a negative size."""
+RESPONSE_CONVENTIONS = ("no_value", *response_rules.CASE_RULES, "max_speed",
+                        *contact_model.CONVENTIONS)
+"""The same for a response, in the order they are tried."""
+
+__all__ = ["DETECTION_CONVENTIONS", "RESPONSE_CONVENTIONS", "Allowance", "Explained",
+           "allowance", "approach_speed", "categorize",
            "length_scale", "nearest_feature", "touch_feature", "velocity_scale"]
 
 

@@ -45,6 +45,9 @@ from crosscheck.core.geometry import Vec, difference, dot, norm
 from crosscheck.core.model import Observation
 from crosscheck.core.schema import ResponseCase
 
+CONVENTIONS = ("restitution_model", "friction")
+"""The declared conventions :func:`explain` reads (fields of
+:class:`~crosscheck.core.conventions.Conventions`)."""
 SLACK = 2.0
 """How many of the engine's velocity allowances the impulse checks may be off by."""
 

@@ -36,6 +36,11 @@ from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth import scene_measures as sm
 from crosscheck.truth.scenes import PRECISION_FACTOR, damping_bound, simulated_time
 
+CONVENTIONS = ("rest_gap", "rest_sink_s2", "restitution_model", "restitution_threshold",
+               "damping")
+"""The declared conventions whose rules make a measure's disagreement a ``convention``: the
+rest band and the soft sink, a soft restitution, the restitution threshold, the damping
+(fields of :class:`~crosscheck.core.conventions.Conventions`)."""
 ULPS = 8.0
 """A float64 simulation's rounding, in units of the ulp of the scene's largest coordinate."""
 

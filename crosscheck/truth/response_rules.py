@@ -35,6 +35,7 @@ it applies no force, and the answer is the bodies' own velocities.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from fractions import Fraction
 
 from crosscheck.core.contract import Conventions
@@ -45,24 +46,54 @@ from crosscheck.truth import oracle
 from crosscheck.truth.allowance import approach_speed
 from crosscheck.truth.bounds import error_of
 
-__all__ = ["convention", "missed"]
+__all__ = ["CASE_RULES", "case_rule", "convention", "missed"]
 
 
 def convention(case: ResponseCase, conv: Conventions, quantity: str, value: Value,
                observation: Observation, tolerance: float) -> str:
     """The declared rule that explains the engine's answer ('' if none does)."""
-    zero = [side for side, body in (("A", case.a), ("B", case.b)) if body.mass == 0]
-    if zero and conv.zero_mass == "static":
-        return (f"body {zero[0]} has mass 0: the engine makes it static (immovable), the "
-                "textbook gives it no inertia")
-    speed = approach_speed(case)
-    if speed <= 0 and not conv.resolves_separating:
-        return (f"bodies already separating (approach speed {speed:.3g} <= 0): the engine "
-                "leaves them alone, the textbook exchanges momentum regardless")
-    if 0 < speed < conv.restitution_threshold:
-        return (f"approach speed {speed:.9g} below the engine's restitution threshold "
-                f"{conv.restitution_threshold:.9g}: the bounce is inelastic")
+    for rule in CASE_RULES.values():
+        reason = rule(case, conv)
+        if reason:
+            return reason
     return _speed_cap(case, conv, quantity, value, observation, tolerance)
+
+
+def _zero_mass(case: ResponseCase, conv: Conventions) -> str:
+    zero = [side for side, body in (("A", case.a), ("B", case.b)) if body.mass == 0]
+    if not (zero and conv.zero_mass == "static"):
+        return ""
+    return (f"body {zero[0]} has mass 0: the engine makes it static (immovable), the "
+            "textbook gives it no inertia")
+
+
+def _separating(case: ResponseCase, conv: Conventions) -> str:
+    speed = approach_speed(case)
+    if not (speed <= 0 and not conv.resolves_separating):
+        return ""
+    return (f"bodies already separating (approach speed {speed:.3g} <= 0): the engine "
+            "leaves them alone, the textbook exchanges momentum regardless")
+
+
+def _below_threshold(case: ResponseCase, conv: Conventions) -> str:
+    speed = approach_speed(case)
+    if not 0 < speed < conv.restitution_threshold:
+        return ""
+    return (f"approach speed {speed:.9g} below the engine's restitution threshold "
+            f"{conv.restitution_threshold:.9g}: the bounce is inelastic")
+
+
+CASE_RULES: dict[str, Callable[[ResponseCase, Conventions], str]] = {
+    "zero_mass": _zero_mass, "resolves_separating": _separating,
+    "restitution_threshold": _below_threshold}
+"""The rules that fire on the case and the conventions alone, in the order they are tried,
+each under the convention (a field of :class:`Conventions`) it reads; the speed cap
+(``max_speed``), which reads the engine's answer too, comes after them."""
+
+
+def case_rule(case: ResponseCase, conv: Conventions) -> str:
+    """The convention of the first of :data:`CASE_RULES` that fires on ``case`` ('' none)."""
+    return next((name for name, rule in CASE_RULES.items() if rule(case, conv)), "")
 
 
 # --- the speed cap -------------------------------------------------------------------------

@@ -41,6 +41,13 @@ from crosscheck.truth.scenes import (
     truth,
 )
 
+CONVENTIONS = tuple(dict.fromkeys((
+    "max_speed", "restitution_threshold", "damping", *measure_rules.CONVENTIONS)))
+"""The declared conventions whose rules make a scene quantity's disagreement a
+``convention``: the speed cap, the restitution threshold, the damping, and the measures'
+(:data:`crosscheck.truth.measure_rules.CONVENTIONS`, whose settle rows the positions
+follow)."""
+
 
 def _free_flight(case: SceneCase) -> tuple[Vec, ...]:
     """Every body's initial velocity: what an engine that resolved no impact ends with."""

@@ -278,9 +278,32 @@ def step_travel(case: SceneCase) -> float:
     head-on pair can cross it between two steps, and an engine that only looks for
     contacts at the steps never sees them touch.
     """
-    a, b = case.bodies[0], case.bodies[1]
+    return pair_travel(case.bodies[0], case.bodies[1], case.dt or DEFAULT_DT)
+
+
+def pair_travel(a: Any, b: Any, dt: float) -> float:
+    """Per-step travel of two bodies (anything with a ``velocity`` and a ``radius``):
+    ``|vb - va| dt / (2 (ra + rb))``."""
     closing = norm([x - y for x, y in zip(a.velocity, b.velocity, strict=True)])
-    return closing * (case.dt or DEFAULT_DT) / (2.0 * (a.radius + b.radius))
+    return float(closing * dt / (2.0 * (a.radius + b.radius)))
+
+
+def largest_step_travel(case: SceneCase) -> float:
+    """The per-step travel of the scene's fastest pair at the start (:func:`pair_travel` of
+    every two bodies; 0 for one body): for two bodies, :func:`step_travel`.
+
+    >>> from crosscheck.core.schema import CASE_ADAPTER
+    >>> scene = CASE_ADAPTER.validate_python({"id": "s", "description": "d",
+    ...     "kind": "sphere_scene", "dim": 2, "duration": 1.0, "dt": 0.1, "bodies": [
+    ...     {"center": [0, 0], "radius": 0.5, "mass": 1, "velocity": [1, 0]},
+    ...     {"center": [3, 0], "radius": 0.5, "mass": 1, "velocity": [-1, 0]},
+    ...     {"center": [9, 0], "radius": 0.5, "mass": 1, "velocity": [0, 0]}]})
+    >>> round(largest_step_travel(scene), 12), round(step_travel(scene), 12)
+    (0.1, 0.1)
+    """
+    dt, bodies = case.dt or DEFAULT_DT, case.bodies
+    return max((pair_travel(a, b, dt) for i, a in enumerate(bodies) for b in bodies[i + 1:]),
+               default=0.0)
 
 
 def aligned(case: SceneCase, impacts: Sequence[float]) -> list[float]:

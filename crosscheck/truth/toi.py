@@ -56,6 +56,9 @@ from crosscheck.core.schema import ToiCase
 from crosscheck.truth.bounds import K_ANGLE, TINY, U, error_of, failed, is_unit
 from reference_impl.toi import time_of_impact
 
+CONVENTIONS = ("toi_target", "touching", "toi_end_excluded")
+"""The declared conventions whose rules make a disagreement a ``convention`` (see the module
+docstring; fields of :class:`~crosscheck.core.conventions.Conventions`)."""
 K_TOI = 16
 """Operation-count factor of the time bound (a dozen roundings of ``f``, with room)."""
 NO_CONTACT = "no contact in the interval"

@@ -17,16 +17,16 @@ from tests.report.browser import opened
 
 REAL_PROFILES = [
     ({"dim": "3", "kind": "sphere", "lo": "0.01", "hi": "10", "offset": "10",
-      "tolerance": "1e-9"},
+      "tolerance": "1e-9", "angle": "1e-9"},
      ["--dim", "3", "--kind", "sphere", "--scale", "0.01:10", "--offset", "10",
-      "--tolerance", "1e-9"]),
+      "--tolerance", "1e-9", "--angle-tolerance", "1e-9"]),
     ({"dim": "2", "kind": "sphere", "lo": "0.1", "hi": "10", "offset": "1e3",
-      "tolerance": "1e-6"},
+      "tolerance": "1e-6", "angle": "1e-6"},
      ["--dim", "2", "--kind", "sphere", "--scale", "0.1:10", "--offset", "1e3",
-      "--tolerance", "1e-6"]),
-    ({"kind": "sphere_response", "ratio": "1e3", "speed": "10", "tolerance": "1e-9"},
+      "--tolerance", "1e-6", "--angle-tolerance", "1e-6"]),
+    ({"kind": "sphere_response", "ratio": "1e3", "speed": "10", "velocity": "1e-9"},
      ["--kind", "sphere_response", "--mass-ratio", "1e3", "--speed", "10",
-      "--tolerance", "1e-9"]),
+      "--velocity-tolerance", "1e-9"]),
     ({"tolerance": "1e-6", "rtol": "1e-6", "quantities": "hit,distance"},
      ["--tolerance", "1e-6", "--rtol", "1e-6", "--quantities", "hit,distance"]),
 ]
@@ -34,9 +34,9 @@ REAL_PROFILES = [
 FULL_PROFILES = [
     REAL_PROFILES[0],
     ({"dim": "3", "kind": "aabb", "lo": "0.1", "hi": "10", "offset": "1e4",
-      "tolerance": "1e-4"},
+      "tolerance": "1e-4", "angle": "1e-4"},
      ["--dim", "3", "--kind", "aabb", "--scale", "0.1:10", "--offset", "1e4",
-      "--tolerance", "1e-4"]),
+      "--tolerance", "1e-4", "--angle-tolerance", "1e-4"]),
     REAL_PROFILES[1],
     REAL_PROFILES[2],
 ]
@@ -49,7 +49,9 @@ def submit(page: Page, fields: dict[str, str]) -> list[tuple[str, ...]]:
     engine was counted, instructions per query ± IQR and the wall clock's median ± IQR)."""
     for name in ("dim", "kind"):
         page.select_option(f"#advise-form select[name={name}]", fields.get(name, ""))
-    for name in ("lo", "hi", "offset", "speed", "ratio", "tolerance", "rtol", "quantities"):
+    for name in ("lo", "hi", "offset", "speed", "ratio", "dt", "travel", "lasts", "interval",
+                 "tag", "tolerance", "rtol", "angle", "velocity", "time", "fraction",
+                 "quantities"):
         page.fill(f"#advise-form input[name={name}]", fields.get(name, ""))
     page.click("#advise-go")
     page.wait_for_function("!/Judging/.test(document.getElementById('advise-out').textContent)")

@@ -136,11 +136,19 @@ def test_a_declared_touching_rule_is_a_convention_unless_touching_must_count(
     assert strict.tier == "fails" and strict.failing_cases == ("s3-touch",)
 
 
-def test_conventions_are_judged_on_their_error_only_when_the_profile_says_so() -> None:
+def test_definitions_are_judged_on_their_error_only_when_the_profile_says_so() -> None:
     row = ("disagree", "distance", "convention", 0.002, math.nan, 1e-9)
-    assert judge(Envelope(), *row) == "convention"
-    assert judge(Envelope(strict_conventions=True), *row) == "wrong"
-    assert judge(Envelope(strict_conventions=True), *row[:-1], 0.01) == "within"
+    assert judge(Envelope(), *row, nature="definition") == "convention"
+    assert judge(Envelope(strict_conventions=True), *row, nature="definition") == "wrong"
+    assert judge(Envelope(strict_conventions=True), *row[:-1], 0.01,
+                 nature="definition") == "within"
+
+
+def test_a_behaviour_is_always_judged_on_its_error() -> None:
+    row = ("disagree", "energy_drift", "convention", 0.9, math.nan)
+    assert judge(Envelope(), *row, 1e-3, nature="behaviour") == "wrong"
+    assert judge(Envelope(), *row, 1.0, nature="behaviour") == "within"
+    assert judge(Envelope(), *row, 1e-3) == "wrong"  # resting on nothing named: not excused
 
 
 def test_an_engine_that_skips_part_of_the_envelope_never_outranks_by_skipping(
