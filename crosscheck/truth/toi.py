@@ -28,7 +28,8 @@ lengths it divides).  ``hit`` is right or wrong.
   the interval) of the exact one;
 - ``timestep``: an engine that samples the interval (``toi_samples`` evenly spaced
   discrete tests, 2 for the two ends) reported the first sample that overlaps, or saw
-  no contact because it fell between its samples;
+  no contact because it fell between its samples (a sample within the engine's precision
+  of touching may round either way: a pair touching at the start can read apart there);
 - ``convention`` also: no contact for a first touch exactly at the interval's end, by an
   engine that declares the end excluded (``toi_end_excluded``);
 - ``error``: none of these.  A normal gets the category of its time when it is right
@@ -117,7 +118,7 @@ class Motion:
     def time_bound(self, t: float, unit: float) -> float:
         """How far rounding at relative ``unit`` moves the first root ``t`` (module docstring)."""
         a = math.fsum(v * v for v in self.dv)
-        if a == 0 or t == 0:
+        if a == 0:  # at t = 0 the root still moves: a pair touching at the start rounds apart
             return K_TOI * TINY
         b = math.fsum(p * v for p, v in zip(self.dp, self.dv, strict=True))
         c = math.fsum(p * p for p in self.dp) - self.radius**2
@@ -257,7 +258,8 @@ def _at_time(case: ToiCase, conv: Conventions, motion: Motion, when: float,
             f"{case.duration:g} s interval ({allowed:.3g} s, or {short:.3g} of closing travel "
             "short of contact)")
     times = sample_times(case, conv)
-    earlier = [t for t in times if t < when and motion.gap(t) <= 0]
+    fuzz = precision(conv, case)  # a sample this close to touching may round either way
+    earlier = [t for t in times if t < when and motion.gap(t) <= -fuzz]
     if (any(math.isclose(when, t, rel_tol=1e-12, abs_tol=0.0) for t in times)
             and gap <= 0 and when >= exact and not earlier):
         return Category.TIMESTEP, (
@@ -304,9 +306,10 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
             f"the first contact is exactly at the interval's end t = {exact!r}, which the "
             "engine's query excludes (declared toi_end_excluded)")
     times = sample_times(case, conv)
+    fuzz = precision(conv, case)  # a sample this close to touching may round either way
     if times and all(motion.gap(t) > 0 or (motion.gap(t) == 0
                                             and not conv.touching_is_contact("sphere"))
-                     for t in times):
+                     or -fuzz < motion.gap(t) < 0 for t in times):
         return Category.TIMESTEP, (
             f"the engine samples the interval at {len(times)} evenly spaced times (declared "
             f"toi_samples); the exact contact at t = {exact!r} falls between them: no sample "

@@ -159,3 +159,34 @@ def test_a_declared_rule_is_named_before_the_precision_that_would_also_cover_it(
     excluded = judge(end, Conventions(toi_end_excluded=True), "hit", False, oracle.truth(end),
                      engine)
     assert excluded.category == Category.CONVENTION and "interval's end" in excluded.reason
+
+
+TOUCHING_AT_START = {  # spheres touching exactly at t = 0 along (4, -8, -1) / 9, approaching
+    "dim": 3, "duration": 1.0,
+    "a": {"center": [0.0, 0.0, 0.0], "radius": 1.0,
+          "velocity": [0.2222222222222222, -0.4444444444444444, -0.05555555555555555]},
+    "b": {"center": [0.8888888888888857, -1.7777777777777715, -0.22222222222222143],
+          "radius": 0.9999999999999929,
+          "velocity": [-0.2222222222222222, 0.4444444444444444, 0.05555555555555555]}}
+
+
+def test_a_pair_touching_at_the_start_may_round_apart_within_the_time_bound() -> None:
+    case = crossing(**TOUCHING_AT_START)
+    truth = oracle.truth(case)
+    assert truth.toi == 0.0 and float64_root(case) > 0  # float64 reads the pair apart
+    assert judge(case, Conventions(), "toi", float64_root(case), truth).status is Status.AGREE
+    assert judge(case, Conventions(), "toi", 1e-9, truth).status is Status.DISAGREE
+
+
+def test_a_sampling_engine_that_reads_a_touch_at_its_first_sample_as_apart_is_timestep(
+        ) -> None:
+    case = crossing(**TOUCHING_AT_START)
+    truth = oracle.truth(case)
+    sampled = Conventions(toi_samples=2)  # the two ends, as the reference variants
+    observed = Observation(hit=True, toi=1.0, normal=truth.normal)
+    verdict = judge(case, sampled, "toi", 1.0, truth, observed)
+    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.TIMESTEP)
+    clearly = crossing(**TOUCHING_AT_START | {"b": TOUCHING_AT_START["b"] | {"radius": 1.5}})
+    verdict = judge(clearly, sampled, "toi", 1.0, oracle.truth(clearly),
+                    Observation(hit=True, toi=1.0, normal=truth.normal))
+    assert verdict.category is Category.ERROR  # overlapping by 0.5 at t = 0: not rounding
