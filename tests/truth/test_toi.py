@@ -162,7 +162,7 @@ def test_a_declared_rule_is_named_before_the_precision_that_would_also_cover_it(
     assert excluded.category == Category.CONVENTION and "interval's end" in excluded.reason
 
 
-TOUCHING_AT_START: dict[str, Any] = {  # spheres touching exactly at t = 0 along (4, -8, -1) / 9, approaching
+TOUCHING_AT_START: dict[str, Any] = {  # touching exactly at t = 0 along (4, -8, -1) / 9
     "dim": 3, "duration": 1.0,
     "a": {"center": [0.0, 0.0, 0.0], "radius": 1.0,
           "velocity": [0.2222222222222222, -0.4444444444444444, -0.05555555555555555]},
