@@ -389,8 +389,9 @@ ADVICE_PROFILES = (
     "--dim 3 --kind sphere --scale 0.01:10 --offset 10 --tolerance 1e-9 --angle-tolerance 1e-9",
     "--dim 3 --kind aabb --scale 0.1:10 --offset 1e4 --tolerance 1e-4 --angle-tolerance 1e-4",
     "--dim 2 --kind sphere --scale 0.1:10 --offset 1e3 --tolerance 1e-6 --angle-tolerance 1e-6",
-    "--kind sphere_response --mass-ratio 1e3 --speed 10 --velocity-tolerance 1e-9",
-    "--kind sphere_response --mass-ratio 1e3 --speed 10 --velocity-tolerance 1e-9 --scale 0:10",
+    "--kind sphere_response --mass-ratio 1e3 --speed 10 --offset 1e3 --velocity-tolerance 1e-9",
+    "--kind sphere_response --mass-ratio 1e3 --speed 10 --offset 1e3 --velocity-tolerance 1e-9 "
+    "--scale 0:10",
 )
 """The four scene profiles of docs/comparing-and-advice.md, as ``advise`` options, and the
 fourth again with ``--scale 0:10``, which admits zero-size bodies (without ``--scale`` every
