@@ -35,7 +35,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 from crosscheck.cases.realize import realize
-from crosscheck.cases.space import SPACES, STRONG, Cell, Space, classify, space_of
+from crosscheck.cases.space import SPACES, Cell, Space, classify, space_of
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, CoverBlock
 
@@ -116,7 +116,7 @@ def plan_of(block: CoverBlock) -> Plan:
                                                f"(its levels: {', '.join(levels[name])})")
         levels[name] = tuple(chosen)
     strong = block.strong if block.strong is not None else tuple(
-        n for n in STRONG if n in levels)
+        n for n in space.strong if n in levels)
     if block.strength == 3 and (len(strong) < 3 or not set(strong) <= set(levels)):
         raise CoverError("strong", f"strength 3 needs three or more of the block's dimensions "
                                    f"(got {list(strong)})")
@@ -228,9 +228,10 @@ class Coverage:
 
 
 def full_plan(space: Space, strength: int) -> Plan:
-    """Every dimension at every level (strength 3: of the strong dimensions)."""
+    """Every dimension at every level (strength 3: also the triples of the space's strong
+    dimensions)."""
     levels = {d.name: d.levels for d in space.dimensions}
-    return Plan(space, levels, strength, tuple(n for n in STRONG if n in levels))
+    return Plan(space, levels, strength, space.strong)
 
 
 def coverage(cases: Iterable[AnyCase], strength: int = 2) -> list[Coverage]:

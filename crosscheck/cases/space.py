@@ -69,6 +69,11 @@ class Space:
     def dimension(self, name: str) -> Dimension:
         return next(d for d in self.dimensions if d.name == name)
 
+    @property
+    def strong(self) -> tuple[str, ...]:
+        """The dimensions covered three at a time: :data:`STRONG`, or a response's."""
+        return STRONG if set(STRONG) <= set(self.names) else RESPONSE_STRONG
+
 
 def _numeric(name: str, tokens: Sequence[str], doc: str) -> Dimension:
     return Dimension(name, tuple(tokens), doc, tuple(float(t) for t in tokens))
@@ -114,6 +119,8 @@ DURATION = _numeric("duration", ("1e-3", "1", "1e3"), "times of impact: the inte
 
 STRONG = ("direction", "gap", "size_ratio")
 """The dimensions a strength-3 design covers three at a time (the rest two at a time)."""
+RESPONSE_STRONG = ("direction", "size_ratio", "mass_ratio")
+"""A response's (it has no gap: its bodies are in contact)."""
 
 
 def _geometry(dim: int, gaps: tuple[str, ...]) -> tuple[Dimension, ...]:
