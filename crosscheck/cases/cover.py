@@ -19,9 +19,9 @@ of cases covers, whatever made them.
 >>> block = CoverBlock(id="cv", description="d", kind="sphere", dim=2,
 ...                    dimensions=("direction", "gap"), levels={"gap": ("0", "+1")})
 >>> [c.id for c in expand_cover(block).cases]  # doctest: +NORMALIZE_WHITESPACE
-['cv.dir=+x,gap=0', 'cv.dir=+x,gap=+1', 'cv.dir=-x,gap=0', 'cv.dir=-x,gap=+1',
- 'cv.dir=+y,gap=0', 'cv.dir=+y,gap=+1', 'cv.dir=diag-2,gap=+1', 'cv.dir=oblique,gap=0',
- 'cv.dir=-y,gap=0', 'cv.dir=-y,gap=+1', 'cv.dir=oblique,gap=+1']
+['cv.dir=+x,gap=+1', 'cv.dir=+x,gap=0', 'cv.dir=+y,gap=+1', 'cv.dir=+y,gap=0',
+ 'cv.dir=-x,gap=+1', 'cv.dir=-x,gap=0', 'cv.dir=-y,gap=+1', 'cv.dir=-y,gap=0',
+ 'cv.dir=diag-2,gap=+1', 'cv.dir=oblique,gap=+1', 'cv.dir=oblique,gap=0']
 >>> expand_cover(block).unreachable
 [(('direction', 'diag-2'), ('gap', '0'))]
 """

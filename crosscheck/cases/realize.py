@@ -13,7 +13,6 @@ elsewhere: the covering design then records it as out of reach
 >>> import random
 >>> from crosscheck.cases.space import SPACES, classify
 >>> from crosscheck.core.model import Kind
-from reference_impl import exact
 >>> from crosscheck.core.schema import CASE_ADAPTER
 >>> cell = {"direction": "oblique", "gap": "0", "size_ratio": "1e3", "scale": "1e-6"}
 >>> data = realize(SPACES[Kind.SPHERE, 3], cell, random.Random(1))

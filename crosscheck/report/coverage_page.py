@@ -48,9 +48,10 @@ from crosscheck.report.style import packed, templates
 PAGE = "coverage.html"
 """The coverage page ``crosscheck coverage`` writes beside ``coverage.csv``."""
 EMPTY, NO_ROW, NO_CELL = ".", "-", "x"
-"""Status codes of a cell that holds no case, that the engine has no row in, that does not exist."""
+"""Label codes of a cell that holds no case, that the engine has no row in, that does not exist."""
 CODES = string.digits + string.ascii_letters
-"""The characters of the error codes, in the order of :func:`error_labels`."""
+"""The characters of the codes: a label's by its rank in
+:data:`~crosscheck.report.coverage.LABELS`, an error's in the order of :func:`error_labels`."""
 INK = "#222"
 """The colour of a cell's number (on a light cell)."""
 EMPTY_COLOUR = "repeating-linear-gradient(45deg, #fff 0 3px, #c8c8c8 3px 5px)"

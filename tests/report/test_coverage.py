@@ -316,3 +316,18 @@ def test_the_report_has_the_coverage_section_with_its_packed_grids(tmp_path: Any
         worst = int(label_ranks(mine["status"], mine["category"]).min())
         assert code_at(g, e, "+x", "+1") == coverage_page.CODES[worst]
     assert int(found.table["cases"].max()) == 3  # the bad-input case is in no cell
+
+
+def test_the_coverage_page_is_the_section_open_in_a_page_of_its_own() -> None:
+    case = along_y(id="y1")
+    found = campaign_map([case], rows_of([]), ["e"])
+    html = coverage_page.page_html(found, ["e"], "crosscheck coverage CAMPAIGN", "coverage of X",
+                                   "Fuzz campaign X: 1 case.", "campaign")
+    assert '<details class="fold" id="coverage" open>' in html
+    assert "<h1>Collision Crosscheck: coverage of X</h1>" in html
+    assert "Each case of the campaign" in html and "window.unpack = function" in html
+    assert embedded(html, "coverage-data")["engines"] == ["e"]
+    bad = along_y(id="bad", tags=["bad-input"])
+    nothing = coverage_page.page_html(campaign_map([bad], rows_of([]), ["e"]), ["e"], "c", "t",
+                                      "a", "campaign")
+    assert "No case of this folder has a cell" in nothing and 'id="coverage"' not in nothing

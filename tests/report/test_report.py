@@ -411,7 +411,7 @@ def test_unstable_share_in_hover_and_caption(timed_html: str) -> None:
     assert (fast.unstable, fast.timed) == (1, 5)
     assert "1 of 5 timings unstable (IQR &gt; 10% of median)" in charts.hover(
         fast, timed_chart().measure)
-    sphere_part = part(timed_html, 'id="speed-sphere-section"', "</details>")
+    sphere_part = part(timed_html, 'id="speed-sphere-section"', 'id="speed-sphere-times"')
     assert "4 of 15 timings unstable (IQR &gt;\n10% of median)" in sphere_part
     assert "0 of 2 timings unstable" in part(timed_html, '"speed-sphere_response-section"', "<h2")
 
