@@ -24,7 +24,15 @@ from crosscheck.run.runner import score_case
 from crosscheck.run.worker import WorkerPool
 from crosscheck.studies.fuzz import campaign
 from crosscheck.studies.fuzz.findings import Signature
-from crosscheck.studies.fuzz.shrink import HANGS, MAX_CALLS, complexity, numbers, shrink_case
+from crosscheck.studies.fuzz.shrink import (
+    HANGS,
+    MAX_CALLS,
+    build,
+    complexity,
+    in_contact,
+    numbers,
+    shrink_case,
+)
 from crosscheck.testing.fakes import AlwaysRight, OffByOne
 from crosscheck.truth import oracle
 
@@ -253,3 +261,15 @@ def test_a_resumed_campaign_shrinks_as_an_uninterrupted_one(tmp_path: Path) -> N
         "-shrunk" in text for text in toml_files(whole).values())
     info = json.loads((killed / "fuzz.json").read_text())
     assert info["chunks_run"] == 0 and info["shrink_per_group"] == campaign.SHRINK
+
+
+def test_a_response_in_contact_shrinks_only_to_responses_in_contact() -> None:
+    touching = CASE_ADAPTER.validate_python({
+        "id": "r", "description": "d", "kind": "sphere_response", "dim": 2,
+        "a": {"center": [0.0, 0.0], "radius": 1.0, "mass": 1.0, "velocity": [1.0, 0.0]},
+        "b": {"center": [2.0, 0.0], "radius": 1.0, "mass": 1.0, "velocity": [0.0, 0.0]}})
+    assert in_contact(touching)
+    apart = numbers(touching) | {("b", "center", 0): 1e9}
+    assert build(touching, apart) is None  # moved apart: another question
+    closer = numbers(touching) | {("b", "center", 0): 1.5}
+    assert build(touching, closer) is not None

@@ -1,5 +1,7 @@
 """Shrinking a fuzz finding to a minimal case that still fails the same way (hypothesis-style).
 
+Over 400 lines: the moves, the search and its sort key are one algorithm, kept together.
+
 Fuzz cases are noisy by design (offsets of 1e6, 17-digit numbers, lengths of 1e-9).
 :func:`shrink_case` greedily keeps simpler cases that still *fail the same way*: the engine,
 run on the candidate as a campaign runs a case (:func:`~.lanes.fuzz_outcome`) and scored by
@@ -18,8 +20,8 @@ bodies on one axis, *zero* a coordinate, *rescale* lengths, velocities, masses o
 (B moved to keep the gap).  Sizes, masses and the duration stay positive: a zero size is a
 degenerate body, another regime than the finding's.  Candidates are tried simplest first
 (binary searches where a move has a range), only valid ones (``semantic_problems`` empty,
-not bad-input), none twice; a move that failed is tried again once its numbers change, and
-a last round tries every move.
+not bad-input; a response in contact stays in contact), none twice; a move that failed is
+tried again once its numbers change, and a last round tries every move.
 
 Engine calls go through an executor (a :class:`~crosscheck.run.worker.WorkerPool`), so a
 candidate that crashes or hangs the engine only does not fail the same way (unless the
@@ -40,11 +42,12 @@ from crosscheck.cases.load import semantic_problems
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase, SceneCase
 from crosscheck.run.execute import Executor
 from crosscheck.studies.fuzz.findings import Signature
 from crosscheck.studies.fuzz.lanes import fuzz_outcome, judge_chunk
 from crosscheck.truth import oracle
+from reference_impl import exact
 
 MAX_CALLS = 300
 """Engine calls a finding may take to shrink (the first re-runs the finding itself)."""
@@ -115,7 +118,19 @@ def build(template: AnyCase, values: Numbers) -> AnyCase | None:
         made = CASE_ADAPTER.validate_python(data)
     except ValidationError:
         return None
-    return None if made.bad_input or semantic_problems(made) else made
+    if made.bad_input or semantic_problems(made) or (in_contact(template)
+                                                     and not in_contact(made)):
+        return None
+    return made
+
+
+def in_contact(case: AnyCase) -> bool:
+    """A response whose spheres touch or overlap: a shrunk response stays one (spheres moved
+    apart ask another question: an engine that steps them never collides them)."""
+    if not isinstance(case, ResponseCase):
+        return False
+    contact = exact.sphere_contact(case.a.center, case.a.radius, case.b.center, case.b.radius)
+    return not float(getattr(contact, "distance", math.inf)) > 0
 
 
 def decimal_digits(x: float) -> int:
