@@ -231,4 +231,19 @@ def categorize(case: PairCase, conv: Conventions, quantity: str, value: Value, e
     if why:
         return Explained(Category.TOLERANCE, why, at_contact)
     return Explained(Category.ERROR, f"error {err:.3g} beyond the agree bound {agree:.3g} and "
-                     f"the engine's {allowed}; no declared convention applies", at_contact)
+                     f"{_declared(quantity, truth, allowed)}; no declared convention applies",
+                     at_contact)
+
+
+def _declared(quantity: str, truth: Observation, allowed: Allowance) -> str:
+    """The engine's declared tolerance as it acts on ``quantity``: a normal's is the tilt its
+    length tolerance gives across the gap (radians), not the length itself; a verdict's acts
+    on the gap, not on the verdict's error of 1."""
+    gap = abs(_gap(truth))
+    if quantity == "normal" and gap > 0:
+        tilt = min(math.pi, allowed.total / gap)
+        return (f"the tilt {tilt:.3g} rad that the engine's {allowed} gives a normal across "
+                f"a gap of {gap:.3g}")
+    if quantity == "hit" and math.isfinite(gap):
+        return f"the |gap| {gap:.3g} beyond the engine's {allowed}"
+    return f"the engine's {allowed}"

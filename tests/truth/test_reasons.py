@@ -85,6 +85,15 @@ def _check(case: AnyCase, conv: Conventions, quantity: str, verdict: Verdict) ->
     for err, limit in re.findall(r"error ([0-9.e+-]+) within the engine's declared tolerance "
                                  r"([0-9.e+-]+)", reason):
         assert float(err) <= float(limit) * 1.001
+    beyond = r"error ([0-9.e+-]+) beyond the agree bound [0-9.e+-]+ and "
+    for err, limit in re.findall(beyond + r"the engine's declared tolerance ([0-9.e+-]+)",
+                                 reason):  # a length or velocity bound the error exceeds
+        assert quantity not in ("hit", "normal") and float(err) > float(limit) * 0.999
+    for err, limit in re.findall(beyond + r"the tilt ([0-9.e+-]+) rad", reason):
+        assert quantity == "normal" and float(err) > float(limit) * 0.999
+    for gap, limit in re.findall(r"the \|gap\| ([0-9.e+-]+) beyond the engine's declared "
+                                 r"tolerance ([0-9.e+-]+)", reason):
+        assert quantity == "hit" and float(gap) >= float(limit) * 0.999
     if verdict.category == Category.TIMESTEP:
         assert isinstance(case, ResponseCase) and verdict.error_at_contact <= verdict.error
 
