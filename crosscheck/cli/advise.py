@@ -360,6 +360,9 @@ def print_advice(advice: Advice) -> None:
     say(f"the answer rests on {advice.cases} cases ({', '.join(advice.kinds)}; "
         f"{', '.join(f'{d}-D' for d in advice.dims)}{family}); an engine's on those it "
         "answers (cases)")
+    if advice.cells:
+        say("cells of the configuration space they cover (docs/coverage.md), 2-way: " + ", ".join(
+            f"{space} {covered} of {cells}" for space, (covered, cells) in advice.cells.items()))
     say(f"accuracy: {accuracy_text(advice)}")
     quick = quick_line(advice)
     if quick:

@@ -24,7 +24,8 @@ listed under ``excluded``).  When nothing passes, ``closest`` names the best
 ranked engine and the few cases that decide it.
 
 The answer says what it rests on: the envelope's cases (``cases``), the cases each engine
-answers (``rests_on``), and the cases of the envelope the run never asked because it was a
+answers (``rests_on``) and the cells of the configuration space they cover (``cells``), and
+the cases of the envelope the run never asked because it was a
 ``--quick`` run (``not_asked``: scenes over
 :data:`~crosscheck.core.options.QUICK_SCENE_STEPS` steps, left out of the envelope).
 """
@@ -32,14 +33,15 @@ answers (``rests_on``), and the cases of the envelope the run never asked becaus
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import pandas as pd
 
+from crosscheck.cases.cover import coverage
 from crosscheck.core.model import PAIR_KINDS
-from crosscheck.core.schema import SceneCase
+from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.report.advise_grade import (
     FAILS,
     PARTIAL,
@@ -101,6 +103,9 @@ class Advice:
     """Cases inside the profile that the run asked no engine (``--quick``): not in ``cases``."""
     rests_on: dict[str, int] = field(default_factory=dict)
     """The cases each engine's grade rests on (those it answers), by engine."""
+    cells: dict[str, tuple[int, int]] = field(default_factory=dict)
+    """Per kind and dimension (``aabb 3-D``): the 2-way cells of the configuration space
+    (:mod:`crosscheck.cases.space`) the answer's cases cover, of all its cells."""
 
     @property
     def ranking(self) -> list[EngineAdvice]:
@@ -192,7 +197,15 @@ def advise(run: StoredRun, envelope: Envelope) -> Advice:
         repeat_checked=run.info.repeat_check is not None,
         cost_by=INSTRUCTIONS if by_counts(passing) else WALL,
         quick=run.info.options.quick, not_asked=not_asked,
-        rests_on={g.engine: g.answered for g in grades})
+        rests_on={g.engine: g.answered for g in grades},
+        cells=cells_of([run.cases[i] for i in rows["case_id"].unique()]))
+
+
+def cells_of(cases: Sequence[AnyCase]) -> dict[str, tuple[int, int]]:
+    """The 2-way cells of the configuration space ``cases`` cover, per kind and dimension
+    that holds one of them (scenes have no space)."""
+    return {f"{c.kind.value} {c.dim}-D": (c.covered, c.cells) for c in coverage(cases, 2)
+            if c.cases}
 
 
 def _deciding(engine: EngineAdvice) -> tuple[str, ...]:

@@ -16,6 +16,7 @@ from typing import Any, ClassVar
 
 import pytest
 
+from crosscheck.cases.cover import coverage
 from crosscheck.cli import main
 from crosscheck.core.conventions import Conventions
 from crosscheck.core.model import Observation
@@ -241,3 +242,15 @@ def test_the_answer_says_how_many_cases_it_rests_on(
     assert right.split()[2:4] == ["pass", "1"]
     accuracy = next(line for line in lines if line.startswith("accuracy: "))
     assert accuracy.startswith("accuracy: shares of their scale 0.001, lengths: agree only")
+
+
+def test_the_answer_says_which_cells_of_the_space_it_rests_on(pairs: StoredRun) -> None:
+    asked = advise(pairs, Envelope())
+    inside = [pairs.cases[i] for i in pairs.results["case_id"].unique()
+              if not pairs.cases[i].bad_input]
+    expected = {f"{c.kind.value} {c.dim}-D": (c.covered, c.cells)
+                for c in coverage(inside, 2) if c.cases}
+    assert asked.cells == expected and expected  # what crosscheck validate counts
+    assert all(0 < covered < cells for covered, cells in asked.cells.values())
+    flat = advise(pairs, Envelope(dims=(2,)))
+    assert set(flat.cells) == {"sphere 2-D"} and flat.cells["sphere 2-D"][0] > 0
