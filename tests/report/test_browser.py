@@ -3,7 +3,6 @@ with no console errors, its charts, its verdict block and its advise form."""
 
 from __future__ import annotations
 
-import math
 import shlex
 import shutil
 from pathlib import Path
@@ -11,12 +10,9 @@ from pathlib import Path
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
-from crosscheck.results.store import ResultsStore, repro_name
-from crosscheck.run.launch import launch, new_info
-from tests.conftest import ROOT, sphere
-from tests.fakes import AlwaysRight, OffByOne
+from crosscheck.results.store import repro_name
+from tests.conftest import ROOT
 from tests.report import counted as run
 from tests.report.advise_form import REAL_PROFILES, errors, form_and_cli, submit
 from tests.report.browser import needs_chromium, opened
@@ -174,21 +170,6 @@ def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
     assert "of 770 rows (filtered from 5,390)" in filtered, filtered
     assert sticky == "sticky"
     assert case_rows == 7 * 3 and in_view  # every engine's hit, distance and normal
-
-
-@pytest.fixture(scope="module")
-def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A run of two fakes with known behaviour: one always right, one off by 1.0 in distance;
-    with a bad-input case of NaN and infinite inputs (judged apart, never a thrown error)."""
-    needs_chromium()
-    folder = tmp_path_factory.mktemp("advise") / "run"
-    cases = [sphere(0.0, 2.0 + i / 4, id=f"s{i}") for i in range(4)]
-    cases += [sphere(math.nan, math.inf, ra=math.nan, id="s-nan", tags=["bad-input"])]
-    options, engines = RunOptions(quick=True, isolate=False), [AlwaysRight(), OffByOne()]
-    launch(ResultsStore(folder), cases, engines, options,
-           new_info(folder, "test", options, engines, cases))
-    render(folder)
-    return folder
 
 
 def test_the_advise_form_grades_and_ranks_the_engines(fakes_dir: Path) -> None:

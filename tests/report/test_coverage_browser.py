@@ -5,7 +5,6 @@ in the colours Python decided, empty cells are hatched and a space's fold opens 
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
@@ -18,11 +17,7 @@ from crosscheck.core.model import Category, Kind, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.report.coverage import label_ranks, rank_of
 from crosscheck.report.coverage_page import CODES, EMPTY, legend
-from crosscheck.report.render import render
-from crosscheck.results.store import ResultsStore
-from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.fuzz.campaign import fuzz
-from tests.conftest import sphere
 from tests.fakes import AlwaysRight, OffByOne
 from tests.report.advise_form import errors
 from tests.report.browser import needs_chromium, opened
@@ -53,21 +48,6 @@ def drawn_per_engine(page: Page, fold: Locator, engines: list[str]) -> dict[str,
 def assert_hatched(cells: list[Any]) -> None:
     empty = [c for c in cells if c[2] == EMPTY]
     assert empty and all("repeating-linear-gradient" in c[3] for c in empty)
-
-
-@pytest.fixture(scope="module")
-def fakes_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """A run of two fakes: one always right, one off by 1.0 in distance (an unexplained
-    disagree); with a bad-input case, placed in no cell."""
-    needs_chromium()
-    folder = tmp_path_factory.mktemp("coverage-run") / "run"
-    cases = [sphere(0.0, 2.0 + i / 4, id=f"s{i}") for i in range(4)]
-    cases += [sphere(math.nan, math.inf, ra=math.nan, id="s-nan", tags=["bad-input"])]
-    options, engines = RunOptions(quick=True, isolate=False), [AlwaysRight(), OffByOne()]
-    launch(ResultsStore(folder), cases, engines, options,
-           new_info(folder, "test", options, engines, cases))
-    render(folder)
-    return folder
 
 
 def test_the_reports_coverage_section_draws_each_engines_worst_label_and_the_empty_cells(
