@@ -13,10 +13,11 @@ from crosscheck.cli.console import err, fail, out, report_case_errors, say
 from crosscheck.core.model import NEW_CASE_KINDS
 
 if TYPE_CHECKING:
-    from crosscheck.core.schema import AnyCase
+    from crosscheck.cases.cover import Coverage
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
+    from crosscheck.cases.cover import coverage
     from crosscheck.cases.load import load_paths
 
     loaded = load_paths(args.paths or [Path("cases")])
@@ -28,20 +29,17 @@ def cmd_validate(args: argparse.Namespace) -> int:
         f"{loaded.blocks} curated cases in {len(loaded.files)} files, {len(loaded.cases)} "
         "after sweep expansion, [[cover]] designs and A/B swaps",
         style="red" if loaded.errors else "green")
-    out.print(coverage_table(loaded.cases))
+    out.print(coverage_table(coverage(loaded.cases, 2), coverage(loaded.cases, 3)))
     return 1 if loaded.errors else 0
 
 
-def coverage_table(cases: Sequence[AnyCase]) -> Table:
+def coverage_table(two_way: Sequence[Coverage], three_way: Sequence[Coverage]) -> Table:
     """Per kind and dimension: the cases, and the configuration space's cells they cover two
-    and three dimensions at a time (3-way: direction x gap x size ratio, where the kind has
-    them)."""
-    from crosscheck.cases.cover import coverage
-
+    and three dimensions at a time (3-way: the space's strong dimensions)."""
     table = Table(title="coverage of the configuration space (docs/coverage.md)")
     for column in ("kind", "dim", "cases", "2-way cells", "3-way cells"):
         table.add_column(column, justify="left" if column == "kind" else "right")
-    for two, three in zip(coverage(cases, 2), coverage(cases, 3), strict=True):
+    for two, three in zip(two_way, three_way, strict=True):
         table.add_row(two.kind.value, str(two.dim), str(two.cases),
                       f"{two.covered} / {two.cells} ({two.share:.0%})",
                       f"{three.covered} / {three.cells} ({three.share:.0%})" if three.cells

@@ -258,8 +258,8 @@ def _at_time(case: ToiCase, conv: Conventions, motion: Motion, when: float,
             f"{case.duration:g} s interval ({allowed:.3g} s, or {short:.3g} of closing travel "
             "short of contact)")
     times = sample_times(case, conv)
-    fuzz = precision(conv, case)  # a sample this close to touching may round either way
-    earlier = [t for t in times if t < when and motion.gap(t) <= -fuzz]
+    rounding = precision(conv, case)  # a sample this close to touching may round either way
+    earlier = [t for t in times if t < when and motion.gap(t) <= -rounding]
     if (any(math.isclose(when, t, rel_tol=1e-12, abs_tol=0.0) for t in times)
             and gap <= 0 and when >= exact and not earlier):
         return Category.TIMESTEP, (
@@ -306,10 +306,10 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
             f"the first contact is exactly at the interval's end t = {exact!r}, which the "
             "engine's query excludes (declared toi_end_excluded)")
     times = sample_times(case, conv)
-    fuzz = precision(conv, case)  # a sample this close to touching may round either way
+    rounding = precision(conv, case)  # a sample this close to touching may round either way
     if times and all(motion.gap(t) > 0 or (motion.gap(t) == 0
                                             and not conv.touching_is_contact("sphere"))
-                     or -fuzz < motion.gap(t) < 0 for t in times):
+                     or -rounding < motion.gap(t) < 0 for t in times):
         return Category.TIMESTEP, (
             f"the engine samples the interval at {len(times)} evenly spaced times (declared "
             f"toi_samples); the exact contact at t = {exact!r} falls between them: no sample "
