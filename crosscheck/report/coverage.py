@@ -41,7 +41,7 @@ import numpy as np
 import pandas as pd
 
 from crosscheck.cases.cover import Tuple, full_plan
-from crosscheck.cases.space import STRONG, Cell, Space, classify, space_of
+from crosscheck.cases.space import Cell, Space, classify, space_of
 from crosscheck.core.model import Category, Kind, Status
 from crosscheck.core.schema import AnyCase
 from crosscheck.report.speed_points import MEASURES, in_tolerances
@@ -127,7 +127,7 @@ def cells_of(cell: Cell, cells: SpaceCells) -> list[int]:
     """The indices (in ``cells``) of the cells a case at ``cell`` lies in."""
     names = [n for n in cells.space.names if n in cell]
     found = []
-    for size, pool in ((2, names), (3, [n for n in names if n in STRONG])):
+    for size, pool in ((2, names), (3, [n for n in names if n in cells.space.strong])):
         for combo in itertools.combinations(pool, size):
             i = cells.index.get(tuple((n, cell[n]) for n in combo))
             if i is not None:

@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 from markupsafe import Markup
 
-from crosscheck.cases.space import STRONG, space_of
+from crosscheck.cases.space import space_of
 from crosscheck.core.model import Category, Kind, Status
 from crosscheck.report.coverage import (
     CELL_COLUMNS,
@@ -135,11 +135,11 @@ def grid_plan(kind: Kind, dim: int) -> list[tuple[str, str, str, str]]:
     assert space is not None
     names = space.names
     pairs = [(a, b) for i, a in enumerate(names) for b in names[i + 1:]]
-    strong = [p for p in pairs if p[0] in STRONG and p[1] in STRONG]
+    strong = [p for p in pairs if p[0] in space.strong and p[1] in space.strong]
     grids = [(a, b, "", "") for a, b in strong[:1]]
     if len(strong) == 3:
         a, b = strong[0]
-        third = next(n for n in STRONG if n not in (a, b))
+        third = next(n for n in space.strong if n not in (a, b))
         grids += [(a, b, third, level) for level in space.dimension(third).levels]
     grids += [(a, b, "", "") for a, b in strong[1:]]
     return grids + [(a, b, "", "") for a, b in pairs if (a, b) not in strong]

@@ -154,19 +154,24 @@ def test_the_empty_cells_are_every_cell_without_a_case() -> None:
     assert ("direction", "+x", "gap", "+1e-1", "") not in listed  # x01: 2.2 = 2 x (1 + 0.1)
 
 
-def test_the_cells_covered_are_those_crosscheck_validate_counts() -> None:
-    block = CoverBlock(id="cv", description="d", kind="sphere", dim=3,
-                       dimensions=("direction", "gap", "size_ratio"),
-                       levels={"gap": ("0", "+1", "+1e3")}, strength=3)
+@pytest.mark.parametrize(("kind", "dims", "levels"), [
+    ("sphere", ("direction", "gap", "size_ratio"), {"gap": ("0", "+1", "+1e3")}),
+    ("sphere_response", ("direction", "size_ratio", "mass_ratio"), {"mass_ratio": ("1", "1e6")}),
+])
+def test_the_cells_covered_are_those_crosscheck_validate_counts(
+        kind: str, dims: tuple[str, ...], levels: dict[str, tuple[str, ...]]) -> None:
+    block = CoverBlock(id="cv", description="d", kind=kind, dim=3, dimensions=dims,
+                       levels=levels, strength=3)
     cases = expand_cover(block).cases
     found = run_map({c.id: c for c in cases}, rows_of(agreeing(cases, "e")), ["e"])
     (space,) = covered(found.table)
     two, three = coverage(cases, 2), coverage(cases, 3)
-    sphere_3d = [(c2, c3) for c2, c3 in zip(two, three, strict=True)
-                 if c2.kind.value == "sphere" and c2.dim == 3]
-    (counted2, counted3), = sphere_3d
+    in_3d = [(c2, c3) for c2, c3 in zip(two, three, strict=True)
+             if c2.kind.value == kind and c2.dim == 3]
+    (counted2, counted3), = in_3d
     assert (space["covered_2"], space["cells_2"]) == (counted2.covered, counted2.cells)
     assert (space["covered_3"], space["cells_3"]) == (counted3.covered, counted3.cells)
+    assert counted3.covered > 0
 
 
 def test_a_campaigns_cases_without_a_finding_agree() -> None:
