@@ -27,7 +27,9 @@ measured; the repro scripts write it (``crosscheck.studies.repro.scenes``,
   non-bullet bodies only ("a bullet never sweeps another bullet", rigid_body.rs).
 
 Conventions: each declares ``sampled_contacts`` False (contacts are swept or predicted, not
-only found at step starts), the rest as its tuned base.
+only found at step starts), the rest as its tuned base; ``pybullet-ccd`` also declares
+``restitution_model`` "predictive" (a caught impact is first met with restitution 0) and no
+speed cap (a rigid body has no multibody clamp).
 """
 
 from __future__ import annotations
@@ -78,11 +80,15 @@ class PyBulletCcd(PyBulletTuned):
     conventions: ClassVar[Conventions] = replace(
         PyBulletTuned.conventions,
         sampled_contacts=False,
+        max_speed=None, max_speed_at="",
+        restitution_model="predictive",
         notes=("Scenes only.  Bullet CCD on rigid (maximal-coordinates) bodies: a sphere "
                "moving more than half its swept radius (0.9 r) in a step is swept against "
-               "the others; a hit makes a predictive contact (restitution 0) and clamps the "
-               "motion to the hit (btDiscreteDynamicsWorld.cpp), so no pass-through was "
-               "measured but a caught impact keeps only part of its bounce.  Rigid bodies "
+               "the others; a hit makes a predictive contact (restitution 0: m_combinedRestitution "
+               "= 0 in createPredictiveContactsInternal, declared restitution_model "
+               "predictive) and clamps the motion to the hit (btDiscreteDynamicsWorld.cpp), "
+               "so no pass-through was measured but a caught impact keeps only part of its "
+               "bounce, between none and e of it.  Rigid bodies "
                "have no multibody speed clamp (100 m/s per coordinate).  Measured in "
                "adapters/pybullet_scene.py"),
         sources=pybullet_engine.SOURCES + PYBULLET_CCD_SOURCES,

@@ -2,9 +2,12 @@
 
 Times of impact (``sphere_toi``, 2-D at z = 0 and 3-D) are :mod:`adapters.fcl_toi`'s:
 ``fcl`` asks ``continuousCollide`` with python-fcl's default request (conservative
-advancement, translation motion); ``fcl-ccd-naive``, ``fcl-ccd-ray-shooting`` and
-``fcl-ccd-polynomial`` (:class:`FclCcdNaive` and its siblings, ``sphere_toi`` only) ask it
-with the other ``CCDSolverType`` s, so that each solver is a row of the report.
+advancement, translation motion); ``fcl-ccd-naive`` (:class:`FclCcdNaive`, ``sphere_toi``
+only) asks it with ``CCDC_NAIVE``.  ``fcl-ccd-ray-shooting`` and ``fcl-ccd-polynomial``
+stay in the registry, so that each solver is a row of the report, but declare no
+capability: FCL 0.7.0 computes neither for two spheres (``continuousCollide`` returns -1,
+"not computed"), so every ``sphere_toi`` case is a ``skip`` whose reason cites FCL's source
+(:data:`adapters.fcl_toi.UNSUPPORTED`), not a wrong answer.
 
 FCL answers collision and distance queries; it has no dynamics, so ``sphere_response`` is
 unsupported.  A case becomes two ``CollisionObject`` s (a ``Box`` or ``Sphere`` at the
@@ -123,7 +126,8 @@ GJK_TOLERANCE = 1e-6
 TOI_NOTES = (
     "Times of impact: continuousCollide with python-fcl's default request (conservative "
     "advancement, CCDM_TRANS); toi = time_of_contact x duration; normal from the case's "
-    "centres at that time (the binding gives no contact normal). Target separation 0; it "
+    "centres at that time (the binding gives no contact normal), none where they coincide "
+    "then (declared no_value float64-centre-line). Target separation 0; it "
     "stops once a step is <= 1e-4 of the interval (t_err, hard-coded), so the surfaces may "
     "be up to 1e-4 x the closing travel apart: declared toi_time_tolerance 1e-4 (of the "
     "interval). A first touch exactly at the interval's end reads as no contact (toc < 1 "
@@ -213,6 +217,7 @@ class Fcl(Adapter):
         damping=0.0,
         zero_mass="",
         negative_extents="",
+        no_value=(fcl_toi.CENTRE_LINE,),
         toi_time_tolerance=1e-4,
         toi_end_excluded=True,
         notes=("Touching spheres and face-touching boxes collide; edge- or corner-touching "
@@ -299,7 +304,8 @@ def _ccd_conventions(solver: str, notes: str, samples: int = 0) -> Conventions:
     return Conventions(
         toi_samples=samples,
         normal="from A's centre to B's at the reported time (computed: the binding gives no "
-               "contact normal)",
+               "contact normal); none where the centres coincide then",
+        no_value=(fcl_toi.CENTRE_LINE,),
         touching={"sphere": True},
         rtol=2.0**-50,
         restitution="not applicable: FCL has no dynamics",
@@ -327,21 +333,29 @@ class FclCcdNaive(Fcl):
 
 
 class FclCcdRayShooting(FclCcdNaive):
-    """FCL's ray-shooting CCD: not implemented in FCL 0.7.0 (returns -1: Undefined answers)."""
+    """FCL's ray-shooting CCD: not implemented in FCL 0.7.0 for two geometries, so no
+    ``sphere_toi`` case is supported (every row a ``skip`` with FCL's source)."""
 
     name: ClassVar[str] = "fcl-ccd-ray-shooting"
     settings: ClassVar[str] = (
         "continuousCollide: ContinuousCollisionRequest(ccd_solver_type=CCDC_RAY_SHOOTING), "
         "otherwise defaults; 2-D: z = 0")
+    capabilities: ClassVar[frozenset[Capability]] = frozenset()
     solver: ClassVar[str] = "ray shooting"
     conventions: ClassVar[Conventions] = _ccd_conventions(
         "ray shooting", "Not implemented for two geometries (an empty branch): FCL returns -1 "
-                        "and leaves is_collide False; the adapter answers Undefined with that "
-                        "reason (disagree rows, category error).")
+                        "(not computed) and leaves is_collide False. The variant supports no "
+                        "case: every sphere_toi row is a skip citing continuous_collision-inl.h.")
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        if isinstance(case, ToiCase):
+            return f"{self.name}: {fcl_toi.UNSUPPORTED[self.solver]}"
+        return super().unsupported(case)
 
 
-class FclCcdPolynomial(FclCcdNaive):
-    """FCL's polynomial-solver CCD: BVH meshes only (returns -1 for spheres: Undefined)."""
+class FclCcdPolynomial(FclCcdRayShooting):
+    """FCL's polynomial-solver CCD: BVH meshes only, so no ``sphere_toi`` case is supported
+    (every row a ``skip`` with FCL's source)."""
 
     name: ClassVar[str] = "fcl-ccd-polynomial"
     settings: ClassVar[str] = (
@@ -349,6 +363,7 @@ class FclCcdPolynomial(FclCcdNaive):
         "CCDC_POLYNOMIAL_SOLVER), otherwise defaults; 2-D: z = 0")
     solver: ClassVar[str] = "polynomial"
     conventions: ClassVar[Conventions] = _ccd_conventions(
-        "polynomial", "BVH meshes only: for spheres FCL prints 'Warning! Invalid continuous "
-                      "collision checking' to stderr and returns -1; the adapter answers "
-                      "Undefined with that reason (disagree rows, category error).")
+        "polynomial", "BVH meshes only: for two spheres FCL prints 'Warning! Invalid "
+                      "continuous collision checking' to stderr and returns -1 (not computed). "
+                      "The variant supports no case: every sphere_toi row is a skip citing "
+                      "continuous_collision-inl.h.")

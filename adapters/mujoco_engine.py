@@ -64,8 +64,8 @@ measured on the installed 4.0.0 and pinned in tests/adapters/test_mujoco.py):
   body-geom-condim]) spring-dashpot with the case's e (see mujoco_response): it declares
   friction 0 and no soft model, none of ``mujoco-default``'s; e = 0 and e outside [0, 1]
   are skipped.  No threshold; bodies already separating meet no force
-  (resolves_separating False).  Contacts are sampled (``sampled_contacts``, default
-  variant): ``mj_step`` finds contacts at the positions a step starts from and moves the
+  (resolves_separating False).  Contacts are sampled (``sampled_contacts``, both
+  variants): ``mj_step`` finds contacts at the positions a step starts from and moves the
   bodies a whole step; a contact makes force only "below margin" [XMLreference,
   body-geom-margin; computation, margin and gap], and the default margin is 0, so
   touching spheres get none (``exclude`` = dist >= margin, engine_collision_driver.c).  A
@@ -408,7 +408,13 @@ class MujocoStiff(MujocoDefault):
         _RESPONSE_NOTES + _SCENE_NOTES + (
             "Scenes: the stiff frictionless contact with the scene's e lasting one scene step "
             "in 8 RK4 sub-steps (e = 1 head-on: velocities exchanged within 1e-3, momentum "
-            "to rounding); a touching chain answers as one block.  "
+            "to rounding); a touching chain answers as one block.  Contacts are sampled "
+            "(declared sampled_contacts, as the default variant's): MuJoCo has no "
+            "continuous collision detection, mj_step finds contacts at the positions each "
+            "sub-step starts from, and the stiff contact is fitted to act over one scene "
+            "step, so a pair that crosses the overlap window in less than a scene step "
+            "(step travel above 1) is not turned back: it passes through, as a sampling "
+            "engine's pair does.  "
             "Stiff contact fitted per case (adapters/mujoco_response.py), frictionless "
             "(condim 1) with the case's e: no friction, no soft model.  The time step is the "
             "contact's duration / 256, so no single time_step is declared.  response_rtol: "
@@ -416,7 +422,7 @@ class MujocoStiff(MujocoDefault):
             "on random touching pairs outside the suite (python -m tools.stiff_precision "
             "--cases 10000), rounded up.  Detection is the same engine call as "
             "mujoco-default's and is scored there only.  "),
-        TUNED_REST, response_rtol=STIFF_RTOL)
+        TUNED_REST, response_rtol=STIFF_RTOL, sampled=True)
     stiff: ClassVar[response.Stiff | None] = response.Stiff()
     scene_tuning: ClassVar[mujoco_scene.Tuning | None] = mujoco_scene.Tuning()
     condim: ClassVar[str] = ' condim="1"'

@@ -92,8 +92,8 @@ Conventions, measured here (sources in ``SOURCES``):
   [PhysicsServerCommandProcessor.cpp]); the sphere-sphere algorithm adds no point before
   touching.  ``pybullet-ccd`` (:mod:`adapters.ccd_variants`) is the CCD switch, on rigid
   bodies.  Speed: a multibody's velocity coordinates are clamped to +-100 m/s every step
-  (``m_maxCoordinateVelocity`` [btMultiBody.h], per axis; measured in scenes), which no
-  ``max_speed`` declares (a "step" cap there is a travel per step, Box2D's).
+  (``m_maxCoordinateVelocity`` [btMultiBody.h], per axis; measured in scenes): declared
+  ``max_speed`` 100 with ``max_speed_at`` "per coordinate", read at every step.
 - mass 0 is a static body: ``isFixedBase = (mass == 0)`` [URDF2Bullet.cpp], immovable,
   an infinitely heavy body; a response against it bounces off it moving at the velocity it
   was given (measured: ``bad-resp-3d-zero-mass``).  Declared ``zero_mass="static"``.
@@ -192,6 +192,10 @@ BOX_MARGIN = 0.001
 MAX_STEPS = 64
 APPROACH_RTOL = 1e-12
 
+MAX_COORDINATE_VELOCITY = 100.0
+"""btMultiBody's ``m_maxCoordinateVelocity``: each velocity coordinate clamped to +-100 m/s
+in ``applyDeltaVeeMultiDof`` every step (btMultiBody.h/.cpp; measured: a free ball at 200 or
+1000 m/s ends at 100, per axis)."""
 DEFAULT_SLOP = 1e-5
 """pybullet's default contactSlop (``m_linearSlop`` in PhysicsServerCommandProcessor.cpp)."""
 WALLS_NOTE = (
@@ -431,6 +435,8 @@ class PyBulletTuned(Adapter):
         zero_mass="static",
         negative_extents="",
         sampled_contacts=True,
+        max_speed=MAX_COORDINATE_VELOCITY,
+        max_speed_at="per coordinate",
         rest_gap=(0.0, 0.0),
         rest_sink_steps=1.0,
         rest_sink_s2=0.0,
@@ -457,8 +463,10 @@ class PyBulletTuned(Adapter):
                "PhysicsServerCommandProcessor.cpp): fast pairs pass through each other.  "
                "Multibody velocity coordinates are clamped to +-100 m/s every step "
                "(btMultiBody m_maxCoordinateVelocity 100, applyDeltaVeeMultiDof; per axis, "
-               "not the norm; measured in scenes): not declared as max_speed, whose 'step' "
-               "cap is a travel per step.  " + WALLS_NOTE + "  Tuned: contactSlop 0 and "
+               "not the norm; measured in scenes): declared max_speed 100 acting per "
+               "coordinate, read by responses and scenes, and at every step (a fall that "
+               "gravity speeds past it goes on at 100).  " + WALLS_NOTE
+               + "  Tuned: contactSlop 0 and "
                "contactERP 0, so the solver's rest target is distance 0 (rest_gap 0, 0) and "
                "a penetration (a landing depth) is never pushed out; "
                "restitutionVelocityThreshold 0 gives a resting contact the bounce e |g| dt, "

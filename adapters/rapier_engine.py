@@ -280,6 +280,9 @@ _NOTES = ("Detection: narrow phase of two standalone colliders (ActiveCollisionT
           "centres far from the origin lose small gaps.  Mass 0 is immovable; with 1/ma + "
           "1/mb < 0 no impulse; negative restitution reads as 0; NaN or infinite geometry: "
           "the adapter raises (rapier ignores it).  ")
+CCD_GUIDE = "https://rapier.rs/docs/user_guides/python/rigid_body_ccd"
+"""Rapier's CCD guide: 'By default, CCD is disabled for all the rigid-bodies'; soft CCD:
+predictive contacts made ahead of the motion."""
 TUNED = Conventions(
     box_extents="half (SharedShape.cuboid takes half-extents)",
     normal="ContactManifoldData.normal points from collider1 to collider2: A to B (negated if "
@@ -300,24 +303,37 @@ TUNED = Conventions(
     # no sleeping, the scene's e on the wall under the variant's rule (Max: e)
     rest_gap=(0.0, 0.0), rest_sink_steps=0.0, rest_sink_s2=rapier_walls.REST_SINK_S2,
     sleeps=False, wall_restitution="",
+    speculative_contacts=True,
     notes=_NOTES + rapier_toi.TOI_NOTES + rapier_walls.TUNED_NOTES
-    + "Tuned: prediction 0, soft CCD, friction 0, no speed cap.",
-    sources=SOURCES + rapier_toi.SOURCES + rapier_walls.SOURCES,
+    + "Tuned: prediction 0, soft CCD, friction 0, no speed cap.  Soft CCD (every body's "
+      "soft_ccd_prediction 1e30) makes a predictive contact at each step start for the gap "
+      "the step's motion closes: an impact is met at the start of the step that holds it, "
+      "along the line of centres there (declared speculative_contacts; measured on "
+      "fast-oblique: the final velocities are the elastic response along that line).",
+    sources=SOURCES + rapier_toi.SOURCES + rapier_walls.SOURCES + (CCD_GUIDE,),
 )
 DEFAULT = replace(
     TUNED,
     touching=dict.fromkeys(FEATURES, True),
     verdict_margins=dict.fromkeys(FEATURES, DEFAULT_PREDICTION),
     max_speed=DEFAULT_MAX_SPEED, max_speed_at="before restitution",
+    sampled_contacts=True,
+    speculative_contacts=False,
     restitution="rapier's default rule Average, both colliders e: (e + e) / 2 = e exactly",
     time_step=DEFAULT_DT,
     friction=0.5,
     sleeps=True,  # RigidBodyActivation defaults; walls otherwise as tuned (Average: e)
+    sources=(*TUNED.sources, RAPIER + "src/dynamics/rigid_body.rs"),
     notes=_NOTES + rapier_toi.TOI_NOTES + rapier_walls.DEFAULT_NOTES + (
                     "Defaults: prediction 0.02 (touching and gaps below it are contact), "
                     "friction 0.5 (ColliderBuilder default, combined by Average) and free "
                     "rotation: oblique responses lose tangential speed to friction (declared), "
-                    "speed cap 400 before the bounce (declared max_speed)."),
+                    "speed cap 400 before the bounce (declared max_speed).  Contacts sampled "
+                    "at step starts (declared sampled_contacts): 'By default, CCD is disabled "
+                    "for all the rigid-bodies' (rapier.rs, rigid-body CCD guide) and "
+                    "soft_ccd_prediction is 0 (rigid_body.rs), so a contact forms only from "
+                    "a step start within the 0.02 prediction distance; faster pairs pass "
+                    "through each other (measured in adapters/rapier_scene.py)."),
 )
 
 

@@ -21,6 +21,7 @@ disagreement only where a definition explains it.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields
 from enum import StrEnum
 from typing import Any
@@ -30,10 +31,13 @@ TEXTBOOK_TOUCHING: dict[str, bool] = {"sphere": False, "face": True, "edge": Tru
 """The textbook's rule: touching boxes overlap (any feature); touching spheres do not collide."""
 FEATURES = tuple(TEXTBOOK_TOUCHING)
 """Where two bodies meet: a sphere, or a box's face, edge or corner."""
-SPEED_CAP_STAGES = ("", "step", "before restitution")
+SPEED_CAP_STAGES = ("", "step", "per coordinate", "before restitution")
 """Where a declared speed cap acts (see :class:`Conventions`; '': no cap)."""
 TUPLES = ("no_value", "rest_gap", "sources")
 """The fields that are tuples (JSON writes them as lists)."""
+RESTITUTION_MODELS = ("", "soft", "predictive")
+"""How a bounce is set (see :class:`Conventions`): the case's e, a soft contact's own, or a
+predictive contact's (restitution 0 first).  The last two can only lose a bounce."""
 
 
 class Nature(StrEnum):
@@ -77,8 +81,10 @@ class Conventions:
     radius or half-width (``"absolute"``: as its magnitude; ``""``: rejects
     it or reads it literally, as the textbook does).  ``restitution_model``
     is ``"soft"`` for an engine with no coefficient of restitution, whose
-    contact model sets the bounce (``""``: the case's e, as declared in
-    ``restitution``); ``friction`` the Coulomb coefficient that acts between
+    contact model sets the bounce, or ``"predictive"`` for one that first meets an impact
+    its continuous detection catches with a predictive contact of restitution 0 (the
+    bounce keeps between 0 and e of the approach: pybullet-ccd) (``""``: the case's e, as
+    declared in ``restitution``); ``friction`` the Coulomb coefficient that acts between
     the bodies in responses (0: frictionless, as the textbook).  Both are read
     by :mod:`crosscheck.truth.contact_model`.
 
@@ -92,12 +98,17 @@ class Conventions:
     configurations in which the engine gives no value (rules of
     :mod:`crosscheck.truth.no_value`): an answer without a value anywhere else
     is an ``error``.  ``max_speed`` is a speed cap (m/s; None: none) and
-    ``max_speed_at`` where it acts: ``"step"`` on each body's velocity at the
-    end of every step, ``"before restitution"`` after the contact solve and
-    before the bounce is added.  ``sampled_contacts`` is True for an engine
+    ``max_speed_at`` where it acts (always at every step, not only on the initial
+    speeds): ``"per coordinate"`` on each velocity coordinate at the end of every
+    step (a speed, clipped per axis: PyBullet's multibody clamp); ``"step"`` on each
+    body's velocity at the end of every step, ``"before restitution"`` after the contact
+    solve and before the bounce is added.  ``sampled_contacts`` is True for an engine
     that looks for contacts only at the start of each step and pushes only
     bodies that overlap there (no continuous or predictive contact): a contact
-    shorter than a step can fall between two steps.
+    shorter than a step can fall between two steps.  ``speculative_contacts`` is True
+    for an engine that makes a contact at a step start for any gap the step's motion
+    closes (Rapier's soft CCD): the impact is met at the start of the step that holds
+    it, resolved along the line of centres there, before the bodies touch.
 
     Times of impact (:mod:`crosscheck.truth.toi`): ``toi_target`` is the separation of
     the surfaces at which the engine's time-of-impact query stops (negative: an
@@ -153,8 +164,8 @@ class Conventions:
     negative_extents: str = field(default="", metadata=_definition(
         "how a negative radius or half-width is read (as its magnitude): an input's reading"))
     restitution_model: str = field(default="", metadata=_behaviour(
-        "soft contact: the contact model sets the bounce, not the case's e, and the "
-        "velocities and the energy after an impact change"))
+        "soft or predictive contact: the contact model sets the bounce, not the case's e, "
+        "and the velocities and the energy after an impact change"))
     friction: float = field(default=0.0, metadata=_behaviour(
         "a tangential impulse the frictionless textbook does not have"))
     verdict_margins: dict[str, float] | None = field(default=None, metadata=_behaviour(
@@ -171,6 +182,9 @@ class Conventions:
         "where the speed cap acts (declared with max_speed)"))
     sampled_contacts: bool = field(default=False, metadata=_behaviour(
         "contacts looked for only at step starts: one shorter than a step is missed"))
+    speculative_contacts: bool = field(default=False, metadata=_behaviour(
+        "contacts made at a step start for the gap the step's motion closes: an impact is "
+        "met where the step that holds it starts, its normal taken there"))
     toi_target: float = field(default=0.0, metadata=_definition(
         "what counts as the impact: the separation at which the engine's time-of-impact "
         "query calls the surfaces in contact (Box2D aims at a small overlap); its time is "
@@ -219,6 +233,32 @@ class Conventions:
             raise ValueError("max_speed and max_speed_at are declared together")
         if self.max_speed_at not in SPEED_CAP_STAGES:
             raise ValueError(f"max_speed_at {self.max_speed_at!r} not one of {SPEED_CAP_STAGES}")
+        if self.restitution_model not in RESTITUTION_MODELS:
+            raise ValueError(f"restitution_model {self.restitution_model!r} not one of "
+                             f"{RESTITUTION_MODELS}")
+
+    @property
+    def bounce_may_lose(self) -> bool:
+        """The declared contact model may keep less of a bounce than e (soft, predictive).
+
+        >>> Conventions(restitution_model="predictive").bounce_may_lose
+        True
+        """
+        return self.restitution_model in ("soft", "predictive")
+
+    def clip(self, velocity: tuple[float, ...], cap: float) -> tuple[float, ...]:
+        """``velocity`` under the declared cap ``cap`` (a speed at the step in use): each
+        coordinate clipped for a cap ``"per coordinate"``, else scaled down by its norm.
+
+        >>> Conventions(max_speed=100.0, max_speed_at="per coordinate").clip((300.0, 50.0), 100.0)
+        (100.0, 50.0)
+        >>> Conventions(max_speed=5.0, max_speed_at="step").clip((3.0, 4.0), 2.5)
+        (1.5, 2.0)
+        """
+        if self.max_speed_at == "per coordinate":
+            return tuple(float(max(-cap, min(cap, x))) for x in velocity)
+        speed = math.sqrt(math.fsum(x * x for x in velocity))
+        return velocity if speed <= cap else tuple(x * (cap / speed) for x in velocity)
 
     def margin_for(self, feature: str) -> float:
         """The declared distance tolerance at ``feature`` (0 where none is declared).

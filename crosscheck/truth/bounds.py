@@ -17,7 +17,11 @@ scene.  A case may set its own tolerance instead.
   ``K_LENGTH * u * M / |gap|`` that the rounding of the gaps gives a normal
   taken across the gap; for overlapping boxes whose least overlap float64
   cannot single out, any direction (pi), and an answer of "no direction"
-  (a tie) agrees too.
+  (a tie) agrees too.  Its length must be 1 to the engine's declared precision
+  (:func:`unit_allowance`, ``K_ANGLE max(u, rtol)``), or the normal is an ``error``
+  whatever its direction; within that but not to float64, its category is that of its
+  direction (:func:`direction`), while its error stays that of the vector as given (a
+  length off 1 counts in it: agree is float64's unit vector).
 - **v1, v2** ``K_VELOCITY * u * (|va| + |vb|)``: the line of centres (a
   normalised difference), two dot products and coefficients with factors up to
   ``1 + e <= 2``.
@@ -53,8 +57,9 @@ U = 2.0**-53
 TINY = 2.0**-1074
 """The smallest positive (subnormal) float64."""
 UNIT_LENGTH = 1e-6
-"""How far from 1 the length of a reported normal may be (a unit vector to float32 and
-then some); a longer or shorter one is an ``error`` whatever its direction."""
+"""How far from 1 the conformance kit lets the length of a normal be on its clear samples (a
+unit vector to float32 and then some).  Scoring asks more of each engine:
+:func:`unit_allowance`."""
 K_LENGTH = 8
 K_ANGLE = 16
 K_VELOCITY = 32
@@ -158,13 +163,62 @@ def failed(value: Value | None) -> bool:
                for x in numbers)
 
 
-def is_unit(v: Sequence[float]) -> bool:
-    """Whether ``v`` is a unit vector, to :data:`UNIT_LENGTH`.
+def unit_allowance(precision: float) -> float:
+    """How far from 1 the length of a pair's normal may be from an engine whose arithmetic
+    has relative precision ``precision`` (its declared ``rtol``, at least ``u``): the
+    ``K_ANGLE`` roundings of a normalisation (a sum of squares, a square root, a division)
+    with room.  A longer or shorter one is an ``error`` whatever its direction; one within
+    it is judged by its direction (:func:`direction`).
 
-    >>> is_unit((0.6, 0.8)), is_unit((1.0000109, 0.0))
-    (True, False)
+    >>> unit_allowance(2.0**-21) > 5e-6 > unit_allowance(2.0**-50)
+    True
     """
-    return abs(norm(v) - 1.0) <= UNIT_LENGTH
+    return K_ANGLE * max(U, precision)
+
+
+def length_off(v: Sequence[float]) -> float:
+    """How far the length of ``v`` is from 1 (infinite for a zero vector, which has no
+    direction whatever the allowance).
+
+    >>> length_off((0.6, 0.8)), length_off((2.0, 0.0)), length_off((0.0, 0.0))
+    (0.0, 1.0, inf)
+    """
+    length = norm(v)
+    return abs(length - 1.0) if length > 0 else math.inf
+
+
+def direction(v: Sequence[float]) -> tuple[float, ...]:
+    """``v`` scaled to length 1 (``v`` itself when its length is 1 to float64's ``K_ANGLE u``);
+    ``v`` is not zero.
+
+    >>> direction((0.0, 1.0000098))
+    (0.0, 1.0)
+    """
+    length = norm(v)
+    if abs(length - 1.0) <= K_ANGLE * U:
+        return tuple(v)
+    return tuple(x / length for x in v)
+
+
+def _precision(rtol: float) -> str:
+    return f"rtol {rtol:.3g}" if rtol >= U else f"rtol {rtol:.3g}, so float64's u"
+
+
+def not_unit(vec: Sequence[float], allowed: float, rtol: float) -> str:
+    """The reason of a normal whose length is not 1 to the engine's precision."""
+    if not norm(vec) > 0:
+        return "engine normal is the zero vector: no direction, not a unit vector"
+    return (f"engine normal is not a unit vector: length {norm(vec):.9g}, off 1 by "
+            f"{length_off(vec):.3g}, beyond the {allowed:.3g} its declared precision "
+            f"({_precision(rtol)}) allows")
+
+
+def by_direction(vec: Sequence[float], allowed: float, rtol: float) -> str:
+    """The start of the reason of a normal judged by its direction (its length within the
+    engine's precision of 1, not float64's)."""
+    return (f"engine normal of length {norm(vec):.9g} (off 1 by {length_off(vec):.3g}: within "
+            f"the {allowed:.3g} its declared precision ({_precision(rtol)}) allows, beyond "
+            "float64's), judged by its direction: ")
 
 
 def error_of(quantity: str, value: Value, truth: Value) -> float:

@@ -20,8 +20,8 @@ round exactly as the per-record ones do:
 A row agrees when its error is within the bound.  A plain row beyond it gets its
 category and reason from :func:`~crosscheck.truth.categories.categorize`, with the
 same error and bound that ``judge`` would pass it; every other row (an absent or
-Undefined value, an undefined truth, a non-finite number, a normal that is not a
-unit vector) is judged by the per-record :func:`~crosscheck.truth.score.judge`
+Undefined value, an undefined truth, a non-finite number, a normal whose length is not 1
+to float64) is judged by the per-record :func:`~crosscheck.truth.score.judge`
 itself.  So statuses, categories and reasons are those of the per-record path by
 construction.
 """
@@ -135,7 +135,9 @@ def _fast(q: str, cases: list[PairCase], values: list[Value | None], wants: list
     ws = _padded([w if p else (0.0, 0.0) for w, p in zip(wants, plain, strict=True)])
     diff = _norms(vs - ws)
     if q == "normal":
-        unit = np.abs(_norms(vs) - 1.0) <= 1e-6
+        # a normal not of length 1 to float64 is judged per record (its length against the
+        # engine's precision, then by its direction): bounds.unit_allowance, score.judge
+        unit = np.abs(_norms(vs) - 1.0) <= K_ANGLE * U
         err = np.array([2.0 * math.asin(min(1.0, d / 2.0)) for d in diff.tolist()])
         err[~(ok & unit & np.isfinite(err) & np.isfinite(diff))] = math.nan
         return err, _length_bounds(q, cases, truths, err)

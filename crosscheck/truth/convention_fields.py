@@ -9,7 +9,8 @@ names the conventions its rules read to give ``convention``
 :data:`crosscheck.truth.toi.CONVENTIONS`, :data:`crosscheck.truth.scene_rules.CONVENTIONS`);
 :func:`behind` narrows them to those that can have fired on one row:
 
-- an answer with no value is judged by the ``no_value`` rule before any other (pairs);
+- an answer with no value is judged by the ``no_value`` rule before any other (pairs; a time
+  of impact's also by the rules of the verdict that left it without one);
 - a response's rules that read the case alone are tried first, in their order
   (:data:`~crosscheck.truth.response_rules.CASE_RULES`): the first that fires on the case
   is the one; when none does, the speed cap or the contact model spoke;
@@ -42,8 +43,8 @@ def _candidates(case: AnyCase, conv: Conventions, no_value: bool) -> tuple[str, 
     """The conventions whose rule can have made a row of ``case`` a ``convention``."""
     if isinstance(case, SceneCase):
         return scene_rules.CONVENTIONS
-    if isinstance(case, ToiCase):
-        return toi.CONVENTIONS
+    if isinstance(case, ToiCase):  # a row with no value: its no-value rule, or the verdict's
+        return tuple(name for name in toi.CONVENTIONS if no_value or name != "no_value")
     if no_value:
         return ("no_value",)
     if isinstance(case, ResponseCase):

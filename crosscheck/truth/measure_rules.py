@@ -3,20 +3,20 @@
 
 The measures are defined in :mod:`crosscheck.truth.scene_measures`.  Each error is compared
 with a float64 tolerance (what a float64 simulation of the exact run can be off by); a
-disagreement gets a category from the engine's declared conventions, each cited with the
-number it allows:
+disagreement gets a category from the engine's declared conventions and one event's bound,
+each cited with the number it allows (a precision that cannot hold the scene at all makes
+every measure ``tolerance``, :func:`~crosscheck.truth.scenes.coarse`):
 
 - ``settle``: the declared rest band ``rest_gap`` (per contact below the body) and the soft
   contact's sink ``rest_sink_s2 |g|`` (``convention``), then the step's sink
-  ``rest_sink_steps |g| dt**2`` (``timestep``);
-- ``jitter``: one step of gravity, ``|g| dt``, for an engine that declares a step sink or
-  sampled contacts (``timestep``);
-- ``energy_drift``, ``apex``: the declared damping, restitution threshold or soft
-  restitution (``convention``), then each impact resolved up to one step late
-  (``timestep``: a bounce reversed up to ``v dt + |g| dt**2`` below the wall);
-- ``bounce_time``: two steps per bounce so far (``timestep``: seen a step late, and a flight
-  a step longer or shorter);
-- ``divergence``: the step lag of the impacts before it (``timestep``).
+  ``rest_sink_steps |g| dt**2`` (``timestep``), or the precision alone (``tolerance``);
+- ``jitter``: the precision (a position held to it moves ``held / dt``: ``tolerance``),
+  then one step of gravity, ``|g| dt``, for an engine that declares a step sink or sampled
+  contacts (``timestep``);
+- ``energy_drift`` of a resting scene: what its settle offsets and jitter hold;
+- ``apex``, ``bounce_time``, the other ``energy_drift`` and ``divergence`` rows:
+  :mod:`crosscheck.truth.motion_rules` (each bounce from the engine's own previous state,
+  the two-body run the engine gave, the precision, the declared contact rules).
 
 Anything else is an ``error``, with what was read.
 """
@@ -33,8 +33,16 @@ from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
+from crosscheck.truth import motion_rules
 from crosscheck.truth import scene_measures as sm
-from crosscheck.truth.scenes import PRECISION_FACTOR, damping_bound, simulated_time
+from crosscheck.truth.scenes import (
+    PRECISION_FACTOR,
+    coarse,
+    extent,
+    held,
+    mean_radius,
+    simulated_time,
+)
 
 CONVENTIONS = ("rest_gap", "rest_sink_s2", "restitution_model", "restitution_threshold",
                "damping")
@@ -50,20 +58,8 @@ Rule = Callable[[SceneCase, Conventions, str, Value, Value, float, Observation, 
 """A measure's rule: its category and reason (the row's tolerance is bound in beforehand)."""
 
 
-def _extent(case: SceneCase) -> float:
-    coords = [abs(x) for b in case.bodies for x in b.center]
-    coords += [abs(w.offset) for w in case.walls]
-    return max(coords, default=1.0)
-
-
-def _mean_radius(case: SceneCase) -> float:
-    return math.fsum(b.radius for b in case.bodies) / max(1, len(case.bodies))
-
-
-def held(case: SceneCase, conventions: Conventions) -> float:
-    """How far (m) the engine's declared precision alone can put a position: ``rtol`` (its
-    ``Real``) of the scene's largest coordinate, :data:`PRECISION_FACTOR` times."""
-    return PRECISION_FACTOR * conventions.rtol * (_extent(case) + _mean_radius(case))
+_extent = extent
+_mean_radius = mean_radius
 
 
 def tolerance(case: SceneCase, quantity: str, default: float) -> float:
@@ -109,10 +105,15 @@ def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value
     err = error(case, quantity, value, want)
     if err <= tol:
         return Status.AGREE, err, tol, "", ""
+    why = coarse(case, conventions)
+    if why:
+        return (Status.DISAGREE, err, tol, Category.TOLERANCE,
+                f"{quantity} off by {err:.3g} {sm.UNITS[quantity]}: {why}")
     rules: dict[str, Rule] = {"settle": _settle, "jitter": _jitter,
-                              "energy_drift": functools.partial(_energy, tol=tol),
-                              "apex": functools.partial(_energy, tol=tol),
-                              "bounce_time": _bounce_time, "divergence": _divergence}
+                              "energy_drift": functools.partial(_energy_drift, tol=tol),
+                              "apex": motion_rules.apex,
+                              "bounce_time": motion_rules.bounce_time,
+                              "divergence": _divergence}
     rule = rules[quantity]
     category, reason = rule(case, conventions, quantity, value, want, err, truth, observed)
     steps = f"{case.step_count} steps of dt = {case.dt or DEFAULT_DT:.3g} s"
@@ -193,6 +194,13 @@ def _jitter(case: SceneCase, conventions: Conventions, quantity: str, value: Val
             ) -> tuple[str, str]:
     g, dt = norm(sm.gravity(case)), case.dt or DEFAULT_DT
     stepped = conventions.rest_sink_steps > 0 or conventions.sampled_contacts
+    rounding = held(case, conventions) / dt
+    if err <= rounding:
+        return Category.TOLERANCE, (
+            f"jitter {err:.3g} m/s at rest, within what the engine's declared precision "
+            f"allows: a position held to {held(case, conventions):.3g} m ({PRECISION_FACTOR:g} "
+            f"x rtol {conventions.rtol:.3g} of the coordinates) moves by that per step, "
+            f"{rounding:.3g} m/s at dt = {dt:.3g} s")
     if stepped and err <= g * dt:
         return Category.TIMESTEP, (
             f"jitter {err:.3g} m/s at rest, within one step of gravity |g| dt = {g * dt:.3g} "
@@ -201,56 +209,6 @@ def _jitter(case: SceneCase, conventions: Conventions, quantity: str, value: Val
     return Category.ERROR, (f"jitter {err:.3g} m/s at rest, beyond one step of gravity "
                             f"{g * dt:.3g} m/s" + ("" if stepped else
                                                    " (no step sink declared)"))
-
-
-def _impact_speeds(case: SceneCase, truth: Observation) -> list[float]:
-    """The exact normal speeds of body 0's recorded bounces (from the exact apexes)."""
-    g = norm(sm.gravity(case))
-    apexes = truth.apex if isinstance(truth.apex, tuple) else ()
-    return [math.sqrt(2 * g * h) for h in apexes]
-
-
-def _energy(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
-            want: Value, err: float, truth: Observation, observed: Observation,
-            tol: float = 0.0) -> tuple[str, str]:
-    what = f"{quantity} off by {err:.3g} {sm.UNITS[quantity]}"
-    resting = _resting_energy(case, conventions, quantity, err, truth, observed)
-    if resting is not None:
-        return resting
-    speeds = _impact_speeds(case, truth)
-    lost = _only_lost(quantity, value, want, tol)
-    if conventions.restitution_model == "soft" and lost:
-        return Category.CONVENTION, (f"{what}, all of it lost: the engine's contact model sets "
-                                     "the bounce (declared restitution_model soft), not the "
-                                     "scene's e, and a passive contact adds no energy")
-    threshold = conventions.restitution_threshold
-    if (threshold > 0 and case.restitution > 0 and speeds and min(speeds) < threshold
-            and lost):
-        return Category.CONVENTION, (
-            f"{what}, all of it lost: bounces close at down to {min(speeds):.3g} m/s, below the "
-            f"declared restitution threshold {threshold:g} m/s (no bounce below it)")
-    damp = damping_bound(case, conventions)
-    damped = damp * (2.0 - damp)  # the share of a kinetic energy the damping can remove
-    reach = damped / float(simulated_time(case) or 1) if quantity == "energy_drift" else damped
-    if conventions.damping > 0 and lost and err <= reach:
-        return Category.CONVENTION, (
-            f"{what}, all of it lost, within the {reach:.3g} the declared damping can remove "
-            f"({conventions.damping:g} per s: up to {damp:.3g} of a speed over the run)")
-    lag = _lag(case, quantity, truth)
-    if err <= lag:
-        return Category.TIMESTEP, (f"{what}, within the {lag:.3g} that reversing each of the "
-                                   f"exact run's impacts up to one step late allows")
-    return Category.ERROR, (f"{what}: beyond the {lag:.3g} of one step's lag per impact; not "
-                            "explained by a declared damping, threshold or soft contact")
-
-
-def _only_lost(quantity: str, value: Value, want: Value, tol: float) -> bool:
-    """The engine's answer has less energy than the exact one, never more (beyond the row's
-    tolerance ``tol``): a lower drift, or every apex both have lower."""
-    if quantity == "apex":
-        pairs = zip(cast(Vec, value), cast(Vec, want), strict=False)
-        return all(x <= y * (1.0 + tol) for x, y in pairs)
-    return float(cast(float, value)) <= float(cast(float, want)) + tol
 
 
 def _resting_energy(case: SceneCase, conventions: Conventions, quantity: str, err: float,
@@ -276,73 +234,32 @@ def _resting_energy(case: SceneCase, conventions: Conventions, quantity: str, er
                       f"explain, settled as the rest conventions allow ({category})")
 
 
-def _lag(case: SceneCase, quantity: str, truth: Observation) -> float:
-    """Each impact reversed up to one step late, ``v dt + |g| dt**2`` deep: the energy it
-    can change (``m |g|`` times that depth, plus the kinetic energy of ``|g| dt``), over the
-    energy scale and the run (``energy_drift``), or an apex's share (``apex``)."""
-    g, dt = norm(sm.gravity(case)), case.dt or DEFAULT_DT
-    impacts = len(truth.impacts or ())
-    top = sm.top_speed(case)
-    depth = top * dt + g * dt * dt
-    if quantity == "apex":
-        apexes = list(truth.apex) if isinstance(truth.apex, tuple) else []
-        low = min((h for h in apexes if h > 0), default=math.inf)
-        return len(apexes) * depth / low
-    mass = max((b.mass for b in case.bodies), default=0.0)
-    per_impact = mass * (g * depth + 0.5 * (g * dt) ** 2)
-    scale = sm.energy_scale(case) or 1.0
-    duration = float(simulated_time(case)) or 1.0
-    return impacts * per_impact / (scale * duration)
-
-
-def _bounce_time(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
-                 want: Value, err: float, truth: Observation, observed: Observation
-                 ) -> tuple[str, str]:
-    dt = case.dt or DEFAULT_DT
-    mine, exact = cast(Vec, value), cast(Vec, want)
-    counts = f"{len(mine)} bounces recorded, {len(exact)} exact"
-    share = _lag(case, "apex", truth)
-    reach = []
-    for k, t in enumerate(exact):  # two steps per bounce, and each flight so far stretched
-        flights = t - (exact[0] if k else 0.0)  # by the apex lag (a flight ~ sqrt(apex))
-        reach.append(2 * (k + 1) * dt + flights * share / 2)
-    pairs = list(zip(mine, exact, reach, strict=False))
-    if pairs and all(abs(x - y) <= r for x, y, r in pairs):
-        return Category.TIMESTEP, (
-            f"bounce times off by up to {err:.3g} s ({counts}), within two steps per bounce "
-            f"so far (dt = {dt:.3g} s) plus the flights stretched by the apex lag "
-            f"{share:.3g}: up to {max(r for _, _, r in pairs):.3g} s")
-    if conventions.restitution_model == "soft":
-        return Category.CONVENTION, (f"bounce times off by up to {err:.3g} s ({counts}): the "
-                                     "engine's contact model sets the bounce (declared soft)")
-    return Category.ERROR, (f"bounce times off by up to {err:.3g} s ({counts}), beyond two "
-                            f"steps per bounce and the apex lag {share:.3g} (dt = {dt:.3g} s)")
+def _energy_drift(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+                  want: Value, err: float, truth: Observation, observed: Observation,
+                  tol: float = 0.0) -> tuple[str, str]:
+    resting = _resting_energy(case, conventions, quantity, err, truth, observed)
+    if resting is not None:
+        return resting
+    return motion_rules.energy_drift(case, conventions, quantity, value, want, err, truth,
+                                     observed, tol)
 
 
 def _divergence(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
                 want: Value, err: float, truth: Observation, observed: Observation
                 ) -> tuple[str, str]:
-    t = float(cast(float, value))
-    dt = case.dt or DEFAULT_DT
-    impacts = [x for x in (truth.impacts or ()) if x <= t]
-    top = sm.top_speed(case)
-    lag = (len(impacts) + 1) * top * dt / _mean_radius(case)
-    reach = case.diverge_at * _mean_radius(case)
-    what = (f"the trajectory left {case.diverge_at:g} mean radii ({reach:.3g} m) of the exact "
-            f"one at t = {t:.4g} s ({err:.3g} of the run)")
-    if reach <= held(case, conventions):
-        return Category.TOLERANCE, (f"{what}: within the engine's declared precision there "
-                                    f"({held(case, conventions):.3g} m: {PRECISION_FACTOR:g} x "
-                                    f"rtol {conventions.rtol:.3g} of the coordinates)")
-    if case.diverge_at <= lag:
-        return Category.TIMESTEP, (f"{what}, after {len(impacts)} impacts each up to one step "
-                                   f"late: up to {lag:.3g} mean radii")
-    if isinstance(observed.settle, tuple) and isinstance(truth.settle, tuple):
+    impacts = [x for x in (truth.impacts or ()) if x <= float(cast(float, value))]
+    if (not impacts and isinstance(observed.settle, tuple)
+            and isinstance(truth.settle, tuple)):
         category, _ = _settle_category(case, conventions, observed.settle, truth.settle)
-        if category != Category.ERROR and not impacts:
-            return category, (f"{what}: the bodies settled where the rest conventions allow "
-                              f"(the settle row: {category})")
-    return Category.ERROR, f"{what}, beyond the {lag:.3g} mean radii of the step lag by then"
+        if category != Category.ERROR:
+            reach = case.diverge_at * _mean_radius(case)
+            return category, (
+                f"the trajectory left {case.diverge_at:g} mean radii ({reach:.3g} m) of the "
+                f"exact one at t = {float(cast(float, value)):.4g} s ({err:.3g} of the run): "
+                f"the bodies settled where the rest conventions allow (the settle row: "
+                f"{category})")
+    return motion_rules.divergence(case, conventions, quantity, value, want, err, truth,
+                                   observed)
 
 
 def settled_positions(case: SceneCase, conventions: Conventions, quantity: str, err: float,

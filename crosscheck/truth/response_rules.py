@@ -8,10 +8,11 @@ case, in this order, with its numbers:
 - an approach slower than the restitution threshold: the bounce is inelastic;
 - a speed cap (``max_speed``): the answer is the textbook's with the cap applied where
   the engine declares it acts, ``"step"`` (each body's velocity at the end of the
-  step: Box2D's ``b2_maxTranslation`` per step) or ``"before restitution"`` (after the
-  contact solve, before the bounce is added: Rapier's cap after each solver substep,
-  its restitution an end-of-step pass).  It fires only when the answer is that one,
-  within the engine's allowance.
+  step: Box2D's ``b2_maxTranslation`` per step), ``"per coordinate"`` (each velocity
+  coordinate at the end of the step: PyBullet's multibody clamp) or
+  ``"before restitution"`` (after the contact solve, before the bounce is added:
+  Rapier's cap after each solver substep, its restitution an end-of-step pass).  It
+  fires only when the answer is that one, within the engine's allowance.
 
 :func:`missed` is a time-step rule (category ``timestep``): an engine that looks for
 contacts only at the start of each step and pushes only bodies that overlap there
@@ -99,12 +100,12 @@ def case_rule(case: ResponseCase, conv: Conventions) -> str:
 # --- the speed cap -------------------------------------------------------------------------
 
 
-def _capped(v: Vec, cap: float) -> Vec:
-    speed = norm(v)
-    return v if speed <= cap else tuple(x * (cap / speed) for x in v)
+AFTER_STEP = ("step", "per coordinate")
+"""The cap stages that act on the velocities at the end of every step (after the bounce)."""
 
 
-def _at_contact(case: ResponseCase, observation: Observation, cap: float) -> ResponseCase:
+def _at_contact(case: ResponseCase, observation: Observation, conv: Conventions,
+                cap: float) -> ResponseCase:
     """The case as the engine met its contact: at ``resolved_at``, and, unless the contact
     was resolved in the first step, with the velocities that free steps capped."""
     start = (case.a.center, case.b.center)
@@ -112,7 +113,7 @@ def _at_contact(case: ResponseCase, observation: Observation, cap: float) -> Res
     first = at is not None and (tuple(at[0]), tuple(at[1])) == start
     pa, pb = (at[0], at[1]) if at is not None else start
     va, vb = ((case.a.velocity, case.b.velocity) if first else
-              (_capped(case.a.velocity, cap), _capped(case.b.velocity, cap)))
+              (conv.clip(case.a.velocity, cap), conv.clip(case.b.velocity, cap)))
     return case.model_copy(update={
         "a": case.a.model_copy(update={"center": tuple(pa), "velocity": tuple(va)}),
         "b": case.b.model_copy(update={"center": tuple(pb), "velocity": tuple(vb)})})
@@ -120,11 +121,11 @@ def _at_contact(case: ResponseCase, observation: Observation, cap: float) -> Res
 
 def _capped_response(met: ResponseCase, conv: Conventions, cap: float) -> tuple[Vec, Vec] | None:
     """The textbook's response with the cap applied where the engine declares it acts."""
-    if conv.max_speed_at == "step":
+    if conv.max_speed_at in AFTER_STEP:
         done = oracle.truth(met)
         if not (isinstance(done.v1, tuple) and isinstance(done.v2, tuple)):
             return None
-        return _capped(done.v1, cap), _capped(done.v2, cap)
+        return conv.clip(done.v1, cap), conv.clip(done.v2, cap)
     plastic = oracle.truth(met.model_copy(update={"restitution": 0.0}))
     ma, mb = met.a.mass, met.b.mass
     line = difference(met.a.center, met.b.center)
@@ -134,9 +135,9 @@ def _capped_response(met: ResponseCase, conv: Conventions, cap: float) -> tuple[
         return None
     n = tuple(x / length for x in line)
     bounce = met.restitution * approach_speed(met)
-    va = tuple(x - mb / (ma + mb) * bounce * k for x, k in zip(_capped(plastic.v1, cap), n,
+    va = tuple(x - mb / (ma + mb) * bounce * k for x, k in zip(conv.clip(plastic.v1, cap), n,
                                                                 strict=True))
-    vb = tuple(x + ma / (ma + mb) * bounce * k for x, k in zip(_capped(plastic.v2, cap), n,
+    vb = tuple(x + ma / (ma + mb) * bounce * k for x, k in zip(conv.clip(plastic.v2, cap), n,
                                                                 strict=True))
     return va, vb
 
@@ -147,28 +148,37 @@ def _speed_cap(case: ResponseCase, conv: Conventions, quantity: str, value: Valu
     if cap is None or not isinstance(value, tuple):
         return ""
     textbook = oracle.truth(case)
-    speeds = {"A": norm(case.a.velocity), "B": norm(case.b.velocity)}
-    if conv.max_speed_at == "step" and isinstance(textbook.v1, tuple) and isinstance(
+    speeds = {"A": _speed(conv, case.a.velocity), "B": _speed(conv, case.b.velocity)}
+    if conv.max_speed_at in AFTER_STEP and isinstance(textbook.v1, tuple) and isinstance(
             textbook.v2, tuple):
-        speeds = {side: max(speeds[side], norm(v))
+        speeds = {side: max(speeds[side], _speed(conv, v))
                   for side, v in (("A", textbook.v1), ("B", textbook.v2))}
     side, fastest = max(speeds.items(), key=lambda kv: kv[1])
     if not fastest > cap:
         return ""
-    want = _capped_response(_at_contact(case, observation, cap), conv, cap)
+    want = _capped_response(_at_contact(case, observation, conv, cap), conv, cap)
     if want is None:
         return ""
     err = error_of(quantity, value, want[0] if quantity == "v1" else want[1])
     if not err <= tolerance:
         return ""
-    when = ("after the textbook's response " if conv.max_speed_at == "step" and
-            fastest > norm((case.a if side == "A" else case.b).velocity) else "")
+    when = ("after the textbook's response " if conv.max_speed_at in AFTER_STEP and
+            fastest > _speed(conv, (case.a if side == "A" else case.b).velocity) else "")
     return (f"{side}'s speed {fastest:.3g} {when}is above the engine's speed cap {cap:.6g} "
             f"(declared; it acts {_WHERE[conv.max_speed_at]}): the answer is the textbook's "
             f"with the cap applied there (error {err:.3g} against that)")
 
 
+def _speed(conv: Conventions, v: Vec) -> float:
+    """What the cap compares: the largest |coordinate| for a cap per coordinate, the norm
+    otherwise."""
+    if conv.max_speed_at == "per coordinate":
+        return max((abs(x) for x in v), default=0.0)
+    return norm(v)
+
+
 _WHERE = {"step": "on each body's velocity at the end of every step",
+          "per coordinate": "on each velocity coordinate at the end of every step",
           "before restitution": "after the contact solve, before the bounce is added"}
 
 

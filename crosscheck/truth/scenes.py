@@ -241,17 +241,6 @@ UNITS = {"positions": "mean radii", "velocities": "of the largest initial speed"
 x it and the energy scale: see :func:`_scales`)."""
 
 
-def lag_bound(case: SceneCase, impacts: int) -> float:
-    """How far (relative, as the errors) resolving each impact up to one step late can go.
-
-    Each of the ``impacts`` of the exact run, and the end, may be seen a step
-    late: at most the top speed x dt each, in units of the mean radius.
-    """
-    scale = _scales(case)
-    top = sm.top_speed(case)
-    return (impacts + 1) * top * (case.dt or DEFAULT_DT) / scale["positions"]
-
-
 def damping_bound(case: SceneCase, conventions: Conventions) -> float:
     """How much the engine's declared damping ``c`` can change a speed over the run.
 
@@ -260,6 +249,37 @@ def damping_bound(case: SceneCase, conventions: Conventions) -> float:
     """
     top = max((norm(b.velocity) for b in case.bodies), default=0.0)
     return -math.expm1(-conventions.damping * (1.0 + top) * float(simulated_time(case)))
+
+
+def extent(case: SceneCase) -> float:
+    """The scene's largest |coordinate| (centres and wall offsets; 1 if none)."""
+    coords = [abs(x) for b in case.bodies for x in b.center]
+    coords += [abs(w.offset) for w in case.walls]
+    return max(coords, default=1.0)
+
+
+def mean_radius(case: SceneCase) -> float:
+    """The bodies' mean radius (the unit of the positions' errors)."""
+    return math.fsum(b.radius for b in case.bodies) / max(1, len(case.bodies))
+
+
+def held(case: SceneCase, conventions: Conventions) -> float:
+    """How far (m) the engine's declared precision alone can put a position: ``rtol`` (its
+    ``Real``) of the scene's largest coordinate, :data:`PRECISION_FACTOR` times."""
+    return PRECISION_FACTOR * conventions.rtol * (extent(case) + mean_radius(case))
+
+
+def coarse(case: SceneCase, conventions: Conventions) -> str:
+    """Why the engine's declared precision cannot hold the scene ('' when it can): its
+    position precision at the scene's coordinates (:func:`held`) reaches the bodies' mean
+    radius, so every quantity of the run is within what the precision allows."""
+    reach, size = held(case, conventions), mean_radius(case)
+    if not (conventions.rtol > 0 and reach >= size):
+        return ""
+    return (f"the engine's declared precision at these coordinates, {PRECISION_FACTOR:g} x "
+            f"rtol {conventions.rtol:.3g} x {extent(case):.3g} = {reach:.3g} m, reaches the "
+            f"bodies' mean radius {size:.3g} m: no position of the scene is held to its own "
+            "size")
 
 
 PRECISION_FACTOR = 2.0

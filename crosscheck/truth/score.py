@@ -28,11 +28,19 @@ from dataclasses import dataclass
 from typing import cast
 
 from crosscheck.core.contract import Conventions
-from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.geometry import Vec
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import AnyCase, SceneCase, ToiCase
 from crosscheck.truth import scene_rules, toi
-from crosscheck.truth.bounds import bound, error_of, is_unit
+from crosscheck.truth.bounds import (
+    bound,
+    by_direction,
+    direction,
+    error_of,
+    length_off,
+    not_unit,
+    unit_allowance,
+)
 from crosscheck.truth.categories import categorize
 from crosscheck.truth.no_value import failed
 
@@ -80,14 +88,24 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
                                                        observation or Observation())
         return Verdict(status, err, tol, category, reason)
     tol = bound(case, quantity, _gap(truth))
-    if (quantity == "normal" and isinstance(value, tuple) and not failed(value)
-            and not is_unit(vec := cast(Vec, value))):
-        return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
-                       f"engine normal is not a unit vector (length {norm(vec):.3g})")
+    if quantity == "normal" and isinstance(value, tuple) and not failed(value):
+        vec = cast(Vec, value)
+        allowed = unit_allowance(conventions.rtol)
+        if not length_off(vec) <= allowed:
+            return Verdict(Status.DISAGREE, math.inf, tol, Category.ERROR,
+                           not_unit(vec, allowed, conventions.rtol))
     err = math.inf if isinstance(value, Undefined) else error_of(quantity, value, want)
     if err <= tol and not failed(value):  # no value is ever within a bound
         return Verdict(Status.AGREE, err, tol)
-    explained = categorize(case, conventions, quantity, value, err, truth,
+    seen, seen_err, judged = value, err, ""
+    if quantity == "normal" and isinstance(value, tuple) and not failed(value):
+        seen = direction(cast(Vec, value))
+        if seen != value:  # judged by its direction (module docstring)
+            seen_err = error_of(quantity, seen, want)
+            judged = by_direction(cast(Vec, value), unit_allowance(conventions.rtol),
+                                  conventions.rtol)
+    explained = categorize(case, conventions, quantity, seen, seen_err, truth,
                            observation or Observation(), tol)
-    return Verdict(Status.DISAGREE, err, tol, explained.category, explained.reason,
+    return Verdict(Status.DISAGREE, err, tol, explained.category, judged + explained.reason,
                    explained.error_at_contact)
+

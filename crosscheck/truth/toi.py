@@ -14,7 +14,11 @@ the slope ``|f'(t)| = 2 sqrt(disc)``; at a graze (``disc`` near 0) by at most
 ``sqrt(u S / a)`` (``a = |dv|**2``).  So ``toi`` agrees within
 ``K_TOI u (t + min(S / (2 sqrt(disc)), sqrt(S / (K_TOI u a))))``, and the normal within
 ``K_ANGLE u`` plus the tilt that time error gives it, ``|dv| dt / R`` (and ``u`` of the
-lengths it divides).  ``hit`` is right or wrong.
+lengths it divides).  ``hit`` is right or wrong.  A normal's length must be 1 to the
+engine's precision: within the normal's bound at ``max(u, rtol)`` (:func:`unit_allowance`)
+it is judged by its direction (its category found as usual; its error is taken on the
+vector as given, so a length off 1 counts in it), beyond it, or zero, it is an ``error``
+with its length.
 
 **Categories**, from declared conventions only:
 
@@ -27,19 +31,27 @@ lengths it divides).  ``hit`` is right or wrong.
 - ``tolerance`` also: a time within the declared ``toi_time_tolerance`` (a fraction of
   the interval) of the exact one;
 - ``timestep``: an engine that samples the interval (``toi_samples`` evenly spaced
-  discrete tests, 2 for the two ends) reported the first sample that overlaps, or saw
-  no contact because it fell between its samples (a sample within the engine's precision
-  of touching may round either way: a pair touching at the start can read apart there);
+  discrete tests at ``(i / (n - 1)) T``, rounded as the engine rounds them, 2 for the two
+  ends) reported exactly the first sample that overlaps, or saw no contact because it fell
+  between its samples (a sample within the engine's precision of touching may round either
+  way: a pair touching at the start can read apart there);
 - ``convention`` also: no contact for a first touch exactly at the interval's end, by an
   engine that declares the end excluded (``toi_end_excluded``);
 - ``error``: none of these.  A normal gets the category of its time when it is right
   for the time the engine reported.
+
+**No value.**  A contact whose ``toi`` or ``normal`` has no finite value is an ``error``,
+or a ``convention`` under a rule the engine declares (``no_value``, the rules of
+:mod:`crosscheck.truth.no_value`: the textbook's coincident centres, the centres
+coinciding at the engine's time), as for pairs.  Without a reported contact the two have
+no value because of the verdict, and take its category, except ``tolerance``: a precision
+explains a verdict, never a missing number, so those rows are ``error`` (or a declared
+rule's ``convention``).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import cast
 
 from crosscheck.core.contract import Conventions
@@ -54,14 +66,26 @@ from crosscheck.core.model import (
     quantities_of,
 )
 from crosscheck.core.schema import ToiCase
-from crosscheck.truth.bounds import K_ANGLE, TINY, U, error_of, failed, is_unit
+from crosscheck.truth import no_value
+from crosscheck.truth.bounds import (
+    U,
+    by_direction,
+    direction,
+    error_of,
+    failed,
+    length_off,
+    not_unit,
+)
+from crosscheck.truth.toi_bounds import K_TOI, Motion, bound, precision, unit_allowance
 from reference_impl.toi import time_of_impact
 
-CONVENTIONS = ("toi_target", "touching", "toi_end_excluded")
+__all__ = ["CONVENTIONS", "K_TOI", "NO_CONTACT", "Motion", "bound", "explain", "judge",
+           "missing", "no_contact", "precision", "sample_times", "target_separation", "truth",
+           "unit_allowance"]
+
+CONVENTIONS = ("toi_target", "touching", "toi_end_excluded", "no_value")
 """The declared conventions whose rules make a disagreement a ``convention`` (see the module
 docstring; fields of :class:`~crosscheck.core.conventions.Conventions`)."""
-K_TOI = 16
-"""Operation-count factor of the time bound (a dozen roundings of ``f``, with room)."""
 NO_CONTACT = "no contact in the interval"
 """The reason of ``toi`` and ``normal`` without a contact (the truth's and the engines')."""
 
@@ -86,77 +110,18 @@ def truth(case: ToiCase) -> Observation:
     return Observation(hit=True, toi=impact.toi, normal=normal)
 
 
-@dataclass(frozen=True, slots=True)
-class Motion:
-    """The relative motion of B seen from A, in float64: ``d(t) = dp + dv t``, ``R``."""
-
-    dp: Vec
-    dv: Vec
-    radius: float
-
-    @classmethod
-    def of(cls, case: ToiCase) -> Motion:
-        dp = tuple(y - x for x, y in zip(case.a.center, case.b.center, strict=True))
-        dv = tuple(y - x for x, y in zip(case.a.velocity, case.b.velocity, strict=True))
-        return cls(dp, dv, case.a.radius + case.b.radius)
-
-    def at(self, t: float) -> Vec:
-        return tuple(p + v * t for p, v in zip(self.dp, self.dv, strict=True))
-
-    def gap(self, t: float) -> float:
-        """The distance between the surfaces at ``t`` (negative: overlapping)."""
-        return norm(self.at(t)) - self.radius
-
-    def closest(self, end: float) -> float:
-        """The time in ``[0, end]`` at which the centres are closest."""
-        a = math.fsum(v * v for v in self.dv)
-        if a == 0:
-            return 0.0
-        return min(end, max(0.0, -math.fsum(p * v for p, v in zip(self.dp, self.dv,
-                                                                    strict=True)) / a))
-
-    def time_bound(self, t: float, unit: float) -> float:
-        """How far rounding at relative ``unit`` moves the first root ``t`` (module docstring)."""
-        a = math.fsum(v * v for v in self.dv)
-        if a == 0:  # at t = 0 the root still moves: a pair touching at the start rounds apart
-            return K_TOI * TINY
-        b = math.fsum(p * v for p, v in zip(self.dp, self.dv, strict=True))
-        c = math.fsum(p * p for p in self.dp) - self.radius**2
-        disc = max(0.0, b * b - a * c)
-        size = (math.sqrt(a) * t + norm(self.dp)) ** 2 + self.radius**2
-        graze = math.sqrt(size / (K_TOI * unit * a))
-        slope = size / (2.0 * math.sqrt(disc)) if disc > 0 else math.inf
-        return K_TOI * unit * (t + min(slope, graze)) + K_TOI * TINY
-
-
-def bound(case: ToiCase, quantity: str, want: Observation, unit: float = U) -> float:
-    """The agree tolerance of ``quantity``: the case's own, or the bound at relative ``unit``."""
-    own = case.tolerance
-    if quantity == "hit":
-        return 0.0
-    motion = Motion.of(case)
-    t = want.toi if isinstance(want.toi, float) else 0.0
-    dt = motion.time_bound(t, unit)
-    if quantity == "toi":
-        return own.toi if own and own.toi is not None else dt
-    if own and own.normal is not None:
-        return own.normal
-    if motion.radius <= 0:
-        return math.pi
-    lengths = norm(motion.dp) + norm(motion.dv) * t
-    return K_ANGLE * unit + (norm(motion.dv) * dt + K_ANGLE * unit * lengths) / motion.radius
-
-
 def judge(case: ToiCase, conv: Conventions, quantity: str, value: Value, truth: Observation,
           observed: Observation) -> tuple[Status, float, float, str, str]:
     """Status, error, tolerance, category and reason of one quantity (the truth is defined)."""
     want = truth.get(quantity)
     assert want is not None and not isinstance(want, Undefined)
     tol = bound(case, quantity, truth)
-    if (quantity == "normal" and isinstance(value, tuple) and not failed(value)
-            and not is_unit(vec := cast(Vec, value))):
-        return (Status.DISAGREE, math.inf, tol, Category.ERROR,
-                f"engine normal is not a unit vector (length {norm(vec):.7g})")
+    if quantity == "normal" and isinstance(value, tuple) and not failed(value):
+        vec = cast(Vec, value)
+        allowed = unit_allowance(case, conv, truth)
+        if not length_off(vec) <= allowed:
+            return Status.DISAGREE, math.inf, tol, Category.ERROR, not_unit(vec, allowed,
+                                                                            conv.rtol)
     err = math.inf if isinstance(value, Undefined) else error_of(quantity, value, want)
     if err <= tol and not failed(value):
         return Status.AGREE, err, tol, "", ""
@@ -174,22 +139,47 @@ def explain(case: ToiCase, conv: Conventions, quantity: str, value: Value,
     exact = truth.toi if isinstance(truth.toi, float) else None
     if isinstance(observed.hit, Undefined):
         return Category.ERROR, f"the engine gave no answer: {observed.hit.reason}"
-    if quantity == "hit" or when is None or not reported:
-        return _verdict(case, conv, motion, reported, exact)
+    if quantity == "hit" or not reported:
+        category, why = _verdict(case, conv, motion, reported, exact)
+        if quantity != "hit" and category == Category.TOLERANCE and failed(value):
+            return missing(case, conv, quantity, value, observed, f"its verdict: {why}")
+        return category, why
+    if failed(value):  # a contact reported, and this quantity of it without a value
+        return missing(case, conv, quantity, value, observed)
+    if when is None:
+        return Category.ERROR, (f"{quantity} off by {err:.3g}; the engine reported a contact "
+                                f"with no finite time ({observed.toi!r}) to judge it at")
     rule = _at_time(case, conv, motion, when, truth)
     if quantity == "toi":
         return rule or (Category.ERROR, _unexplained(motion, when, exact, err, "toi"))
-    right_then = _normal_then(motion, value, when)
+    vec, judged = cast(Vec, value), ""
+    if (unit := direction(vec)) != vec:  # judged by its direction, its length being right
+        judged = by_direction(vec, unit_allowance(case, conv, truth), conv.rtol)
+        err = error_of("normal", unit, cast(Vec, truth.normal))
+    right_then = _normal_then(motion, unit, when)
     if rule and right_then is not None and right_then <= bound(
             case, "normal", truth, max(U, conv.rtol)):
         category, why = rule
-        return category, (f"normal right for the engine's time {when:.17g} (off by "
+        return category, (f"{judged}normal right for the engine's time {when:.17g} (off by "
                           f"{right_then:.3g} rad from the direction then): {why}")
-    if rule and norm(motion.at(when)) <= precision(conv, case) and failed(value):
-        category, why = rule
-        return category, (f"no normal: at the engine's time {when:.17g} the centres coincide "
-                          f"(to its precision), so no direction is defined there: {why}")
-    return Category.ERROR, _unexplained(motion, when, exact, err, "normal")
+    return Category.ERROR, judged + _unexplained(motion, when, exact, err, "normal")
+
+
+def missing(case: ToiCase, conv: Conventions, quantity: str, value: Value,
+            observed: Observation, verdict: str = "") -> tuple[str, str]:
+    """A quantity without a finite value: ``convention`` under a declared no-value rule
+    (:mod:`crosscheck.truth.no_value`), else ``error``.  ``verdict``: why the engine saw no
+    contact, when that is within its precision (a precision explains a verdict, never a
+    missing number)."""
+    failed_answers = no_value.failure(observed, quantity, value)
+    rule = no_value.declared(case, conv, quantity, observed)
+    if rule:
+        return Category.CONVENTION, (f"no value by a declared rule: {failed_answers}, and its "
+                                     f"rule {rule}")
+    because = (f" ({verdict}; a precision explains the verdict, not a missing value)"
+               if verdict else "")
+    return Category.ERROR, (f"no finite answer: {failed_answers}{because}; no declared "
+                            "convention says the engine gives none for this case")
 
 
 def _unexplained(motion: Motion, when: float, exact: float | None, err: float,
@@ -215,16 +205,6 @@ def target_separation(conv: Conventions, case: ToiCase) -> float:
     closer than ``toi_min_centre_distance`` between the centres (Box2D's ``linearSlop``)."""
     radius = case.a.radius + case.b.radius
     return max(conv.toi_target, conv.toi_min_centre_distance - radius)
-
-
-def precision(conv: Conventions, case: ToiCase) -> float:
-    """What the engine's arithmetic precision ``rtol`` allows a separation to be off by:
-    ``K_TOI rtol`` of the magnitudes it holds (the coordinates, as an engine in float32
-    rounds them, the travel over the interval and the radii)."""
-    a, b = case.a, case.b
-    magnitude = (max(norm(a.center), norm(b.center))
-                 + (norm(a.velocity) + norm(b.velocity)) * case.duration + a.radius + b.radius)
-    return K_TOI * max(U, conv.rtol) * magnitude
 
 
 def _separation(conv: Conventions, case: ToiCase) -> tuple[float, float]:
@@ -260,8 +240,7 @@ def _at_time(case: ToiCase, conv: Conventions, motion: Motion, when: float,
     times = sample_times(case, conv)
     rounding = precision(conv, case)  # a sample this close to touching may round either way
     earlier = [t for t in times if t < when and motion.gap(t) <= -rounding]
-    if (any(math.isclose(when, t, rel_tol=1e-12, abs_tol=0.0) for t in times)
-            and gap <= 0 and when >= exact and not earlier):
+    if when in times and gap <= 0 and when >= exact and not earlier:
         return Category.TIMESTEP, (
             f"the engine samples the interval at {len(times)} evenly spaced times "
             f"(declared toi_samples): it reports the first sample that overlaps, t = "
@@ -270,11 +249,19 @@ def _at_time(case: ToiCase, conv: Conventions, motion: Motion, when: float,
 
 
 def sample_times(case: ToiCase, conv: Conventions) -> list[float]:
-    """The times a sampling query tests: ``i T / (n - 1)`` for its declared ``n`` samples."""
+    """The times a sampling query tests, rounded as the engine rounds them: the normalised
+    time ``i / (n - 1)`` for its declared ``n`` samples, then scaled by the interval,
+    ``(i / (n - 1)) T`` (FCL's naive solver, ``t = i / (S)(n_iter - 1)``, and the adapter's
+    ``time_of_contact x duration``; the textbook's two ends, 0 and ``T``, are the same).
+    ``T i / (n - 1)`` can be an ulp away, and a reported sample must be found exactly:
+
+    >>> (5 / 9) * 1e6, 1e6 * 5 / 9
+    (555555.5555555556, 555555.5555555555)
+    """
     n = conv.toi_samples
     if n < 2:
         return []
-    return [case.duration * i / (n - 1) for i in range(n)]
+    return [(i / (n - 1)) * case.duration for i in range(n)]
 
 
 def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | None,

@@ -7,6 +7,7 @@ Every expected value comes from the exact oracle (:func:`crosscheck.truth.toi.tr
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -15,8 +16,10 @@ from adapters.fcl_engine import Fcl, FclCcdNaive, FclCcdPolynomial, FclCcdRaySho
 from adapters.rapier_engine import RapierDefault, RapierTuned
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Category, Kind, Status, Undefined
+from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import ToiCase
-from crosscheck.truth import oracle, toi
+from crosscheck.run.execute import execute
+from crosscheck.truth import toi
 from crosscheck.truth.score import judge
 
 C = 1.0123456789
@@ -48,8 +51,7 @@ def verdicts(adapter: Adapter, c: ToiCase) -> dict[str, tuple[Status, str]]:
     return out
 
 
-@pytest.mark.parametrize("adapter", [Fcl(), FclCcdNaive(), FclCcdRayShooting(),
-                                     FclCcdPolynomial(), Box2dTuned(), Box2dDefault(),
+@pytest.mark.parametrize("adapter", [Fcl(), FclCcdNaive(), Box2dTuned(), Box2dDefault(),
                                      RapierTuned(), RapierDefault()], ids=lambda a: a.name)
 def test_capabilities(adapter: Adapter) -> None:
     dims = {d for k, d in adapter.capabilities if k is Kind.SPHERE_TOI}
@@ -96,14 +98,44 @@ def test_fcl_naive_reports_the_first_sample_in_collision() -> None:
     assert observed.hit is True and observed.toi == first * c.duration
 
 
+def test_fcl_naive_reports_its_sample_as_the_judge_counts_it_on_a_long_interval() -> None:
+    """On T = 1e6 the naive solver's sample 5, ``(5 / 9) T``, is an ulp above ``T * 5 / 9``:
+    the judge's samples are the engine's own, so its first overlapping sample is timestep."""
+    c = case(3, ca=(-1.0, 0.0, 0.0), va=(1e-6, 0.0, 0.0), cb=(1.0, 0.0, 0.0),
+             vb=(-1e-6, 0.0, 0.0), radius=0.5, duration=1e6)
+    truth = toi.truth(c)
+    assert isinstance(truth.toi, float) and 4 / 9 < truth.toi / c.duration < 5 / 9
+    observed = FclCcdNaive().observe(c)
+    assert observed.toi in toi.sample_times(c, FclCcdNaive.conventions)
+    assert verdicts(FclCcdNaive(), c)["toi"] == (Status.DISAGREE, Category.TIMESTEP)
+
+
+def test_fcl_naive_gives_no_normal_where_its_sample_has_the_centres_coincide() -> None:
+    """Speed 1 over [0, 1] from 2 apart: the sample t = 1 finds the centres on each other, so
+    the normal computed from them has no value: the declared no-value rule says so."""
+    c = case(3, ca=(-1.0, 0.0, 0.0), cb=(1.0, 0.0, 0.0))
+    observed = FclCcdNaive().observe(c)
+    assert observed.hit is True and observed.toi == 1.0
+    assert isinstance(observed.normal, Undefined)
+    truth = toi.truth(c)
+    verdict = judge(c, FclCcdNaive.conventions, "normal", observed.normal, truth, observed)
+    assert verdict.category == Category.CONVENTION and "float64-centre-line" in verdict.reason
+    bare = replace(FclCcdNaive.conventions, no_value=())
+    assert judge(c, bare, "normal", observed.normal, truth, observed).category == Category.ERROR
+
+
 @pytest.mark.parametrize("adapter", [FclCcdRayShooting(), FclCcdPolynomial()],
                          ids=lambda a: a.name)
-def test_fcl_solvers_that_do_not_compute_answer_undefined(adapter: Adapter) -> None:
-    seen = adapter.observe(HEAD_ON[1])
+def test_fcl_solvers_that_do_not_compute_spheres_skip_every_case(adapter: Adapter) -> None:
+    """FCL returns -1, "not computed", for these solvers on two spheres: the variants
+    declare no capability, and a run skips every case with FCL's source as the reason."""
+    seen = adapter.observe(HEAD_ON[1])  # asked anyway, FCL does not compute it
     assert isinstance(seen.hit, Undefined) and "returned -1" in seen.hit.reason
-    verdict = judge(HEAD_ON[1], adapter.conventions, "hit", seen.hit, oracle.truth(HEAD_ON[1]),
-                    seen)
-    assert verdict.status is Status.DISAGREE and verdict.category == Category.ERROR
+    assert not adapter.capabilities
+    for c in (*HEAD_ON, MISS):
+        outcome = execute(adapter, c, RunOptions())
+        assert outcome.status is Status.SKIP and outcome.observation is None
+        assert "continuous_collision-inl.h" in outcome.reason and "-1" in outcome.reason
 
 
 @pytest.mark.parametrize("adapter", [Box2dTuned(), Box2dDefault()], ids=lambda a: a.name)
@@ -149,6 +181,9 @@ def test_rapier_within_float32_of_touching(adapter: Adapter, c: ToiCase) -> None
     assert got["toi"][0] is Status.AGREE or got["toi"] == (Status.DISAGREE, Category.TOLERANCE)
     assert isinstance(observed.normal, tuple) and len(observed.normal) == c.dim
     assert math.isclose(observed.normal[0], 1.0, rel_tol=1e-4)
+    # parry's d / R is not renormalised: a float32 length, judged by its direction
+    assert got["normal"][0] is Status.AGREE or got["normal"] == (Status.DISAGREE,
+                                                                Category.TOLERANCE)
 
 
 def test_overlapping_at_the_start_is_contact_at_zero() -> None:

@@ -9,7 +9,7 @@ from crosscheck.cases.expand import expand
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Category, Observation, Status
 from crosscheck.core.schema import CASE_ADAPTER, SceneCase
-from crosscheck.truth import oracle, scene_rules, scenes
+from crosscheck.truth import oracle, scene_runs, scenes
 from crosscheck.truth.score import judge
 
 
@@ -73,7 +73,7 @@ def test_a_declared_per_step_speed_cap_explains_the_capped_run() -> None:
     dt = case.dt or 0.0
     top = max(math.hypot(*b.velocity) for b in case.bodies)
     cap = Conventions(max_speed=0.5 * top, max_speed_at="step", time_step=dt)
-    slow = scene_rules.capped(case, cap)
+    slow = scene_runs.capped(case, cap)
     assert slow is not None
     engine = oracle.truth(slow)
     verdict = judge(case, cap, "positions", engine.positions, oracle.truth(case), engine)

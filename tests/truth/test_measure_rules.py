@@ -61,8 +61,12 @@ def test_soft_restitution_explains_lost_apex_height_but_never_gained() -> None:
     assert isinstance(exact, tuple) and exact
     lower = tuple(0.5 * h for h in exact)
     higher = tuple(1.5 * h for h in exact)
-    assert judged(DROP, soft, "apex", lower)[1] == "convention"
-    status, category, reason = judged(DROP, soft, "apex", higher)
+    times = scenes.truth(DROP).bounce_time
+    assert judged(DROP, soft, "apex", lower, apex=lower, bounce_time=times)[1] == "convention"
+    assert judged(DROP, Conventions(), "apex", lower, apex=lower,
+                  bounce_time=times)[1] == "error"
+    status, category, reason = judged(DROP, soft, "apex", higher, apex=higher,
+                                      bounce_time=times)
     assert (status, category) == (Status.DISAGREE, "error")
     assert "soft" in reason  # it names what it read and could not use
 

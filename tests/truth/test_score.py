@@ -212,6 +212,26 @@ def test_non_unit_normal_is_an_error() -> None:
     assert verdict.status is Status.DISAGREE and "not a unit vector" in verdict.reason
 
 
+def test_a_normal_is_a_unit_vector_to_the_engines_own_precision() -> None:
+    """A float32 engine's normal 5e-6 longer than 1, in the right direction, is judged by its
+    direction; a float64 engine's is not a unit vector; 1.01 is none for either."""
+    case = sphere(0.0, 0.75, dim=3)  # overlapping by 0.25: the normal is +x
+    truth = oracle.truth(case)
+    float32, float64 = Conventions(rtol=2.0**-21), Conventions(rtol=2.0**-52)
+    long = (1.0 + 5e-6, 0.0, 0.0)
+    seen = Observation(hit=True, distance=-0.25, normal=long)
+    judged = judge(case, float32, "normal", long, truth, seen)
+    assert judged.status is Status.DISAGREE  # not a unit vector to float64: never agree
+    assert judged.category == Category.TOLERANCE, judged.reason
+    assert "judged by its direction" in judged.reason and "(rtol 4.77e-07)" in judged.reason
+    for conv in (float64, TEXTBOOK):
+        verdict = judge(case, conv, "normal", long, truth, seen)
+        assert verdict.category == Category.ERROR and "not a unit vector" in verdict.reason
+    for conv in (float32, float64):
+        far = judge(case, conv, "normal", (1.01, 0.0, 0.0), truth, seen)
+        assert far.category == Category.ERROR and "length 1.01" in far.reason
+
+
 def test_box_touch_features_and_per_feature_rules() -> None:
     face = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.0, 0.0, 0.0], [0.5, 0.5, 0.5])
     edge = aabb([0.0, 0.0, 0.0], [0.5, 0.5, 0.5], [1.0, 1.0, 0.0], [0.5, 0.5, 0.5])

@@ -191,3 +191,117 @@ def test_a_sampling_engine_that_reads_a_touch_at_its_first_sample_as_apart_is_ti
     verdict = judge(clearly, sampled, "toi", 1.0, oracle.truth(clearly),
                     Observation(hit=True, toi=1.0, normal=truth.normal))
     assert verdict.category is Category.ERROR  # overlapping by 0.5 at t = 0: not rounding
+
+
+# --- the samples of a sampling query --------------------------------------------------------
+
+
+def head_on(duration: float, speed: float, radius: float = 0.5, offset: float = 0.0
+            ) -> ToiCase:
+    """Centres at ``offset -+ 1`` on x closing at ``2 speed``; radii ``radius``."""
+    return crossing(duration=duration,
+                    a={"center": [offset - 1.0, 0.0], "radius": radius, "velocity": [speed, 0.0]},
+                    b={"center": [offset + 1.0, 0.0], "radius": radius,
+                       "velocity": [-speed, 0.0]})
+
+
+def test_a_reported_sample_is_found_exactly_as_the_engine_rounds_it() -> None:
+    """FCL's naive solver reports ``t = i / 9`` of the interval, scaled: ``(i / 9) T``.  On
+    ``T = 1e6`` sample 5 is an ulp above ``T * 5 / 9``, which read as an earlier sample that
+    already overlaps would make the engine's own first sample an ``error``."""
+    case = head_on(duration=1e6, speed=1e-6)  # touching at t = 5e5, between samples 4 and 5
+    truth = oracle.truth(case)
+    assert truth.toi == 5e5
+    reported = (5 / 9) * case.duration
+    assert case.duration * 5 / 9 < reported  # the two roundings differ here
+    naive = Conventions(toi_samples=10)
+    engine = Observation(hit=True, toi=reported, normal=(1.0, 0.0))
+    verdict = judge(case, naive, "toi", reported, truth, engine)
+    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.TIMESTEP), \
+        verdict.reason
+    assert reported in toi.sample_times(case, naive)
+
+
+def test_the_two_ends_are_the_textbook_discrete_tests_own_samples() -> None:
+    for duration in (1e6, 0.75, 1e-3, 1000.0 / 3.0):
+        case = head_on(duration=duration, speed=1.0)
+        assert toi.sample_times(case, Conventions(toi_samples=2)) == [0.0, duration]
+    late = head_on(duration=1.0, speed=0.75)  # touching at 2/3: the end sample overlaps
+    sampled = oracle.sampled_impact(late)
+    assert sampled.toi == 1.0
+    verdict = judge(late, Conventions(toi_samples=2), "toi", sampled.toi, oracle.truth(late),
+                    sampled)
+    assert verdict.category == Category.TIMESTEP
+
+
+# --- normals of a float32 engine ------------------------------------------------------------
+
+
+def test_a_float32_normal_is_a_unit_vector_to_float32_and_judged_by_its_direction() -> None:
+    case = crossing()
+    truth = oracle.truth(case)
+    assert truth.normal == (1.0, 0.0) and isinstance(truth.toi, float)
+    float32, float64 = Conventions(rtol=2.0**-21), Conventions(rtol=2.0**-52)
+    long = (1.0 + 5e-6, 0.0)  # a float32 normal d / R, not renormalised (parry's)
+    engine = Observation(hit=True, toi=truth.toi, normal=long)
+    judged = judge(case, float32, "normal", long, truth, engine)
+    assert judged.status is Status.DISAGREE  # not a float64 unit vector: never agree
+    assert judged.category == Category.TOLERANCE, judged.reason
+    assert "judged by its direction" in judged.reason and "rtol 4.77e-07" in judged.reason
+    for conv in (float64, Conventions()):
+        verdict = judge(case, conv, "normal", long, truth, engine)
+        assert verdict.category == Category.ERROR and "not a unit vector" in verdict.reason
+    assert toi.unit_allowance(case, float32, truth) < 0.01
+    for conv in (float32, float64):
+        far = judge(case, conv, "normal", (1.01, 0.0), truth, engine)
+        assert far.category == Category.ERROR and "length 1.01" in far.reason
+
+
+# --- answers without a value ----------------------------------------------------------------
+
+
+def test_a_contact_without_a_normal_is_an_error_unless_a_declared_rule_gives_none() -> None:
+    far = head_on(duration=1.0, speed=1.0, radius=0.05, offset=1e8)  # float32: one centre
+    engine = oracle.textbook(far, "f32")  # the discrete test in float32, at t = 0
+    assert engine.hit is True and engine.toi == 0.0 and isinstance(engine.normal, Undefined)
+    truth = oracle.truth(far)
+    float32 = Conventions(rtol=2.0**-21, toi_samples=2)
+    verdict = judge(far, float32, "normal", engine.normal, truth, engine)
+    assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.ERROR)
+    assert "no finite answer" in verdict.reason
+    declared = Conventions(rtol=2.0**-21, toi_samples=2, no_value=("float32-textbook",))
+    verdict = judge(far, declared, "normal", engine.normal, truth, engine)
+    assert verdict.category == Category.CONVENTION and "'float32-textbook'" in verdict.reason
+
+
+def test_a_normal_between_coincident_centres_is_a_convention_of_the_centre_line_rule() -> None:
+    case = crossing()  # the centres pass through each other at t = 0.5, exactly
+    assert toi.Motion.of(case).at(0.5) == (0.0, 0.0)
+    none = Undefined("the centres coincide at the reported time")
+    engine = Observation(hit=True, toi=0.5, normal=none)
+    truth = oracle.truth(case)
+    assert judge(case, Conventions(), "normal", none, truth, engine).category == Category.ERROR
+    line = Conventions(no_value=("float64-centre-line",))
+    verdict = judge(case, line, "normal", none, truth, engine)
+    assert verdict.category == Category.CONVENTION and "t = 0.5" in verdict.reason
+    apart = Observation(hit=True, toi=0.25, normal=none)  # 1.01 apart then: no rule
+    assert judge(case, line, "normal", none, truth, apart).category == Category.ERROR
+
+
+def test_no_time_for_a_miss_within_precision_is_not_a_tolerance() -> None:
+    """A verdict within the engine's precision of touching is ``tolerance``; the time and
+    normal it leaves without a value are not."""
+    end = head_on(duration=0.75, speed=1.0, radius=0.25)  # touching at the end, t = 0.75
+    assert oracle.truth(end).toi == 0.75
+    none = Undefined("no contact in the interval")
+    engine = Observation(hit=False, toi=none, normal=none)
+    float32 = Conventions(rtol=2.0**-21)
+    verdicts = {q: judge(end, float32, q, engine.get(q), oracle.truth(end), engine)
+                for q in ("hit", "toi", "normal")}
+    assert verdicts["hit"].category == Category.TOLERANCE
+    for quantity in ("toi", "normal"):
+        assert verdicts[quantity].category == Category.ERROR
+        assert "a precision explains the verdict" in verdicts[quantity].reason
+    excluded = Conventions(rtol=2.0**-21, toi_end_excluded=True)  # a declared rule still is
+    assert judge(end, excluded, "toi", none, oracle.truth(end), engine).category == \
+        Category.CONVENTION

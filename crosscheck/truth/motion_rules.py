@@ -1,0 +1,218 @@
+"""Why a motion measure disagrees (``apex``, ``bounce_time``, ``energy_drift``,
+``divergence``): each against one event's bound or a declared value, never a sum over the run.
+
+- ``apex``, ``bounce_time``: the drop's bounces, each from the engine's own previous state
+  (:mod:`crosscheck.truth.drop_rules`); the row cites its own worst event;
+- ``energy_drift``: a drop's bounces; a two-body run in open space
+  (:mod:`crosscheck.truth.scene_runs`: its drift against that run's, within the precision
+  and the declared damping); then the declared soft or predictive bounce, restitution
+  threshold or damping for a loss (``convention``), the precision (``tolerance``: ``2 rtol``
+  of the kinetic energy and the potential energy of a position held to the precision, over
+  the run); step lag never explains an energy change (an elastic impact met late is still
+  elastic);
+- ``divergence``: the precision, a drop's bounces, then a chaotic scene whose trajectory
+  stays within one step's travel of the exact one through its first impact (``timestep``:
+  that one event's lag, which the impacts after it amplify); else ``error``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import cast
+
+from crosscheck.core.contract import Conventions
+from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.model import Category, Observation, Value
+from crosscheck.core.schema import DEFAULT_DT, SceneCase
+from crosscheck.truth import drop_rules, scene_runs
+from crosscheck.truth import scene_measures as sm
+from crosscheck.truth.scenes import (
+    PRECISION_FACTOR,
+    damping_bound,
+    held,
+    mean_radius,
+    simulated_time,
+)
+
+
+def apex(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+         want: Value, err: float, truth: Observation, observed: Observation
+         ) -> tuple[str, str]:
+    drop = drop_rules.sequence(case, conventions, observed, truth)
+    what = f"apex off by {err:.3g} (relative) over {len(cast(Vec, want))} exact bounces"
+    if drop is None:
+        return Category.ERROR, f"{what}: the engine's bounces could not be read"
+    return drop.category, f"{what}: {drop.why}"
+
+
+def bounce_time(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+                want: Value, err: float, truth: Observation, observed: Observation
+                ) -> tuple[str, str]:
+    mine, exact = cast(Vec, value), cast(Vec, want)
+    what = (f"bounce times off by up to {err:.3g} s ({len(mine)} bounces recorded, "
+            f"{len(exact)} exact)")
+    drop = drop_rules.sequence(case, conventions, observed, truth)
+    if drop is None:
+        return Category.ERROR, f"{what}: the engine's bounces could not be read"
+    worst = drop.worst_interval
+    timing = f"; worst time: {worst}" if worst is not None else ""
+    return drop.category, f"{what}: {drop.why}{timing}"
+
+
+def drift_precision(case: SceneCase, conventions: Conventions) -> float:
+    """What the declared precision allows the energy drift (per s): ``2 rtol`` of the
+    kinetic energy and ``m |g|`` times a position held to the precision, over the energy
+    scale and the run."""
+    scale = sm.energy_scale(case) or 1.0
+    g = norm(sm.gravity(case))
+    kinetic = math.fsum(0.5 * b.mass * math.fsum(v * v for v in b.velocity)
+                        for b in case.bodies)
+    top = sm.top_speed(case)
+    kinetic = max(kinetic, math.fsum(0.5 * b.mass * top * top for b in case.bodies))
+    potential = math.fsum(b.mass for b in case.bodies) * g * held(case, conventions)
+    rtol = PRECISION_FACTOR * conventions.rtol
+    return (rtol * (2.0 + rtol) * kinetic + potential) / (
+        scale * float(simulated_time(case) or 1))
+
+
+def _only_lost(value: Value, want: Value, tol: float) -> bool:
+    return float(cast(float, value)) <= float(cast(float, want)) + tol
+
+
+def energy_drift(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+                 want: Value, err: float, truth: Observation, observed: Observation,
+                 tol: float = 0.0) -> tuple[str, str]:
+    what = f"energy_drift off by {err:.3g} {sm.UNITS[quantity]}"
+    drop = drop_rules.sequence(case, conventions, observed, truth)
+    if drop is not None:
+        return drop.category, f"{what}: the run's bounces decide it: {drop.why}"
+    run = _run(case, conventions, value, what, observed, truth)
+    if run is not None:
+        return run
+    lost = _only_lost(value, want, tol)
+    duration = float(simulated_time(case) or 1)
+    if conventions.bounce_may_lose and lost:
+        return Category.CONVENTION, (
+            f"{what}, all of it lost: the engine's declared {conventions.restitution_model} "
+            "contact model sets the bounce, not the scene's e, and keeps no more than it")
+    speeds = _impact_speeds(case, truth)
+    threshold = conventions.restitution_threshold
+    if (threshold > 0 and case.restitution > 0 and speeds and min(speeds) < threshold
+            and lost):
+        return Category.CONVENTION, (
+            f"{what}, all of it lost: impacts close at down to {min(speeds):.3g} m/s, below "
+            f"the declared restitution threshold {threshold:g} m/s (no bounce below it)")
+    damp = damping_bound(case, conventions)
+    reach = damp * (2.0 - damp) / duration
+    if conventions.damping > 0 and lost and err <= reach:
+        return Category.CONVENTION, (
+            f"{what}, all of it lost, within the {reach:.3g} the declared damping can remove "
+            f"({conventions.damping:g} per s: up to {damp:.3g} of a speed over the run)")
+    precision = drift_precision(case, conventions)
+    if err <= precision:
+        return Category.TOLERANCE, (
+            f"{what}, within the engine's declared precision: {PRECISION_FACTOR:g} x rtol "
+            f"{conventions.rtol:.3g} of the kinetic energy and of the positions, over the "
+            f"energy scale and the {duration:.3g} s run = {precision:.3g}")
+    return Category.ERROR, (f"{what}: beyond the precision {precision:.3g}; an impact met a "
+                            "step late is still elastic, and no declared damping, threshold "
+                            "or soft contact takes it")
+
+
+def _impact_speeds(case: SceneCase, truth: Observation) -> list[float]:
+    """The exact normal speeds of body 0's recorded bounces (from the exact apexes)."""
+    g = norm(sm.gravity(case))
+    apexes = truth.apex if isinstance(truth.apex, tuple) else ()
+    return [math.sqrt(2 * g * h) for h in apexes]
+
+
+def _run(case: SceneCase, conventions: Conventions, value: Value, what: str,
+         observed: Observation, truth: Observation) -> tuple[str, str] | None:
+    """The drift against the two-body run the engine gave (its energy is that run's)."""
+    fit = scene_runs.find(case, conventions, observed, truth)
+    if fit is None or not isinstance(fit.state.energy, float):
+        return None
+    duration = float(simulated_time(case) or 1)
+    scale = sm.energy_scale(case) or 1.0
+    start = math.fsum(0.5 * b.mass * math.fsum(v * v for v in b.velocity)
+                      for b in case.bodies)
+    theirs = (fit.state.energy - start) / (scale * duration)
+    off = abs(float(cast(float, value)) - theirs)
+    slack = fit.slack(case, conventions, "energy") / duration
+    if off > slack:
+        return Category.ERROR, (f"{what}: the engine's run is {fit.cause} (its positions and "
+                                f"velocities match it), but its drift is {off:.3g} from that "
+                                f"run's, beyond the {slack:.3g} its precision and declared "
+                                "damping allow")
+    return fit.category, (f"{what}; the engine's run is {fit.cause}: against that run's drift "
+                          f"it is off by {off:.3g}, within {slack:.3g}")
+
+
+def first_departure(case: SceneCase, conventions: Conventions, observed: Observation,
+                    truth: Observation) -> tuple[float, float, float] | None:
+    """Through the exact run's first impact (and one step after it): the largest distance
+    of a recorded centre from the exact one, its bound (one step's travel at the top speed
+    plus the precision), and the impact's time.  None without trajectories or impacts."""
+    mine, exact, impacts = observed.trajectory, truth.trajectory, truth.impacts
+    if mine is None or exact is None or not impacts:
+        return None
+    dt = case.dt or DEFAULT_DT
+    until = impacts[0] + dt
+    far = 0.0
+    for t, ps, qs in zip(mine.times, mine.positions, exact.positions, strict=False):
+        if t > until:
+            break
+        far = max([far] + [norm([x - y for x, y in zip(p, q, strict=True)])
+                           for p, q in zip(ps, qs, strict=True)])
+    bound = sm.top_speed(case) * dt + held(case, conventions)
+    return far, bound, impacts[0]
+
+
+def divergence(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
+               want: Value, err: float, truth: Observation, observed: Observation
+               ) -> tuple[str, str]:
+    t = float(cast(float, value))
+    reach = case.diverge_at * mean_radius(case)
+    what = (f"the trajectory left {case.diverge_at:g} mean radii ({reach:.3g} m) of the exact "
+            f"one at t = {t:.4g} s ({err:.3g} of the run)")
+    if reach <= held(case, conventions):
+        return Category.TOLERANCE, (f"{what}: within the engine's declared precision there "
+                                    f"({held(case, conventions):.3g} m: {PRECISION_FACTOR:g} x "
+                                    f"rtol {conventions.rtol:.3g} of the coordinates)")
+    drop = drop_rules.sequence(case, conventions, observed, truth)
+    if drop is not None:
+        return drop.category, f"{what}: the run's bounces decide it: {drop.why}"
+    first = first_departure(case, conventions, observed, truth)
+    if first is None:
+        return Category.ERROR, f"{what}, before any impact of the exact run"
+    far, bound, when = first
+    impacts = [x for x in (truth.impacts or ()) if x <= t]
+    if far <= bound:
+        return Category.TIMESTEP, (
+            f"{what}: through the first impact (t = {when:.4g} s) it stays within {far:.3g} m "
+            f"of the exact one, inside one step's travel at the top speed {bound:.3g} m (that "
+            f"impact seen a step late); the {len(impacts)} impacts up to t part the "
+            "trajectories further, each from the other's state")
+    return Category.ERROR, (f"{what}: already {far:.3g} m off through the first impact (t = "
+                            f"{when:.4g} s), beyond one step's travel at the top speed "
+                            f"{bound:.3g} m")
+
+
+def diverged(case: SceneCase, conventions: Conventions, quantity: str, what: str,
+             observed: Observation, truth: Observation) -> tuple[str, str] | None:
+    """A chaotic scene's final positions, velocities or momentum after its trajectory left
+    the exact one: the divergence row's category when step lag explains it (energy is
+    kept by every elastic impact, so it never follows)."""
+    if quantity not in ("positions", "velocities", "momentum"):
+        return None
+    t = observed.divergence
+    end = float(simulated_time(case))
+    if not isinstance(t, float) or not t < end:
+        return None
+    first = first_departure(case, conventions, observed, truth)
+    if first is None or first[0] > first[1]:
+        return None
+    return Category.TIMESTEP, (
+        f"{what}: the trajectory left the exact one at t = {t:.4g} s of {end:.4g} s (the "
+        f"divergence row), after staying within one step's travel {first[1]:.3g} m through "
+        f"the first impact; the final state says no more than that")
