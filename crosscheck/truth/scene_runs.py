@@ -345,6 +345,80 @@ def _speculative(start: SceneCase, conventions: Conventions, observed: Observati
                gap + closing * dt)
 
 
+def _flown(start: SceneCase, t0: float, centres: tuple[Vec, Vec],
+           velocities: tuple[Vec, Vec]) -> Observation:
+    """The final state of bodies at ``centres`` at time ``t0`` flying on with
+    ``velocities``."""
+    left = float(simulated_time(start)) - t0
+    ends = (tuple(p + v * left for p, v in zip(centres[0], velocities[0], strict=True)),
+            tuple(p + v * left for p, v in zip(centres[1], velocities[1], strict=True)))
+    return final_state(start, start.step_count, ends, velocities)
+
+
+def _swept(start: SceneCase, conventions: Conventions, observed: Observation,
+           cap: str) -> Fit | None:
+    """The run of an engine that sweeps its bodies (no sampled contacts) and aims its time
+    of impact at a declared overlap (``toi_target`` < 0: Box2D's bullets, three linear slops
+    deep): the impact met where the surfaces overlap by that much, resolved along the line
+    of centres there; each centre may differ by the overlap and the query's tolerance."""
+    target = conventions.toi_target
+    if conventions.sampled_contacts or conventions.speculative_contacts or not target < 0:
+        return None
+    a, b = start.bodies[0], start.bodies[1]
+    reach = a.radius + b.radius + target
+    dp = [y - x for x, y in zip(a.center, b.center, strict=True)]
+    dv = [w - v for v, w in zip(a.velocity, b.velocity, strict=True)]
+    qa = math.fsum(x * x for x in dv)
+    qb = math.fsum(x * y for x, y in zip(dp, dv, strict=True))
+    qc = math.fsum(x * x for x in dp) - reach * reach
+    disc = qb * qb - qa * qc
+    if not (qa > 0 and reach > 0 and disc >= 0 and qb < 0):
+        return None
+    t = qc / (-qb + math.sqrt(disc))  # the first root, without cancellation
+    if not 0 <= t <= float(simulated_time(start)):
+        return None
+    t = _aimed(start, conventions, observed, dp, dv, t)
+    centres = _centres_at(start, t)
+    e, bounce = _bounce(start, conventions, centres, observed)
+    depth = a.radius + b.radius - math.dist(*centres)
+    where = (f"the contact met at t = {t:.4g} s where the surfaces overlap by {depth:.3g} m "
+             f"(the declared toi_target {-target:.3g} m, to its toi_tolerance "
+             f"{conventions.toi_tolerance:.3g} m: a swept engine's time of impact), resolved "
+             "along the line of centres there")
+    category = Category.CONVENTION if cap or bounce else Category.TIMESTEP
+    return Fit(category, _words(cap, bounce, where),
+               _flown(start, t, centres, resolve(start, centres, e)),
+               -target + conventions.toi_tolerance)
+
+
+def _aimed(start: SceneCase, conventions: Conventions, observed: Observation,
+           dp: list[float], dv: list[float], t: float) -> float:
+    """The time at which the line of centres is the direction of the engine's own impulse on
+    B, when the surfaces overlap there by the declared ``toi_target`` to its
+    ``toi_tolerance`` (the query may stop anywhere in that band); else ``t``."""
+    velocities = observed.velocities
+    if not (isinstance(velocities, tuple) and len(velocities) == 2):
+        return t
+    b = start.bodies[1]
+    push = [float(y) - x for x, y in zip(b.velocity, velocities[1], strict=True)]
+    if not norm(push) > 0:
+        return t
+    n = [x / norm(push) for x in push]
+    along = math.fsum(x * y for x, y in zip(dv, n, strict=True))
+    across = [x - along * y for x, y in zip(dv, n, strict=True)]
+    if not math.fsum(x * x for x in across) > 0:
+        return t
+    # the time at which dp + dv t has no part across n (least squares in 3-D)
+    off = [x - math.fsum(p * q for p, q in zip(dp, n, strict=True)) * y
+           for x, y in zip(dp, n, strict=True)]
+    seen = -math.fsum(x * y for x, y in zip(off, across, strict=True)) / math.fsum(
+        x * x for x in across)
+    reach = norm([p + v * seen for p, v in zip(dp, dv, strict=True)])
+    overlap = start.bodies[0].radius + b.radius - reach
+    band = conventions.toi_tolerance + PRECISION_FACTOR * conventions.rtol * reach
+    return seen if abs(overlap + conventions.toi_target) <= band else t
+
+
 def _rubbed(start: SceneCase, conventions: Conventions, observed: Observation,
             contact: tuple[float, tuple[Vec, Vec], float, str]) -> Fit | None:
     """The run met at ``contact`` (time, centres, depth, its words) with the engine's own
@@ -380,10 +454,7 @@ def _rubbed(start: SceneCase, conventions: Conventions, observed: Observation,
     tangential = norm([j - normal * x for j, x in zip(impulse, n, strict=True)])
     if tangential > mu * abs(normal) + 2 * b.mass * slack or tangential <= 2 * b.mass * slack:
         return None
-    left = float(simulated_time(start)) - t0
-    ends = (tuple(p + v * left for p, v in zip(centres[0], va, strict=True)),
-            tuple(p + v * left for p, v in zip(centres[1], vb, strict=True)))
-    state = final_state(start, start.step_count, ends, (va, vb))
+    state = _flown(start, t0, centres, (va, vb))
     return Fit(Category.CONVENTION, _words(where, (
         f"declared friction {mu:g}: the engine's velocities after it keep the momentum (to "
         f"{drift:.3g}) and e = {kept:.4g} along the line of centres, with a tangential "
@@ -411,8 +482,17 @@ def candidates(case: SceneCase, conventions: Conventions, observed: Observation,
         if impacts:
             e, bounce = _bounce(start, conventions, _centres_at(start, impacts[0]), observed)
             if cap or bounce:
+                touch = _centres_at(start, impacts[0])
+                held_back = (max(_closing(start, touch), 0.0) * (start.dt or DEFAULT_DT)
+                             if conventions.restitution_model == "predictive" else 0.0)
                 out.append(Fit(Category.CONVENTION, _words(
-                    cap, bounce, "the contact met where the bodies touch"), _exact(start, e)))
+                    cap, bounce, "the contact met where the bodies touch" + (
+                        " (a predictive contact clamps the motion at the hit and bounces "
+                        "it the step after: up to one step at the closing speed)"
+                        if held_back else "")), _exact(start, e), held_back))
+        swept = _swept(start, conventions, observed, cap)
+        if swept is not None:
+            out.append(swept)
         if impacts and conventions.speculative_contacts:
             out.append(_speculative(start, conventions, observed, impacts[0], cap))
         found = first_overlap(start, contact_distance(conventions))
