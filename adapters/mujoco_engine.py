@@ -407,8 +407,9 @@ class MujocoStiff(MujocoDefault):
         None,
         _RESPONSE_NOTES + _SCENE_NOTES + (
             "Scenes: the stiff frictionless contact with the scene's e lasting one scene step "
-            "in 8 RK4 sub-steps (e = 1 head-on: velocities exchanged within 1e-3, momentum "
-            "to rounding); a touching chain answers as one block.  Contacts are sampled "
+            "in 8 RK4 sub-steps (e = 1 head-on: velocities exchanged within 5e-4 "
+            "measured, beyond the declared response_rtol of a pair response, so such "
+            "scene rows read error; momentum to rounding); a touching chain answers as one block.  Contacts are sampled "
             "(declared sampled_contacts, as the default variant's): MuJoCo has no "
             "continuous collision detection, mj_step finds contacts at the positions each "
             "sub-step starts from, and the stiff contact is fitted to act over one scene "

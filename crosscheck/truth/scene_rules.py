@@ -36,7 +36,7 @@ from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
-from crosscheck.truth import drop_rules, measure_rules, scene_runs
+from crosscheck.truth import drop_rules, measure_rules, motion_rules, scene_runs
 from crosscheck.truth.scene_measures import MEASURES, surrounded, top_speed
 from crosscheck.truth.scene_runs import PASSED_THROUGH
 from crosscheck.truth.scenes import (
@@ -52,6 +52,7 @@ from crosscheck.truth.scenes import (
     mean_radius,
     relative_error,
     step_travel,
+    stepped_rounding,
     tolerance,
     truth,
 )
@@ -142,6 +143,55 @@ def _speed_cap(case: SceneCase, conventions: Conventions, quantity: str, value: 
         f"run with the capped speeds the error is {there:.3g}")
 
 
+def _conserving(case: SceneCase, conventions: Conventions, quantity: str, what: str,
+                observed: Observation, exact: Observation) -> tuple[str, str] | None:
+    """Positions and velocities of a scene whose impacts chain (more than two bodies, or
+    walls; no gravity): no one-event bound follows an impact met a step late through the
+    impacts after it, so the run is judged by what every run of its impacts keeps, whenever
+    they are met: momentum (no walls) and, at e = 1, the kinetic energy (else no gain), each
+    within the precision and the declared damping.  Kept: ``timestep``; else None."""
+    if (quantity not in ("positions", "velocities") or case.gravity is not None
+            or scene_runs.two_bodies_in_open_space(case) or not exact.impacts):
+        return None
+    damp = damping_bound(case, conventions)
+    allowed = (PRECISION_FACTOR * conventions.rtol + damp * (2.0 - damp)
+               + 2 * stepped_rounding(case) / mean_radius(case) + 1e-12)
+    kept: list[str] = []
+    if not case.walls:
+        pm = _off(case, "momentum", observed.momentum, exact.momentum)
+        if not pm <= allowed:
+            return None
+        kept.append(f"momentum to {pm:.3g}")
+    energy, start = observed.energy, exact.energy
+    if not isinstance(energy, float) or not isinstance(start, float):
+        return None
+    initial = math.fsum(0.5 * b.mass * norm(b.velocity) ** 2 for b in case.bodies)
+    gained = (energy - initial) / initial if initial > 0 else 0.0
+    if case.restitution >= 1:
+        pe = _off(case, "energy", energy, start)
+        if not pe <= allowed:
+            return None
+        kept.append(f"the kinetic energy to {pe:.3g}")
+    elif gained > allowed:
+        return None
+    else:
+        kept.append(f"no kinetic energy gained (change {gained:+.3g})")
+    return Category.TIMESTEP, (
+        f"{what}: {len(case.bodies)} bodies" + (f" and {len(case.walls)} walls"
+                                                if case.walls else "")
+        + f", {len(exact.impacts)} impacts in the exact run: an impact met at a step start "
+        "moves every impact after it, so no one-event bound holds for the final state; the "
+        f"engine's run keeps {' and '.join(kept)}, within the {allowed:.3g} its precision "
+        "and declared damping allow, as every run of these impacts does")
+
+
+def _off(case: SceneCase, quantity: str, value: Value | None, want: Value | None) -> float:
+    if value is None or want is None or isinstance(value, Undefined) or isinstance(
+            want, Undefined):
+        return math.inf
+    return relative_error(case, quantity, value, want)
+
+
 def _category(case: SceneCase, conventions: Conventions, quantity: str, err: float,
               what: str, moved: float) -> tuple[str, str]:
     damp = damping_bound(case, conventions)
@@ -204,8 +254,14 @@ def explain(case: SceneCase, conventions: Conventions, quantity: str, value: Val
              if isinstance(positions, tuple) and isinstance(exact.positions, tuple)
              else math.inf)
     category, reason = _category(case, conventions, quantity, err, what, moved)
+    below = motion_rules.below_threshold(case, conventions, exact)
+    if (category == Category.ERROR and below and quantity == "energy"
+            and isinstance(value, float) and isinstance(exact.energy, float)
+            and value <= exact.energy):
+        return Category.CONVENTION, f"{what}, all of it lost: {below}"
     if category == Category.ERROR:
-        return _slowed_pass(case, what, observed, exact) or (category, reason)
+        return (_conserving(case, conventions, quantity, what, observed, exact)
+                or _slowed_pass(case, what, observed, exact) or (category, reason))
     return category, reason
 
 

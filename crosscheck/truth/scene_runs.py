@@ -49,6 +49,7 @@ from crosscheck.truth.scenes import (
     relative_error,
     simulated_time,
     step_travel,
+    stepped_rounding,
     truth,
 )
 
@@ -225,10 +226,12 @@ class Fit:
         response = conventions.response_rtol or 0.0  # the declared precision of a bounce
         precise = PRECISION_FACTOR * conventions.rtol + response * (2 if quantity == "energy"
                                                                     else 1)
+        rounded = stepped_rounding(case)  # float64 over the steps: the contact's normal too
         if quantity == "positions":
             travel = damp * max(norm(b.velocity) for b in case.bodies) * float(
                 simulated_time(case))
-            return (held(case, conventions) + self.depth + travel) / mean_radius(case)
+            return (held(case, conventions) + self.depth + travel + rounded) / mean_radius(case)
+        precise += 2 * rounded / mean_radius(case)
         if quantity == "energy":
             return precise + damp * (2.0 - damp)
         return precise + damp

@@ -269,6 +269,13 @@ def held(case: SceneCase, conventions: Conventions) -> float:
     return PRECISION_FACTOR * conventions.rtol * (extent(case) + mean_radius(case))
 
 
+def stepped_rounding(case: SceneCase) -> float:
+    """How far (m) float64 rounding alone can carry a position over the run: one rounding of
+    ``x + v dt`` per step, ``u`` of the scene's largest coordinate each (a deterministic
+    bound of the arithmetic, not of the step's physics)."""
+    return case.step_count * 2.0**-53 * (extent(case) + mean_radius(case))
+
+
 def coarse(case: SceneCase, conventions: Conventions) -> str:
     """Why the engine's declared precision cannot hold the scene ('' when it can): its
     position precision at the scene's coordinates (:func:`held`) reaches the bodies' mean
