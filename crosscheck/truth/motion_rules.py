@@ -228,23 +228,3 @@ def divergence(case: SceneCase, conventions: Conventions, quantity: str, value: 
     return Category.ERROR, (f"{what}: already {far:.3g} m off through the first impact (t = "
                             f"{when:.4g} s), beyond one step's travel at the top speed "
                             f"{bound:.3g} m")
-
-
-def diverged(case: SceneCase, conventions: Conventions, quantity: str, what: str,
-             observed: Observation, truth: Observation) -> tuple[str, str] | None:
-    """A chaotic scene's final positions, velocities or momentum after its trajectory left
-    the exact one: the divergence row's category when step lag explains it (energy is
-    kept by every elastic impact, so it never follows)."""
-    if quantity not in ("positions", "velocities", "momentum"):
-        return None
-    t = observed.divergence
-    end = float(simulated_time(case))
-    if not isinstance(t, float) or not t < end:
-        return None
-    first = first_departure(case, conventions, observed, truth)
-    if first is None or first[0] > first[1]:
-        return None
-    return Category.TIMESTEP, (
-        f"{what}: the trajectory left the exact one at t = {t:.4g} s of {end:.4g} s (the "
-        f"divergence row), after staying within one step's travel {first[1]:.3g} m through "
-        f"the first impact; the final state says no more than that")

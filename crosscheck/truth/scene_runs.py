@@ -285,7 +285,7 @@ def _words(*parts: str) -> str:
     return "; ".join(p for p in parts if p)
 
 
-def _centres_at(case: SceneCase, t: float) -> tuple[Vec, Vec]:
+def centres_at(case: SceneCase, t: float) -> tuple[Vec, Vec]:
     a, b = case.bodies[0], case.bodies[1]
     return (tuple(p + v * t for p, v in zip(a.center, a.velocity, strict=True)),
             tuple(p + v * t for p, v in zip(b.center, b.velocity, strict=True)))
@@ -335,7 +335,7 @@ def _speculative(start: SceneCase, conventions: Conventions, observed: Observati
     k = max(0, math.floor(first / dt))
     if k * dt >= first and k > 0:  # a touch exactly on a step start is met by the step before
         k -= 1
-    centres = _centres_at(start, k * dt)
+    centres = centres_at(start, k * dt)
     e, bounce = _bounce(start, conventions, centres, observed)
     gap = max(0.0, math.dist(*centres) - math.fsum(b.radius for b in start.bodies[:2]))
     closing = max(_closing(start, centres), 0.0)
@@ -348,7 +348,7 @@ def _speculative(start: SceneCase, conventions: Conventions, observed: Observati
                gap + closing * dt)
 
 
-def _flown(start: SceneCase, t0: float, centres: tuple[Vec, Vec],
+def flown(start: SceneCase, t0: float, centres: tuple[Vec, Vec],
            velocities: tuple[Vec, Vec]) -> Observation:
     """The final state of bodies at ``centres`` at time ``t0`` flying on with
     ``velocities``."""
@@ -381,7 +381,7 @@ def _swept(start: SceneCase, conventions: Conventions, observed: Observation,
     if not 0 <= t <= float(simulated_time(start)):
         return None
     t = _aimed(start, conventions, observed, dp, dv, t)
-    centres = _centres_at(start, t)
+    centres = centres_at(start, t)
     e, bounce = _bounce(start, conventions, centres, observed)
     depth = a.radius + b.radius - math.dist(*centres)
     where = (f"the contact met at t = {t:.4g} s where the surfaces overlap by {depth:.3g} m "
@@ -390,7 +390,7 @@ def _swept(start: SceneCase, conventions: Conventions, observed: Observation,
              "along the line of centres there")
     category = Category.CONVENTION if cap or bounce else Category.TIMESTEP
     return Fit(category, _words(cap, bounce, where),
-               _flown(start, t, centres, resolve(start, centres, e)),
+               flown(start, t, centres, resolve(start, centres, e)),
                -target + conventions.toi_tolerance)
 
 
@@ -457,7 +457,7 @@ def _rubbed(start: SceneCase, conventions: Conventions, observed: Observation,
     tangential = norm([j - normal * x for j, x in zip(impulse, n, strict=True)])
     if tangential > mu * abs(normal) + 2 * b.mass * slack or tangential <= 2 * b.mass * slack:
         return None
-    state = _flown(start, t0, centres, (va, vb))
+    state = flown(start, t0, centres, (va, vb))
     return Fit(Category.CONVENTION, _words(where, (
         f"declared friction {mu:g}: the engine's velocities after it keep the momentum (to "
         f"{drift:.3g}) and e = {kept:.4g} along the line of centres, with a tangential "
@@ -483,9 +483,9 @@ def candidates(case: SceneCase, conventions: Conventions, observed: Observation,
     for start, cap in starts:
         impacts = (exact if start is case else _exact(start, start.restitution)).impacts
         if impacts:
-            e, bounce = _bounce(start, conventions, _centres_at(start, impacts[0]), observed)
+            e, bounce = _bounce(start, conventions, centres_at(start, impacts[0]), observed)
             if cap or bounce:
-                touch = _centres_at(start, impacts[0])
+                touch = centres_at(start, impacts[0])
                 held_back = (max(_closing(start, touch), 0.0) * (start.dt or DEFAULT_DT)
                              if conventions.restitution_model == "predictive" else 0.0)
                 out.append(Fit(Category.CONVENTION, _words(
@@ -512,7 +512,7 @@ def candidates(case: SceneCase, conventions: Conventions, observed: Observation,
             out.append(Fit(category, _words(cap, bounce, where), state, _room(start, found)))
         out.append(_pass(start, conventions, cap))
         if impacts:
-            met = (impacts[0], _centres_at(start, impacts[0]), 0.0,
+            met = (impacts[0], centres_at(start, impacts[0]), 0.0,
                    _words(cap, "the contact met where the bodies touch"))
             out += [f for f in (_rubbed(start, conventions, observed, met),) if f]
         if found is not None:
