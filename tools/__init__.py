@@ -13,7 +13,9 @@
 - :mod:`tools.stiff_precision`: the precision of the stiff MuJoCo contact, measured on random
   cases outside the suite (the source of that variant's ``response_rtol``);
 - :mod:`tools.label_changes`: the label changes between two runs, per engine variant, in
-  Markdown (``python -m tools.label_changes OLD_RUN NEW_RUN``).
+  Markdown (``python -m tools.label_changes OLD_RUN NEW_RUN``);
+- :mod:`tools.audit_dynamics`: a self-audit of a run's dynamic labels, a stratified sample
+  re-judged by independent recomputation (``python -m tools.audit_dynamics RUN_DIR``).
 
 Nothing in the harness imports this package: it is not installed with it.
 """

@@ -42,7 +42,6 @@ from crosscheck.truth.scene_runs import PASSED_THROUGH
 from crosscheck.truth.scenes import (
     PRECISION_FACTOR,
     QUANTITIES,
-    UNITS,
     aligned,
     coarse,
     damping_bound,
@@ -55,6 +54,7 @@ from crosscheck.truth.scenes import (
     stepped_rounding,
     tolerance,
     truth,
+    units,
 )
 
 __all__ = ["CONVENTIONS", "PASSED_THROUGH", "coarse", "judge"]
@@ -212,8 +212,8 @@ def _category(case: SceneCase, conventions: Conventions, quantity: str, err: flo
     stepped = gravity_step(case, quantity)
     if surrounded(case) and stepped > 0 and err <= stepped:
         return Category.TIMESTEP, (
-            f"{what}, within one step of gravity on every body (|g| dt = {stepped:.3g} of the "
-            "scale): what a resting body carries between its contact's solves")
+            f"{what}, within one step of gravity on every body (|g| dt = {stepped:.3g}, in the "
+            "same units): what a resting body carries between its contact's solves")
     dt = case.dt or DEFAULT_DT
     late = top_speed(case) * dt / mean_radius(case)
     if quantity == "positions" and err <= late:
@@ -238,7 +238,7 @@ def _aligned(case: SceneCase, impacts: Sequence[float] | None) -> str:
 def explain(case: SceneCase, conventions: Conventions, quantity: str, value: Value, err: float,
             exact: Observation, observed: Observation) -> tuple[str, str]:
     """The category and reason of a final-state quantity's disagreement (module docstring)."""
-    what = f"{quantity} off by {err:.3g} {UNITS[quantity]}"
+    what = f"{quantity} off by {err:.3g} {units(case, quantity)}"
     why = coarse(case, conventions)
     if why:
         return Category.TOLERANCE, f"{what}: {why}"

@@ -18,8 +18,12 @@ declared conventions say so (:class:`Run`, built by :func:`runs`):
   **restitution threshold** makes a first impact closing slower than it inelastic (e = 0).
 
 Each run is a final state (positions, velocities, momentum, energy) and a cause
-(:class:`Cause`) that names its category.  Which run an engine gave is found once per
+(:class:`Fit`) that names its category.  Which run an engine gave is found once per
 pair in :mod:`crosscheck.truth.scene_rules`.
+
+Over 400 lines: the runs and :func:`find`, which tries them in one order, are one
+list (the table of docs/dynamics-and-stability.md mirrors it); each run is a few lines of
+its own, and splitting them would split that order.
 
 >>> from crosscheck.core.schema import CASE_ADAPTER
 >>> scene = CASE_ADAPTER.validate_python({"id": "s", "description": "d",
@@ -227,11 +231,14 @@ class Fit:
         precise = PRECISION_FACTOR * conventions.rtol + response * (2 if quantity == "energy"
                                                                     else 1)
         rounded = stepped_rounding(case)  # float64 over the steps: the contact's normal too
+        reach = case.bodies[0].radius + case.bodies[1].radius
+        # the line of centres from positions held to the precision tilts the impulse
+        tilt = 2 * held(case, conventions) / reach if reach > 0 else 0.0
         if quantity == "positions":
             travel = damp * max(norm(b.velocity) for b in case.bodies) * float(
                 simulated_time(case))
             return (held(case, conventions) + self.depth + travel + rounded) / mean_radius(case)
-        precise += 2 * rounded / mean_radius(case)
+        precise += 2 * rounded / mean_radius(case) + tilt
         if quantity == "energy":
             return precise + damp * (2.0 - damp)
         return precise + damp

@@ -192,6 +192,17 @@ def _scales(case: SceneCase) -> dict[str, float]:
     }
 
 
+ABSOLUTE = {"positions": "m", "velocities": "m/s", "momentum": "kg m/s", "energy": "J"}
+"""The units of a final-state error whose scale is 0 (every body at rest at the start and
+no fall to speed it): the error is then absolute."""
+
+
+def units(case: SceneCase, quantity: str) -> str:
+    """The units of ``quantity``'s error in this scene: :data:`UNITS`, or :data:`ABSOLUTE`
+    where the scale is 0."""
+    return UNITS[quantity] if _scales(case)[quantity] > 0 else ABSOLUTE[quantity]
+
+
 def gravity_step(case: SceneCase, quantity: str) -> float:
     """One step of gravity, ``|g| dt`` on every body, as a relative error of velocities or
     momentum (0 for other quantities or without gravity): what a body resting in a stepping

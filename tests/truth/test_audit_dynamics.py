@@ -15,7 +15,11 @@ import pytest
 from tools import audit_dynamics
 from tools.audit_dynamics import audit, load_run, main, sample
 
-HEADER = ["case_id", "source", "kind", "dim", "tags", "engine", "quantity", "value", "truth", "error", "tolerance", "status", "category", "reason", "setup_s", "query_s", "query_iqr_s", "loops", "unstable", "origin", "coords", "twin_of", "error_at_contact", "query_instructions", "engine_instructions", "nondeterministic", "repeat_value", "repeat_status"]
+HEADER = ["case_id", "source", "kind", "dim", "tags", "engine", "quantity", "value", "truth",
+          "error", "tolerance", "status", "category", "reason", "setup_s", "query_s",
+          "query_iqr_s", "loops", "unstable", "origin", "coords", "twin_of", "error_at_contact",
+          "query_instructions", "engine_instructions", "nondeterministic", "repeat_value",
+          "repeat_status"]
 """The columns of a real run's results.csv (format 7)."""
 DT = 1 / 60
 DROP = {"id": "drop", "kind": "sphere_scene", "dim": 2, "restitution": 1.0, "duration": 2.0,
@@ -66,13 +70,13 @@ ROWS = [  # case, engine, quantity, value, category, reason, the audit's right v
 ]
 
 
-def write_run(folder: Path, rows: list[tuple[str, ...]] = ROWS) -> Path:
+def write_run(folder: Path) -> Path:
     """A run folder in the stored format: results.csv, cases.jsonl, run.json."""
     folder.mkdir(parents=True, exist_ok=True)
     with (folder / "results.csv").open("w", newline="", encoding="utf-8") as handle:
         writer = csv.DictWriter(handle, HEADER)
         writer.writeheader()
-        for case, engine, quantity, value, category, reason, _ in rows:
+        for case, engine, quantity, value, category, reason, _ in ROWS:
             kind = {"toi": "sphere_toi"}.get(case, "sphere_scene")
             truth = {"apex": "[1.0, 1.0]", "toi": "0.95"}.get(quantity, "")
             writer.writerow({**dict.fromkeys(HEADER, ""), "case_id": case, "kind": kind,
