@@ -7,8 +7,9 @@ with the adapter, the check, the case in words and what was expected;
 stops the kit, since nothing else can be asked):
 
 - ``declared``: a concrete Adapter subclass with a ``name`` (the registered name if one is
-  given), ``engine`` and ``settings``, non-empty ``capabilities`` of (Kind, 2 or 3) and
-  ``Conventions``;
+  given), ``engine`` and ``settings``, ``capabilities`` of (Kind, 2 or 3) (empty only for a
+  registered variant that supports no case, each one a skip with its reason: FCL's
+  solvers that FCL does not compute for spheres) and ``Conventions``;
 - ``made``: the class is created with no arguments, as the runner's workers create it;
 - ``available``: ``available()`` is None here and ``version()`` a non-empty string;
 - ``conventions``: sources given (with ``public_sources``, at least one ``https://`` link
@@ -157,10 +158,10 @@ class Checker:
             if not isinstance(value, str) or not value:
                 self.fail("declared", "", f"{attribute} a non-empty string", repr(value))
         caps = getattr(cls, "capabilities", None)
-        if not (isinstance(caps, frozenset) and caps and all(
+        if not (isinstance(caps, frozenset) and all(
                 isinstance(c, tuple) and len(c) == 2 and isinstance(c[0], Kind)
                 and c[1] in (2, 3) for c in caps)):
-            self.fail("declared", "", "capabilities a non-empty frozenset of (Kind, 2 or 3)",
+            self.fail("declared", "", "capabilities a frozenset of (Kind, 2 or 3)",
                       repr(caps))
             raise _Stop
         if not isinstance(getattr(cls, "conventions", None), Conventions):
@@ -262,6 +263,8 @@ class Checker:
             self.fail("worker", "", "the class pickled by reference (defined at module level "
                       "in an importable module, not __main__): the runner sends it to worker "
                       "processes", why if not same else "defined in __main__")
+            return
+        if not adapter.capabilities:  # supports no case: nothing to ask a worker
             return
         kind, dim = sorted(adapter.capabilities)[0]
         sample = samples.first(kind, dim)

@@ -149,7 +149,9 @@ def _conserving(case: SceneCase, conventions: Conventions, quantity: str, what: 
     walls; no gravity): no one-event bound follows an impact met a step late through the
     impacts after it, so the run is judged by what every run of its impacts keeps, whenever
     they are met: momentum (no walls) and, at e = 1, the kinetic energy (else no gain), each
-    within the precision and the declared damping.  Kept: ``timestep``; else None."""
+    within the precision and the declared damping.  Kept: ``timestep``, or ``convention``
+    when the first impact closes below a declared restitution threshold (the energy may
+    then be lost, never gained); else None."""
     if (quantity not in ("positions", "velocities") or case.gravity is not None
             or scene_runs.two_bodies_in_open_space(case) or not exact.impacts):
         return None
@@ -167,7 +169,8 @@ def _conserving(case: SceneCase, conventions: Conventions, quantity: str, what: 
         return None
     initial = math.fsum(0.5 * b.mass * norm(b.velocity) ** 2 for b in case.bodies)
     gained = (energy - initial) / initial if initial > 0 else 0.0
-    if case.restitution >= 1:
+    below = motion_rules.below_threshold(case, conventions, exact)
+    if case.restitution >= 1 and not below:
         pe = _off(case, "energy", energy, start)
         if not pe <= allowed:
             return None
@@ -176,6 +179,11 @@ def _conserving(case: SceneCase, conventions: Conventions, quantity: str, what: 
         return None
     else:
         kept.append(f"no kinetic energy gained (change {gained:+.3g})")
+    if below:
+        return Category.CONVENTION, (
+            f"{what}: {below}, so the run's impacts are not the exact run's; the engine's run "
+            f"keeps {' and '.join(kept)}, within the {allowed:.3g} its precision and "
+            "declared damping allow")
     return Category.TIMESTEP, (
         f"{what}: {len(case.bodies)} bodies" + (f" and {len(case.walls)} walls"
                                                 if case.walls else "")

@@ -297,6 +297,14 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
     if times and all(motion.gap(t) > 0 or (motion.gap(t) == 0
                                             and not conv.touching_is_contact("sphere"))
                      or -rounding < motion.gap(t) < 0 for t in times):
+        close = [t for t in times if -rounding < motion.gap(t) < 0]
+        if close:
+            return Category.TIMESTEP, (
+                f"the engine samples the interval at {len(times)} evenly spaced times "
+                f"(declared toi_samples); at the sample t = {close[0]!r} the spheres overlap "
+                f"by {-motion.gap(close[0]):.3g}, within the {rounding:.3g} its precision "
+                f"(rtol {conv.rtol:.3g} of the case's magnitudes) may round either way, and no "
+                f"other sample finds them overlapping")
         return Category.TIMESTEP, (
             f"the engine samples the interval at {len(times)} evenly spaced times (declared "
             f"toi_samples); the exact contact at t = {exact!r} falls between them: no sample "

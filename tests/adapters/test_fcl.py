@@ -18,11 +18,13 @@ fcl = pytest.importorskip("fcl")
 
 import adapters  # noqa: E402
 from adapters.fcl_engine import Fcl, z_half  # noqa: E402
+from adapters.fcl_toi import CONTINUOUS  # noqa: E402
+from crosscheck.cases.load import load_paths  # noqa: E402
 from crosscheck.core.model import Category, Observation, Status  # noqa: E402
-from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase  # noqa: E402
+from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, ToiCase  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
-from tests.conftest import aabb, response, sphere  # noqa: E402
+from tests.conftest import ROOT, aabb, response, sphere  # noqa: E402
 
 pytestmark = pytest.mark.engine
 
@@ -248,3 +250,18 @@ def test_touching_spheres_are_a_convention_disagreement() -> None:
     case = sphere(0.0, 1.0)
     verdict = judge(case, FCL.conventions, "hit", observe(case).hit, oracle.truth(case))
     assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.CONVENTION)
+
+
+@pytest.mark.parametrize("name", ["fcl-ccd-ray-shooting", "fcl-ccd-polynomial"])
+def test_solvers_fcl_does_not_compute_for_spheres_skip_every_toi_case_citing_fcl(
+        name: str) -> None:
+    adapter = adapters.adapter_class(name)()
+    assert not adapter.capabilities  # supports no case: none is asked, none scored wrong
+    cases = [c for c in load_paths([ROOT / "cases" / "toi.toml"]).cases
+             if isinstance(c, ToiCase)]
+    assert cases
+    for case in cases:
+        reason = adapter.unsupported(case)
+        assert reason is not None and reason.startswith(name) and CONTINUOUS in reason
+    # the naive solver is computed: it is not skipped
+    assert adapters.adapter_class("fcl-ccd-naive")().unsupported(cases[0]) is None
