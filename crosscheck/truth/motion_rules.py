@@ -176,6 +176,9 @@ def _run(case: SceneCase, conventions: Conventions, value: Value, what: str,
                                 f"velocities match it), but its drift is {off:.3g} from that "
                                 f"run's, beyond the {slack:.3g} its precision and declared "
                                 "damping allow")
+    if fit.category == Category.ERROR:
+        return fit.category, (f"{what}: the engine's run is {fit.cause}, an error the drift "
+                              f"follows (it is that run's drift to {off:.3g})")
     return fit.category, (f"{what}; the engine's run is {fit.cause}: against that run's drift "
                           f"it is off by {off:.3g}, within {slack:.3g}")
 

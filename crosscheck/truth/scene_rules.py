@@ -118,6 +118,9 @@ def _run(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
                                 f"velocities match it), but its {quantity} is off by "
                                 f"{away:.3g} from that run's, beyond the {slack:.3g} its "
                                 "precision and declared damping allow")
+    if fit.category == Category.ERROR:
+        return fit.category, (f"{what} against the exact run: the engine's run is {fit.cause}, "
+                              f"an error its {quantity} follows (it is that run's to {off:.3g})")
     return fit.category, (f"{what} against the exact run; the engine's run is {fit.cause}: "
                           f"against that run it is off by {off:.3g}, within {slack:.3g} (the "
                           "precision" + (", the overlap at the contact" if fit.depth else "")

@@ -310,7 +310,7 @@ def _verdict(case: ToiCase, conv: Conventions, motion: Motion, reported: bool | 
             f"toi_samples); the exact contact at t = {exact!r} falls between them: no sample "
             f"finds the spheres overlapping (at the end they are {motion.gap(end):.3g} apart)")
     overlap = max(0.0, -nearest)
-    if target < 0 and nearest > target - slack:
+    if target < 0 and nearest > target - slack and slack < -target:
         return Category.CONVENTION, (
             f"the spheres overlap at most {overlap:.3g} (t = {closest:.6g}), never the "
             f"engine's declared target overlap {-target:.3g} (less its toi_tolerance and "
