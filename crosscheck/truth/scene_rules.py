@@ -196,6 +196,20 @@ def _conserving(case: SceneCase, conventions: Conventions, quantity: str, what: 
         "and declared damping allow, as every run of these impacts does")
 
 
+def _unkept(case: SceneCase, quantity: str, observed: Observation,
+            exact: Observation) -> str:
+    """What a scene of chained impacts failed to keep (its error's numbers), '' otherwise."""
+    if (quantity not in ("positions", "velocities") or case.gravity is not None
+            or scene_runs.two_bodies_in_open_space(case) or not exact.impacts):
+        return ""
+    parts = [f"energy off by {_off(case, 'energy', observed.energy, exact.energy):.3g}"]
+    if not case.walls:
+        parts.insert(0, "momentum off by "
+                     f"{_off(case, 'momentum', observed.momentum, exact.momentum):.3g}")
+    return (f"; with {len(exact.impacts)} chained impacts the run does not keep what every "
+            f"run of them keeps ({', '.join(parts)}, relative)")
+
+
 def _off(case: SceneCase, quantity: str, value: Value | None, want: Value | None) -> float:
     if value is None or want is None or isinstance(value, Undefined) or isinstance(
             want, Undefined):
@@ -272,7 +286,8 @@ def explain(case: SceneCase, conventions: Conventions, quantity: str, value: Val
         return Category.CONVENTION, f"{what}, all of it lost: {below}"
     if category == Category.ERROR:
         return (_conserving(case, conventions, quantity, what, observed, exact)
-                or _slowed_pass(case, what, observed, exact) or (category, reason))
+                or _slowed_pass(case, what, observed, exact)
+                or (category, reason + _unkept(case, quantity, observed, exact)))
     return category, reason
 
 

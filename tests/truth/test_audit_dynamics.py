@@ -87,7 +87,9 @@ def write_run(folder: Path) -> Path:
                          "engine": "honest", "quantity": "energy", "status": "agree"})
     (folder / "cases.jsonl").write_text(
         "".join(json.dumps(c) + "\n" for c in (DROP, FAST, TOI)), encoding="utf-8")
-    engines = [{"name": name, "engine": name, "conventions": {"rtol": rtol}}
+    # "sampler" declares sampled contacts: a pass-through explains only a declared sampler
+    engines = [{"name": name, "engine": name,
+                "conventions": {"rtol": rtol, "sampled_contacts": name == "sampler"}}
                for name, rtol in [("gainer", 2.0**-53), ("honest", 2.0**-53),
                                   ("sampler", 2.0**-53), ("wild", 2.0**-53),
                                   ("f32", 2.0**-22), ("far", 2.0**-22), ("near", 2.0**-22)]]
