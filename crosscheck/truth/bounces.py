@@ -18,7 +18,8 @@ judged from the engine's *own* state before it, never against a sum over the run
   each is seen up to one step late and recorded up to one stride late at either end, so an
   interval is off by at most ``2 (s + 1) dt`` (the first bounce ``(s + 1) dt``).
 
-:func:`judge` returns every event with its numbers; the worst one is what a reason cites.
+:func:`apexes` and :func:`intervals` return every event with its numbers; the worst one
+(:func:`worst`) is what a reason cites.
 
 >>> e = Event(1, previous=1.0, expected=1.0, engine=0.93, depth=0.0765, precision=0.0)
 >>> e.within, round(e.change, 3)

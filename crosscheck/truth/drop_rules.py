@@ -44,10 +44,6 @@ class Drop:
     intervals: tuple[bounces.Interval, ...]
 
     @property
-    def worst_event(self) -> bounces.Event | None:
-        return bounces.worst(self.events)
-
-    @property
     def worst_interval(self) -> bounces.Interval | None:
         return max(self.intervals, key=lambda i: (not i.within, abs(i.off) / i.bound
                                                   if i.bound > 0 else math.inf),

@@ -21,7 +21,7 @@ import math
 from typing import cast
 
 from crosscheck.core.contract import Conventions
-from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.geometry import Vec, approach_speed, norm
 from crosscheck.core.model import Category, Observation, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth import drop_rules, scene_runs
@@ -135,14 +135,9 @@ def _first_closing(case: SceneCase, t: float) -> list[float]:
     for i, a in enumerate(case.bodies):
         for j in range(i + 1, len(case.bodies)):
             b = case.bodies[j]
-            d = [y - x for x, y in zip(at[i], at[j], strict=True)]
-            length = norm(d)
-            if not length > 0:
-                continue
-            gap = abs(length - a.radius - b.radius)
-            closing = -math.fsum((w - v) * x / length
-                                 for v, w, x in zip(a.velocity, b.velocity, d, strict=True))
-            if closing > 0 and (best is None or gap < best[0]):
+            closing = approach_speed(at[i], at[j], a.velocity, b.velocity)
+            gap = abs(math.dist(at[i], at[j]) - a.radius - b.radius)
+            if closing > 0 and (best is None or gap < best[0]):  # NaN: coincident centres
                 best = (gap, closing)
     return [] if best is None else [best[1]]
 
@@ -170,17 +165,8 @@ def _run(case: SceneCase, conventions: Conventions, value: Value, what: str,
                       for b in case.bodies)
     theirs = (fit.state.energy - start) / (scale * duration)
     off = abs(float(cast(float, value)) - theirs)
-    slack = fit.slack(case, conventions, "energy") / duration
-    if off > slack:
-        return Category.ERROR, (f"{what}: the engine's run is {fit.cause} (its positions and "
-                                f"velocities match it), but its drift is {off:.3g} from that "
-                                f"run's, beyond the {slack:.3g} its precision and declared "
-                                "damping allow")
-    if fit.category == Category.ERROR:
-        return fit.category, (f"{what}: the engine's run is {fit.cause}, an error the drift "
-                              f"follows (it is that run's drift to {off:.3g})")
-    return fit.category, (f"{what}; the engine's run is {fit.cause}: against that run's drift "
-                          f"it is off by {off:.3g}, within {slack:.3g}")
+    return fit.judged(what, "drift", off, fit.slack(case, conventions, "energy") / duration,
+                      conventions)
 
 
 def first_departure(case: SceneCase, conventions: Conventions, observed: Observation,

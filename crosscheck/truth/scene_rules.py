@@ -108,24 +108,9 @@ def _run(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
     fit = scene_runs.find(case, conventions, observed, exact)
     if fit is None:
         return None
-    off = fit.explains(case, conventions, quantity, value)
-    slack = fit.slack(case, conventions, quantity)
-    if off is None:
-        want = fit.state.get(quantity)
-        away = (relative_error(case, quantity, value, want)
-                if want is not None and not isinstance(want, Undefined) else math.inf)
-        return Category.ERROR, (f"{what}: the engine's run is {fit.cause} (its positions and "
-                                f"velocities match it), but its {quantity} is off by "
-                                f"{away:.3g} from that run's, beyond the {slack:.3g} its "
-                                "precision and declared damping allow")
-    if fit.category == Category.ERROR:
-        return fit.category, (f"{what} against the exact run: the engine's run is {fit.cause}, "
-                              f"an error its {quantity} follows (it is that run's to {off:.3g})")
-    return fit.category, (f"{what} against the exact run; the engine's run is {fit.cause}: "
-                          f"against that run it is off by {off:.3g}, within {slack:.3g} (the "
-                          "precision" + (", the overlap at the contact" if fit.depth else "")
-                          + (", the declared damping" if conventions.damping > 0 else "")
-                          + ")")
+    off = _off(case, quantity, value, fit.state.get(quantity))
+    return fit.judged(f"{what} against the exact run", quantity, off,
+                      fit.slack(case, conventions, quantity), conventions)
 
 
 def _speed_cap(case: SceneCase, conventions: Conventions, quantity: str, value: Value,

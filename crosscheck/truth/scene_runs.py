@@ -2,7 +2,7 @@
 
 A scene's truth is the exact event-driven run (:mod:`crosscheck.truth.scenes`).  An
 engine that steps answers one of a few other runs, each as exactly computable, when its
-declared conventions say so (:class:`Run`, built by :func:`runs`):
+declared conventions say so (:func:`candidates`; :func:`find` picks the one it gave):
 
 - **discrete**: the contact is found at the first step start ``k dt`` at which the two
   bodies, in free flight, overlap while approaching, and resolved there along the line of
@@ -39,10 +39,9 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from enum import StrEnum
 
 from crosscheck.core.contract import Conventions
-from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.geometry import Vec, approach_speed, norm
 from crosscheck.core.model import Category, Observation, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth.scenes import (
@@ -56,17 +55,6 @@ from crosscheck.truth.scenes import (
     stepped_rounding,
     truth,
 )
-
-
-class Contact(StrEnum):
-    """How the run met the impact."""
-
-    EXACT = "exact"
-    """At the exact touching time (the truth, or the truth of a changed scene)."""
-    DISCRETE = "discrete"
-    """At the first step start that finds the pair overlapping while approaching."""
-    NONE = "none"
-    """Never: the bodies passed through each other."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -153,16 +141,6 @@ def final_state(case: SceneCase, start: int, centres: tuple[Vec, Vec],
                        energy=energy)
 
 
-def discrete(case: SceneCase, restitution: float) -> tuple[Overlap, Observation] | None:
-    """The discrete run (module docstring) and its contact, None when no step start finds
-    the pair overlapping while approaching."""
-    found = first_overlap(case)
-    if found is None:
-        return None
-    return found, final_state(case, found.step, found.centres,
-                              resolve(case, found.centres, restitution))
-
-
 def free_flight(case: SceneCase) -> Observation:
     """The pass-through run: every body keeps its velocity to the end."""
     return final_state(case, 0, _at(case, 0), (tuple(case.bodies[0].velocity),
@@ -243,6 +221,27 @@ class Fit:
             return precise + damp * (2.0 - damp)
         return precise + damp
 
+    def judged(self, what: str, name: str, off: float, slack: float,
+               conventions: Conventions) -> tuple[str, str]:
+        """The category and reason of a row (``what``: its error in words) whose ``name``
+        (a quantity, or the drift) is ``off`` from this run's with ``slack`` allowed: the
+        run's category within the slack (an error run's row follows it), else ``error``."""
+        if not off <= slack:
+            return Category.ERROR, (
+                f"{what}: the engine's run is {self.cause} (its positions and velocities "
+                f"match it), but its {name}: off by {off:.3g} from that run's, beyond the "
+                f"{slack:.3g} its precision and declared damping allow")
+        if self.category == Category.ERROR:
+            return self.category, (f"{what}: the engine's run is {self.cause}, an error its "
+                                   f"{name} follows (it is that run's to {off:.3g})")
+        allowed = ("the precision"
+                   + (", the overlap at the contact" if name == "positions" and self.depth
+                      else "")
+                   + (", the declared damping" if conventions.damping > 0 else ""))
+        return self.category, (f"{what}; the engine's run is {self.cause}: against that run "
+                               f"its {name}: off by {off:.3g}, within {slack:.3g} "
+                               f"({allowed})")
+
     def explains(self, case: SceneCase, conventions: Conventions, quantity: str,
                  value: Value) -> float | None:
         """The error of ``value`` against the run's state when within its slack, else None."""
@@ -254,13 +253,8 @@ class Fit:
 
 
 def _closing(case: SceneCase, centres: tuple[Vec, Vec]) -> float:
-    a, b = case.bodies[0], case.bodies[1]
-    d = [y - x for x, y in zip(*centres, strict=True)]
-    length = norm(d)
-    if not length > 0:
-        return math.nan
-    return -math.fsum((w - v) * x / length
-                      for v, w, x in zip(a.velocity, b.velocity, d, strict=True))
+    """How fast the scene's two bodies close along the line of ``centres`` (NaN: none)."""
+    return approach_speed(*centres, case.bodies[0].velocity, case.bodies[1].velocity)
 
 
 def _bounce(case: SceneCase, conventions: Conventions, centres: tuple[Vec, Vec],
@@ -275,9 +269,7 @@ def _bounce(case: SceneCase, conventions: Conventions, centres: tuple[Vec, Vec],
                      f"the declared restitution threshold {threshold:g} m/s: no bounce")
     velocities = observed.velocities
     if conventions.bounce_may_lose and isinstance(velocities, tuple) and speed > 0:
-        after = _closing(case.model_copy(update={"bodies": tuple(
-            b.model_copy(update={"velocity": tuple(v)})
-            for b, v in zip(case.bodies, velocities, strict=True))}), centres)
+        after = approach_speed(*centres, velocities[0], velocities[1])
         kept = -after / speed
         if -1e-6 <= kept <= case.restitution + 1e-6:
             model = conventions.restitution_model
