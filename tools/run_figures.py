@@ -3,8 +3,8 @@
 Each function takes the run (:class:`crosscheck.results.store.StoredRun`) and returns the
 body of one generated file; :mod:`tools.docs_figures` adds the provenance header and writes
 it.  The numbers are the report's own: status counts from
-:func:`crosscheck.report.tables.summary`, the case-group matrix from
-:func:`crosscheck.report.tables.group_matrix`, agreeing shares from
+:func:`crosscheck.report.summary_tables.summary`, the case-group matrix from
+:func:`crosscheck.report.summary_tables.group_matrix`, agreeing shares from
 :mod:`crosscheck.report.verdict`, times and their spreads from :mod:`crosscheck.report.speed`.
 
 A run made with ``crosscheck run --timer instructions`` also has counted instructions per
@@ -28,7 +28,7 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Category, Status
-from crosscheck.report import profiles, query_cost, speed, tables, verdict
+from crosscheck.report import profiles, query_cost, speed, summary_tables, verdict
 from crosscheck.results.store import StoredRun
 
 DASH = "\u2013"
@@ -84,7 +84,7 @@ def _suite_rows(run: StoredRun, key: str) -> list[list[object]]:
     blocks: dict[str, set[str]] = {}
     cases: dict[str, Counter[str]] = {}
     for case in run.cases.values():
-        name = case.kind if key == "kind" else tables.case_group(case.source)
+        name = case.kind if key == "kind" else summary_tables.case_group(case.source)
         blocks.setdefault(name, set())
         block = _block(case)
         if block is not None:
@@ -206,7 +206,7 @@ def status_counts(run: StoredRun) -> str:
     frame = run.results
     if frame.empty:
         return "The run has no results rows.\n"
-    summary = tables.summary(frame)
+    summary = summary_tables.summary(frame)
     rows = [[r["engine"], r["kind"], *(count(int(r[s])) for s in STATUSES)]
             for r in summary.to_dict("records")]
     totals = [count(int(summary[s].sum())) for s in STATUSES]
@@ -244,7 +244,7 @@ def group_matrix(run: StoredRun) -> str:
     """The engines x case groups matrix of the report: agree / judged rows per cell."""
     if run.results.empty:
         return "The run has no results rows.\n"
-    matrix = tables.group_matrix(run.results)
+    matrix = summary_tables.group_matrix(run.results)
     header = ["engine", *(f"{g['name']} ({count(g['cases'])} cases)" for g in matrix["groups"])]
     rows = [[row["engine"], *(_matrix_cell(c) for c in row["cells"])] for row in matrix["rows"]]
     return "\n".join([
@@ -402,7 +402,7 @@ def advice(run: StoredRun) -> str:
     """``crosscheck advise`` on each of :data:`ADVICE_PROFILES`: the command and its answer."""
     from crosscheck.cli import build_parser
     from crosscheck.cli.advise import envelope_of, worst_text
-    from crosscheck.report.advise import INSTRUCTIONS, EnvelopeError, advise
+    from crosscheck.report.advise.recommend import INSTRUCTIONS, EnvelopeError, advise
 
     parts = []
     for options in ADVICE_PROFILES:

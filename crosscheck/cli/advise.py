@@ -1,6 +1,6 @@
 """``crosscheck advise``: which engine for my scene, from a stored run.
 
-The library is :mod:`crosscheck.report.advise`; this module parses options and prints.
+The library is :mod:`crosscheck.report.advise.recommend`; this module parses options and prints.
 """
 
 from __future__ import annotations
@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING
 
 from rich.text import Text
 
-from crosscheck.cli.console import fail, out, say, wrapped
+from crosscheck.cli.console import fail, say, stdout, wrapped
 from crosscheck.core.model import Kind
 from crosscheck.core.options import QUICK_SCENE_STEPS
 
 if TYPE_CHECKING:
-    from crosscheck.report.advise import Advice, EngineAdvice, Envelope
+    from crosscheck.report.advise.recommend import Advice, EngineAdvice, Envelope
     from crosscheck.results.store import StoredRun
 
 
@@ -151,7 +151,7 @@ def _tags(texts: list[str] | None) -> tuple[str, ...]:
 def envelope_of(args: argparse.Namespace) -> Envelope:
     """The envelope the options state; OptionError or EnvelopeError naming a bad option (an
     option that applies to none of the asked kinds among them)."""
-    from crosscheck.report.advise import Envelope
+    from crosscheck.report.advise.recommend import Envelope
 
     envelope = Envelope(
         dims=_dims(args.dim), kinds=_kinds(args.kind), scale=_range("--scale", args.scale, "LO:HI"),
@@ -183,7 +183,7 @@ def _stored(directory: Path) -> StoredRun:
 
 
 def cmd_advise(args: argparse.Namespace) -> int:
-    from crosscheck.report.advise import EnvelopeError, advise
+    from crosscheck.report.advise.recommend import EnvelopeError, advise
     from crosscheck.results.store import StoreError
 
     try:
@@ -325,7 +325,7 @@ UNIT_WORDS = {"m": "lengths", "rad": "angles", "m/s": "velocities", "s": "times"
 def accuracy_text(advice: Advice) -> str:
     """The accuracy asked of each unit the answer's quantities are in, e.g. 'lengths 1e-09 m
     or rtol 1e-06 x size, angles: agree only'."""
-    from crosscheck.report.advise_units import UNITS
+    from crosscheck.report.advise.units import UNITS
 
     need = advice.envelope
     parts = []
@@ -369,8 +369,8 @@ def print_advice(advice: Advice) -> None:
         say(quick)
     rows = [*((str(rank), e) for rank, e in enumerate(advice.ranking, 1)),
             *(("b", e) for e in advice.baselines)]
-    for text in ranking_lines(rows, out.width):
-        out.print(text, soft_wrap=True)
+    for text in ranking_lines(rows, stdout.width):
+        stdout.print(text, soft_wrap=True)
     for label, engines in (("answer no case (not ranked)", advice.unsupported),
                            ("float32, not accepted", advice.excluded)):
         if engines:

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from rich.table import Table
 
-from crosscheck.cli.console import fit, out, say
+from crosscheck.cli.console import fit, say, stdout
 from crosscheck.cli.folders import OUT_RULE, chosen
 
 if TYPE_CHECKING:
@@ -29,7 +29,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         return 2
     figures = measure(args.quick, progress=say, full_runs=args.full_runs,
                       campaign=args.campaign)
-    out.print(_table(figures, args.quick))
+    stdout.print(_table(figures, args.quick))
     stamp = time.strftime("%Y%m%d-%H%M%S")
     path = write(figures, chosen(args.out) or ROOT / "reports" / f"bench-{stamp}", args.quick)
     say(f"wrote {path}")
@@ -63,7 +63,7 @@ def _print_comparison(result: Comparison, old: Path) -> None:
         table.add_row(r.name, shown(r.old), shown(r.new),
                       f"{r.ratio:.2f}" if math.isfinite(r.ratio) else "-",
                       met[r.ok_old], met[r.ok_new] if r.gating else "recorded")
-    out.print(fit(table))
+    stdout.print(fit(table))
 
 
 def _at_least(low: int) -> Callable[[str], int]:

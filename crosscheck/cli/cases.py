@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from rich.table import Table
 
-from crosscheck.cli.console import err, fail, out, report_case_errors, say
+from crosscheck.cli.console import fail, report_case_errors, say, stderr, stdout
 from crosscheck.core.model import NEW_CASE_KINDS
 
 if TYPE_CHECKING:
@@ -23,13 +23,13 @@ def cmd_validate(args: argparse.Namespace) -> int:
     loaded = load_paths(args.paths or [Path("cases")])
     report_case_errors(loaded)
     if not loaded.files:
-        err.print("[red]invalid:[/red] no case files found")
+        stderr.print("[red]invalid:[/red] no case files found")
         return 1
     say(f"{'FAILED' if loaded.errors else 'ok'}: {len(loaded.errors)} errors; "
         f"{loaded.blocks} curated cases in {len(loaded.files)} files, {len(loaded.cases)} "
         "after sweep expansion, [[cover]] designs and A/B swaps",
         style="red" if loaded.errors else "green")
-    out.print(coverage_table(coverage(loaded.cases, 2), coverage(loaded.cases, 3)))
+    stdout.print(coverage_table(coverage(loaded.cases, 2), coverage(loaded.cases, 3)))
     return 1 if loaded.errors else 0
 
 
@@ -96,7 +96,7 @@ def cmd_schema(args: argparse.Namespace) -> int:
     if args.check:
         current = args.output.read_text() if args.output.exists() else ""
         if current != text:
-            err.print(f"{args.output} is out of date; run: crosscheck schema")
+            stderr.print(f"{args.output} is out of date; run: crosscheck schema")
             return 1
         return 0
     args.output.write_text(text)

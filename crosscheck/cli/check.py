@@ -2,7 +2,7 @@
 later run checked against it, failing both ways, for an engine's CI.
 
 The judging is :func:`crosscheck.results.baseline.judge` (its table of rules); the JUnit XML
-and the Markdown summary are :mod:`crosscheck.report.ci`.  ``crosscheck run --junit
+and the Markdown summary are :mod:`crosscheck.compare.ci`.  ``crosscheck run --junit
 --markdown --baseline`` writes the same outputs after its report (:func:`add_run_options`,
 :func:`after_run`).  Everything a command is given is checked before any work: a bad
 option, a missing run folder, a malformed baseline exit 2 (the baseline is read as the
@@ -21,7 +21,7 @@ from rich import box
 from rich.console import Console
 from rich.table import Table
 
-from crosscheck.cli.console import err, fail, fit, out, say
+from crosscheck.cli.console import fail, fit, say, stderr, stdout
 from crosscheck.results.baseline import (
     DEFAULT_MARGIN,
     DEFAULT_STALE_FACTOR,
@@ -159,9 +159,9 @@ def cmd_check(args: argparse.Namespace) -> int:
     if read is None:
         return 2
     frame, finished = read
-    console = err if args.markdown == "-" else out
+    console = stderr if args.markdown == "-" else stdout
     if not finished:
-        say(f"warning: {args.run} is unfinished: the rows it has not reached are missing", err)
+        say(f"warning: {args.run} is unfinished: the rows it has not reached are missing", stderr)
     findings = judge(frame, baseline, args.engine, args.margin, args.stale_factor)
     margin = args.margin if args.margin is not None else baseline.margin if baseline else None
     factor = (args.stale_factor if args.stale_factor is not None
@@ -189,7 +189,7 @@ def show(findings: Sequence[Finding], run: Path, given: BaselineFile | None,
          console: Console) -> None:
     """The check on the terminal: what was judged, a line per verdict, the failing findings
     (at most :data:`SHOWN`), the outcome."""
-    from crosscheck.report.ci import counts, outcome, scope
+    from crosscheck.compare.ci import counts, outcome, scope
 
     against = (f"against {given.path} (margin {margin:g}, stale factor {factor:g})"
                if given and margin is not None and factor is not None
@@ -216,7 +216,7 @@ def show(findings: Sequence[Finding], run: Path, given: BaselineFile | None,
 def show_changes(findings: Sequence[Finding], path: Path, run: Path, new: Baseline,
                  console: Console) -> None:
     """What ``--update`` changed in the baseline: counted, then the first rows."""
-    from crosscheck.report.ci import side
+    from crosscheck.compare.ci import side
 
     changed = [f for f in findings if not _unchanged(f)]
     added = sum(f.expected is None for f in changed)
@@ -242,7 +242,7 @@ def write_outputs(findings: Sequence[Finding], run: Path, junit: str | None,
                   markdown: str | None, given: BaselineFile | None, margin: float | None,
                   factor: float | None, engines: Sequence[str] | None) -> bool:
     """Write the JUnit XML and the Markdown summary asked for; False (said) if one failed."""
-    from crosscheck.report.ci import markdown_summary, write_junit
+    from crosscheck.compare.ci import markdown_summary, write_junit
 
     try:
         if junit:
@@ -274,7 +274,7 @@ def after_run(directory: Path, args: argparse.Namespace) -> int | None:
     baseline = given.baseline if given else None
     findings = judge(read_results(directory), baseline)
     margin, factor = (baseline.margin, baseline.stale_factor) if baseline else (None, None)
-    show(findings, directory, given, margin, factor, None, err if markdown == "-" else out)
+    show(findings, directory, given, margin, factor, None, stderr if markdown == "-" else stdout)
     if not write_outputs(findings, directory, junit, markdown, given, margin, factor, None):
         return 2
     if given is None:

@@ -37,13 +37,13 @@ if TYPE_CHECKING:
 
     from crosscheck.cases.load import LoadResult
 
-out = Console()
-err = Console(stderr=True, soft_wrap=True)
+stdout = Console()
+stderr = Console(stderr=True, soft_wrap=True)
 
 
 def fail(message: str) -> None:
     """Print an error line; the message is shown literally (no rich markup)."""
-    err.print(f"[red]error:[/red] {escape(message)}", highlight=False)
+    stderr.print(f"[red]error:[/red] {escape(message)}", highlight=False)
 
 
 def wrapped(message: str, width: int) -> list[str]:
@@ -66,7 +66,7 @@ def wrapped(message: str, width: int) -> list[str]:
 def say(message: str, console: Console | None = None, style: str = "") -> None:
     """Print a message literally (no rich markup) on stdout (or ``console``), wrapped at
     spaces to the width; ``style`` colours the first word (a label such as ``ok:``)."""
-    console = console or out
+    console = console or stdout
     for n, line in enumerate(wrapped(message, console.width)):
         text = Text(line)
         if style and n == 0:
@@ -77,7 +77,7 @@ def say(message: str, console: Console | None = None, style: str = "") -> None:
 def report_case_errors(loaded: LoadResult) -> None:
     """One line per rejected case block: file, case, field and reason."""
     for problem in loaded.errors:
-        err.print(f"[red]invalid:[/red] {escape(problem.message)}", highlight=False)
+        stderr.print(f"[red]invalid:[/red] {escape(problem.message)}", highlight=False)
 
 
 def fit(table: Table) -> Table:
@@ -107,7 +107,7 @@ class PlainProgress:
     def __init__(self, label: str, total: int, clock: Callable[[], float] = time.monotonic):
         self.label, self.total, self.done, self.clock = label, total, 0, clock
         self.started, self.next = clock(), 0.1
-        say(f"{label}: {total} to go", err)
+        say(f"{label}: {total} to go", stderr)
 
     def __call__(self, n: int) -> None:
         self.done += n
@@ -115,19 +115,19 @@ class PlainProgress:
             self.next = math.floor(10 * self.done / self.total) / 10 + 0.1
             say(f"{self.label}: {self.done}/{self.total} "
                 f"({100 * self.done / self.total:.0f}%, {self.clock() - self.started:.0f} s)",
-                err)
+                stderr)
 
 
 @contextlib.contextmanager
 def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
     """Progress per phase of a run (verdicts, timing) on stderr: transient bars on a
     terminal, plain lines every tenth of the way when stderr is a log or a pipe."""
-    if not err.is_terminal:
+    if not stderr.is_terminal:
         yield lambda name, total: PlainProgress(PHASES.get(name, name), total)
         return
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                TimeElapsedColumn(), TimeRemainingColumn())
-    with Progress(*columns, console=err, transient=True) as bar:
+    with Progress(*columns, console=stderr, transient=True) as bar:
         def start(name: str, total: int) -> Callable[[int], None]:
             task = bar.add_task(PHASES.get(name, name), total=total)
             return lambda n: bar.update(task, advance=n)
@@ -141,13 +141,13 @@ def print_summary(directory: Path) -> None:
     import pandas as pd
 
     table = pd.read_csv(directory / "summary.csv")
-    out.print(summary_table(table, f"summary of {directory}"))
+    stdout.print(summary_table(table, f"summary of {directory}"))
     if "median_query_instructions" in table and table["median_query_instructions"].notna().any():
         say(COUNTS_TITLE)
-        out.print(counts_table(table))
+        stdout.print(counts_table(table))
     if table["median_query_s"].notna().any():
         say(TIMES_TITLE)
-        out.print(times_table(table))
+        stdout.print(times_table(table))
 
 
 TIMES_TITLE = "query time: median ± IQR over the timed cases (scenes: per run)"

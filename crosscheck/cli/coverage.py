@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from crosscheck.cli.console import err, fail, progress_bar, say
+from crosscheck.cli.console import fail, progress_bar, say, stderr
 from crosscheck.cli.folders import OUT_RULE, chosen
 
 if TYPE_CHECKING:
@@ -210,7 +210,7 @@ def print_coverage(found: CoverageMap, limit: int) -> None:
     from crosscheck.report.coverage import covered, empty_cells
 
     if found.table.empty:
-        say("no case of this folder has a cell (only bad-input cases or scenes)", err)
+        say("no case of this folder has a cell (only bad-input cases or scenes)", stderr)
         return
     empty = empty_cells(found.table)
     for space in covered(found.table):

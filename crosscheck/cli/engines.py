@@ -20,7 +20,7 @@ from rich.table import Table
 from rich.text import Text
 
 import adapters
-from crosscheck.cli.console import err, fit, out
+from crosscheck.cli.console import fit, stderr, stdout
 
 if TYPE_CHECKING:
     from crosscheck.core.contract import Adapter
@@ -34,7 +34,7 @@ def names() -> list[str]:
 
 
 def _note(message: str) -> None:
-    err.print(Text(f"note: {message}", style="yellow"))
+    stderr.print(Text(f"note: {message}", style="yellow"))
 
 
 def _warn_shadowed(chosen: Sequence[str]) -> None:
@@ -87,7 +87,7 @@ def _made(name: str) -> Adapter:
     if version is not None:
         try:
             env = envs.ensure(cls.package or base, version,
-                              lambda line: err.print(Text(line), soft_wrap=True))
+                              lambda line: stderr.print(Text(line), soft_wrap=True))
             cls = pinned.pin(cls, env)
         except envs.EnvError as exc:
             raise adapters.RefusedEngine(f"{name}: {exc}") from None
@@ -156,17 +156,17 @@ def cmd_engines(args: argparse.Namespace) -> int:
             lines.append(Text(entry.describe()))
         if problem is None:
             settings.append((row[0].plain, row[-1].plain))
-    out.print(fit(table))
+    stdout.print(fit(table))
     if args.settings:  # a list, not a column: settings are sentences, too long for a cell
-        out.print(Text("settings of each variant:", style="bold"))
+        stdout.print(Text("settings of each variant:", style="bold"))
         for name, text in settings:
-            out.print(Text(name, style="bold"))
-            out.print(Padding(Text(text), (0, 0, 0, 4), expand=False), soft_wrap=False)
-    out.print(Text(f"Built-ins are the lines of adapters.REGISTRY; plug-ins are the entry "
+            stdout.print(Text(name, style="bold"))
+            stdout.print(Padding(Text(text), (0, 0, 0, 4), expand=False), soft_wrap=False)
+    stdout.print(Text(f"Built-ins are the lines of adapters.REGISTRY; plug-ins are the entry "
                    f"points of installed distributions in the {adapters.ENTRY_POINT_GROUP!r} "
                    f"group."), soft_wrap=False)
     for line in lines:
-        out.print(line, soft_wrap=False)
+        stdout.print(line, soft_wrap=False)
     return 0
 
 
@@ -178,15 +178,15 @@ def cmd_envs(args: argparse.Namespace) -> int:
     found = envs.cached(root)
     if args.clear_envs:
         shutil.rmtree(root, ignore_errors=True)
-        out.print(Text(f"removed {len(found)} cached environments and {root}"), soft_wrap=True)
+        stdout.print(Text(f"removed {len(found)} cached environments and {root}"), soft_wrap=True)
         return 0
-    out.print(Text(f"cached environments of pinned versions (--engine NAME@VERSION) in {root} "
+    stdout.print(Text(f"cached environments of pinned versions (--engine NAME@VERSION) in {root} "
                    "(set CROSSCHECK_ENVS to move it; --clear-envs or deleting a folder clears "
                    "it):"), soft_wrap=True)
     for env in found:
-        out.print(Text(f"  {env.package} {env.version}  {env.path}"), soft_wrap=True)
+        stdout.print(Text(f"  {env.package} {env.version}  {env.path}"), soft_wrap=True)
     if not found:
-        out.print(Text("  (none)"))
+        stdout.print(Text("  (none)"))
     return 0
 
 

@@ -19,7 +19,7 @@ from rich import box
 from rich.table import Table
 
 from crosscheck.cli import engines as engine_choice
-from crosscheck.cli.console import fail, fit, out, progress_bar, say
+from crosscheck.cli.console import fail, fit, progress_bar, say, stdout
 from crosscheck.cli.folders import OUT_RULE, chosen, out_folder
 from crosscheck.core.model import NEW_CASE_KINDS, Kind
 from crosscheck.core.options import RunOptions
@@ -189,7 +189,7 @@ def print_groups(groups: Sequence[Group], limit: int = 30, directory: Path | Non
     from crosscheck.studies.fuzz import by_severity
 
     ranked = by_severity(groups)
-    out.print(groups_table(ranked, limit))
+    stdout.print(groups_table(ranked, limit))
     written = [g for g in ranked if g.chosen]
     where = f" in {directory}" if directory is not None else ""
     if written:

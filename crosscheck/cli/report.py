@@ -7,11 +7,11 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from crosscheck.cli.console import err, fail, say
+from crosscheck.cli.console import fail, say, stderr
 from crosscheck.cli.folders import OUT_RULE, chosen
 
 if TYPE_CHECKING:
-    from crosscheck.report.changes import Changes
+    from crosscheck.compare.changes import Changes
 
 COMPARE_DESCRIPTION = """\
 Two runs (A B): what differs between them (cases, engines, options, versions,
@@ -46,7 +46,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
-    from crosscheck.report.changes import side, what_changed, write
+    from crosscheck.compare.changes import side, what_changed, write
     from crosscheck.results.store import StoreError
 
     if (args.from_engine is None) != (args.to_engine is None):
@@ -108,12 +108,12 @@ def _say_changes(found: Sequence[Changes], markdown: Path) -> None:
 
 def _compared(a: Path, b: Path, target: Path) -> None:
     """The two-run comparison (verdicts, cost, timing) written into ``target``, and said."""
-    from crosscheck.report.compare import compare
-    from crosscheck.report.compare_timing import ALPHA, MIN_EFFECT
+    from crosscheck.compare.runs import compare
+    from crosscheck.compare.timing import ALPHA, MIN_EFFECT
 
     result = compare(a, b, target)
     for difference in result.differences:
-        say(f"warning: {difference}", err)
+        say(f"warning: {difference}", stderr)
     counts = result.timing_counts
     yardstick = "after the yardstick" if result.normalised else "not normalised"
     if result.cost_counts is not None:

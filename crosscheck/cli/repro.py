@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from crosscheck.cli.console import err, fail, say
+from crosscheck.cli.console import fail, say, stderr
 
 if TYPE_CHECKING:
     from crosscheck.results.store import StoredRun
@@ -154,7 +154,7 @@ def cmd_repro(args: argparse.Namespace) -> int:
         _, disagree = engines_for(RunRows(stored), args.case_id)
         why = "disagree on it" if disagree else "ran it (none disagrees)"
         say(f"{args.case_id}: {len(made)} engine(s) {why}: "
-            f"{', '.join(s.engine for s in made)}", err)
+            f"{', '.join(s.engine for s in made)}", stderr)
     bodies = texts(stored, made, args.issue)
     if args.out is None:
         sys.stdout.write(headed(made, bodies, args.issue))

@@ -16,12 +16,12 @@ from typing import TYPE_CHECKING
 from crosscheck.cli import check
 from crosscheck.cli import engines as engine_choice
 from crosscheck.cli.console import (
-    err,
     fail,
     phase_bars,
     print_summary,
     report_case_errors,
     say,
+    stderr,
 )
 from crosscheck.cli.folders import OUT_RULE, chosen
 from crosscheck.core.options import RunOptions
@@ -59,7 +59,7 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
         _say_repeat_check(info)
         rendered = _render(store.directory)
     except KeyboardInterrupt:  # in the run, or after its last row (a resume then renders)
-        err.print(f"interrupted; finished rows are kept. Resume with: {hint}",
+        stderr.print(f"interrupted; finished rows are kept. Resume with: {hint}",
                   markup=False, highlight=False)
         return 130
     except (StoreError, ClusterLost, OSError) as exc:  # a full disk, a lost Dask scheduler

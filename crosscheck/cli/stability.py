@@ -16,7 +16,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from crosscheck.cli import engines as engine_choice
-from crosscheck.cli.console import fail, fit, out, report_case_errors, say
+from crosscheck.cli.console import fail, fit, report_case_errors, say, stdout
 from crosscheck.cli.folders import OUT_RULE, chosen
 from crosscheck.cli.run import finish, run_dir
 from crosscheck.core.options import RunOptions
@@ -81,7 +81,7 @@ def print_table(table: pd.DataFrame) -> None:
             walk_name = f"{str(r.sweep).removeprefix('sweep-')} ({r.direction})"
             rich.add_row("" if i else escape(str(engine)), escape(walk_name),
                          f"[{style[str(r.state)]}]{escape(str(r.verdict))}[/]")
-    out.print(fit(rich))
+    stdout.print(fit(rich))
 
 
 def cmd_stability(args: argparse.Namespace) -> int:

@@ -25,8 +25,7 @@ from __future__ import annotations
 
 import pytest
 
-MARKER = "crosscheck"
-"""The marker of every item of the plugin (``pytest -m crosscheck``)."""
+from crosscheck.pytest_plugin.marker import MARKER
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:

@@ -25,15 +25,15 @@ from typing import TYPE_CHECKING, Any
 
 import pytest
 
-from crosscheck.pytest_plugin import MARKER
+from crosscheck.pytest_plugin.engines import Engine, SuiteView
 from crosscheck.pytest_plugin.kit import KitOutcome, run_kit
+from crosscheck.pytest_plugin.marker import MARKER
 from crosscheck.results.baseline import Entry, Finding, Verdict
 from crosscheck.testing.conformance import CHECKS
 
 if TYPE_CHECKING:
     from _pytest._code.code import TerminalRepr
 
-    from crosscheck.pytest_plugin.suite import Engine, Suite
 
 
 class CrosscheckFailure(Exception):
@@ -137,7 +137,7 @@ class ConformanceItem(ReportedItem):
 class EngineCollector(pytest.Collector):
     """Everything the plugin asks of one engine: the kit's checks, then the findings."""
 
-    def __init__(self, *, suite: Suite, engine: Engine, **kwargs: Any) -> None:
+    def __init__(self, *, suite: SuiteView, engine: Engine, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.suite, self.engine = suite, engine
         self.add_marker(MARKER)

@@ -18,7 +18,6 @@ from __future__ import annotations
 import os
 import shlex
 from collections.abc import Generator
-from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -26,37 +25,18 @@ import pytest
 import adapters
 import crosscheck
 from crosscheck.cases.load import load_paths
-from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Kind, quantities_of
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
+from crosscheck.pytest_plugin.engines import Engine, Ran
 from crosscheck.pytest_plugin.items import EngineCollector
-from crosscheck.results.baseline import Baseline, BaselineError, Finding, judge, read_baseline
+from crosscheck.results.baseline import Baseline, BaselineError, judge, read_baseline
 from crosscheck.results.store import ResultsStore, StoreError, read_results
 from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.repro.writers import writer_for
 
 DEFAULT_CASES = Path(crosscheck.__file__).resolve().parent.parent / "cases"
 """The suite of the crosscheck checkout the package is installed from (if it is)."""
-
-
-@dataclass(frozen=True)
-class Engine:
-    """One engine the options name: its adapter, whether it is a built-in, and whether
-    ``crosscheck repro`` writes scripts for it (the built-ins only)."""
-
-    name: str
-    adapter: Adapter
-    builtin: bool
-    scripted: bool
-
-
-@dataclass(frozen=True)
-class Ran:
-    """The outcome of the run: its folder and the findings, by engine."""
-
-    directory: Path
-    findings: dict[str, list[Finding]]
 
 
 def _usage(option: str, reason: str) -> pytest.UsageError:

@@ -15,7 +15,7 @@ from markupsafe import Markup
 from crosscheck.report.parquet import write_parquet
 from crosscheck.report.sections import SECTIONS, RunView
 from crosscheck.report.style import packed_plotly_js, templates
-from crosscheck.report.tables import markdown_summary
+from crosscheck.report.summary_tables import markdown_summary
 from crosscheck.results.store import read_run, write_csv
 
 __all__ = ["markdown_summary", "render", "render_html"]

@@ -25,24 +25,24 @@ from markupsafe import Markup
 
 from crosscheck.core.schema import AnyCase
 from crosscheck.report import (
-    advise_page,
-    charts,
     coverage_page,
     dynamics,
     energy_chart,
     metamorphic,
-    mirror,
     profiles,
+    results_table,
     speed,
+    speed_error,
     stability,
-    stability_charts,
-    table,
+    symmetry,
     verdict,
 )
+from crosscheck.report.advise import page as advise_page
 from crosscheck.report.coverage import CoverageMap, run_map
-from crosscheck.report.mirror import asymmetries
+from crosscheck.report.stability import charts as stability_charts
 from crosscheck.report.style import packed
-from crosscheck.report.tables import STATUSES, disagreements, group_matrix, summary
+from crosscheck.report.summary_tables import STATUSES, disagreements, group_matrix, summary
+from crosscheck.report.symmetry import asymmetries
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.scene_facts import read_facts
 from crosscheck.results.series import read_series
@@ -87,8 +87,8 @@ class RunView:
         return read_timings(self.stored.directory)
 
     @functools.cached_property
-    def speed_charts(self) -> list[charts.SpeedChart]:
-        return charts.speed_charts(self.frame, self.info, self.cases)
+    def speed_charts(self) -> list[speed_error.SpeedChart]:
+        return speed_error.speed_charts(self.frame, self.info, self.cases)
 
     @functools.cached_property
     def summary(self) -> pd.DataFrame:
@@ -174,7 +174,7 @@ def _summary(view: RunView) -> Context:
 def _speed(view: RunView) -> Context:
     """The speed charts; ``counted``: some kind's cost is counted instructions (the section
     then says how they were counted)."""
-    return {"speed": [{"data": chart, "html": Markup(charts.figure_html(chart, view.order))
+    return {"speed": [{"data": chart, "html": Markup(speed_error.figure_html(chart, view.order))
                        if chart.plotted else None} for chart in view.speed_charts],
             "seconds": speed.seconds, "with_iqr": speed.with_iqr,
             "threshold": speed.UNSTABLE_SPREAD,
@@ -221,13 +221,13 @@ def _disagreements(view: RunView) -> Context:
     """The results table: every case x engine once, packed, with the run folder (each breaking
     row's repro command is built from it in the page), each row's repro link (if written) and
     the case inputs the page's case details are built from."""
-    return table.results_table(view.frame, view.cases, view.stored.repros,
+    return results_table.results_table(view.frame, view.cases, view.stored.repros,
                                str(view.stored.directory))
 
 
 def _advise(view: RunView) -> Context:
     """The advise form: it works in the page, over the results table's packed data and the
-    facts of :func:`crosscheck.report.advise_page.form_data`."""
+    facts of :func:`crosscheck.report.advise.page.form_data`."""
     kinds = [str(k) for k in dict.fromkeys(view.frame["kind"])] if len(view.frame) else []
     data = advise_page.form_data(view.frame, view.cases, view.info.engines, view.info.options)
     return {"kinds": kinds, "run_id": view.info.run_id,
@@ -239,7 +239,7 @@ def _advise(view: RunView) -> Context:
 def _symmetry(view: RunView) -> Context:
     """The A/B symmetry counts per engine x quantity and each engine's asymmetric answers
     (``asymmetries.csv`` is written from ``view.asymmetries``, every row kept)."""
-    return mirror.section(view.frame, view.order)
+    return symmetry.section(view.frame, view.order)
 
 
 def _info(view: RunView) -> Context:

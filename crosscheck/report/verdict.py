@@ -32,7 +32,7 @@ from crosscheck.core.model import Status
 from crosscheck.report import repro_links
 from crosscheck.report.frames import records
 from crosscheck.report.query_cost import column
-from crosscheck.report.tables import share_colour
+from crosscheck.report.summary_tables import share_colour
 from crosscheck.results.jsonlines import each_distinct
 
 KINDS = ("aabb", "sphere", "sphere_response", "sphere_toi", "sphere_scene")

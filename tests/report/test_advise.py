@@ -20,8 +20,8 @@ from crosscheck.cli import main
 from crosscheck.cli.advise import worst_text
 from crosscheck.core.model import Observation
 from crosscheck.core.options import RunOptions
-from crosscheck.report.advise import Advice, EngineAdvice, Envelope, EnvelopeError, advise
-from crosscheck.report.advise_judge import judge
+from crosscheck.report.advise.judge import judge
+from crosscheck.report.advise.recommend import Advice, EngineAdvice, Envelope, EnvelopeError, advise
 from crosscheck.results.store import ResultsStore, StoredRun, read_run, repro_name
 from crosscheck.run.launch import launch, new_info
 from crosscheck.truth import oracle

@@ -9,7 +9,7 @@ import pytest
 
 from crosscheck.cli.advise import OptionError, envelope_of, register
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
-from crosscheck.report.advise import Envelope
+from crosscheck.report.advise.recommend import Envelope
 from tests.conftest import sphere
 
 

@@ -22,7 +22,7 @@ from crosscheck.core.conventions import Conventions
 from crosscheck.core.model import Observation
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
-from crosscheck.report.advise import Advice, EngineAdvice, Envelope, EnvelopeError, advise
+from crosscheck.report.advise.recommend import Advice, EngineAdvice, Envelope, EnvelopeError, advise
 from crosscheck.results.store import ResultsStore, StoredRun, read_run
 from crosscheck.run.launch import launch, new_info
 from crosscheck.testing import fakes

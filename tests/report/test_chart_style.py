@@ -14,7 +14,8 @@ import pytest
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
-from crosscheck.report import axes, charts, dynamics, stability, stability_charts, style
+from crosscheck.report import axes, dynamics, speed_error, stability, style
+from crosscheck.report.stability import charts as stability_charts
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.truth import scenes
 
@@ -102,13 +103,13 @@ def speed_info() -> RunInfo:
 
 
 @pytest.fixture(scope="module")
-def speed_figure() -> tuple[charts.SpeedChart, dict[str, Any]]:
+def speed_figure() -> tuple[speed_error.SpeedChart, dict[str, Any]]:
     rows = [row(f"s{i}", engine, quantity, error if quantity == "distance" else 0.0, query_s)
             for engine, (errors, query_s) in SPEED.items()
             for i, error in enumerate(errors) for quantity in ("hit", "distance", "normal")]
-    chart = charts.speed_chart(pd.DataFrame([r.row() for r in rows]), "sphere", speed_info(),
+    chart = speed_error.speed_chart(pd.DataFrame([r.row() for r in rows]), "sphere", speed_info(),
                                {})
-    return chart, charts.figure(chart, list(SPEED)).to_plotly_json()
+    return chart, speed_error.figure(chart, list(SPEED)).to_plotly_json()
 
 
 def test_speed_log_axes_share_the_style(speed_figure: tuple[Any, dict[str, Any]]) -> None:
@@ -123,13 +124,14 @@ def test_speed_floor_and_ceiling_are_labelled(speed_figure: tuple[Any, dict[str,
     chart, fig = speed_figure
     notes = [(a["text"], a["y"], a["yref"]) for a in fig["layout"]["annotations"]]
     for yref, quantity in (("y", "distance"), ("y2", "normal")):
-        assert (charts.FLOOR_TEXT, math.log10(charts.FLOOR), yref) in notes
-        label = charts.off_label(chart.off_scale(quantity))
-        assert (label, math.log10(charts.CEILING), yref) in notes
-    assert charts.off_label(1) == "off scale (above 10<sup>15</sup>): 1 answer"
+        assert (speed_error.FLOOR_TEXT, math.log10(speed_error.FLOOR), yref) in notes
+        label = speed_error.off_label(chart.off_scale(quantity))
+        assert (label, math.log10(speed_error.CEILING), yref) in notes
+    assert speed_error.off_label(1) == "off scale (above 10<sup>15</sup>): 1 answer"
     assert chart.off_scale("distance") == 1 and chart.off_scale("normal") == 0  # slow's inf
     lines = {(s["y0"], s["yref"]) for s in fig["layout"]["shapes"]}
-    assert {(charts.FLOOR, "y"), (charts.CEILING, "y"), (charts.FLOOR, "y2")} <= lines
+    floor, ceiling = speed_error.FLOOR, speed_error.CEILING
+    assert {(floor, "y"), (ceiling, "y"), (floor, "y2")} <= lines
 
 
 def test_speed_coincident_engines_are_drawn_apart_and_named_in_the_hover(
@@ -154,7 +156,7 @@ def test_speed_accuracy_is_a_labelled_line_on_every_panel(
     chart, fig = speed_figure
     drawn = [(a["text"], a["y"]) for a in fig["layout"]["annotations"]]
     assert drawn.count(("accuracy: the float64 bound", 0.0)) == 2  # 1 bound, on both panels
-    moved = charts.figure(chart, list(SPEED), accuracy={"distance": 1e6}).to_plotly_json()
+    moved = speed_error.figure(chart, list(SPEED), accuracy={"distance": 1e6}).to_plotly_json()
     texts = {a["text"]: a["y"] for a in moved["layout"]["annotations"]}
     assert texts["accuracy: 1e+06 \u00d7 the float64 bound"] == 6.0
     assert texts["accuracy: the float64 bound"] == 0.0  # the normal panel keeps the default

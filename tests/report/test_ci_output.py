@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 import xmlschema
 
-from crosscheck.report.ci import junit_xml, markdown_summary, repro_command
+from crosscheck.compare.ci import junit_xml, markdown_summary, repro_command
 from crosscheck.results.baseline import Finding, Verdict, from_rows, judge
 from tests.conftest import ROOT
 

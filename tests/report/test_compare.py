@@ -18,10 +18,10 @@ import pandas as pd
 import pytest
 
 from crosscheck.cli import main
+from crosscheck.compare.runs import Comparison, compare, verdict_changes
+from crosscheck.compare.timing import MIN_EFFECT, OLD_FORMAT
 from crosscheck.core.model import COLUMNS, Record, Status
 from crosscheck.core.options import RunOptions
-from crosscheck.report.compare import Comparison, compare, verdict_changes
-from crosscheck.report.compare_timing import MIN_EFFECT, OLD_FORMAT
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore
 from crosscheck.results.timings import MIN_SAMPLES, TimingRecord

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.report import charts, profiles
-from crosscheck.report.advise import INSTRUCTIONS, WALL, Envelope, advise
+from crosscheck.report import profiles, speed_error
+from crosscheck.report.advise.recommend import INSTRUCTIONS, WALL, Envelope, advise
 from crosscheck.report.sections import RunView
 from crosscheck.report.speed import instructions, instructions_iqr, median_iqr, seconds
 from crosscheck.results.store import read_run
@@ -92,7 +92,7 @@ def test_the_verdict_block_shows_instructions_with_the_wall_clock_beside_them(
     assert f'<td class="cost">{wall_text("fake-twin")}, 4 cases</td>' in before
 
 
-def chart(directory: Path) -> charts.SpeedChart:
+def chart(directory: Path) -> speed_error.SpeedChart:
     made = RunView(read_run(directory)).speed_charts
     assert [c.kind for c in made] == ["sphere"]
     return made[0]
@@ -101,7 +101,7 @@ def chart(directory: Path) -> charts.SpeedChart:
 def drawn(directory: Path) -> tuple[str, dict[str, float], dict[str, str]]:
     """The chart's speed axis title, and each engine's x and hover on the first panel."""
     made = chart(directory)
-    fig = charts.figure(made, [e.name for e in run.ENGINES])
+    fig = speed_error.figure(made, [e.name for e in run.ENGINES])
     points = [t for t in fig.data if t.type == "scatter" and t.showlegend]
     return (fig.layout.xaxis.title.text, {t.legendgroup: t.x[0] for t in points},
             {t.legendgroup: t.hovertext[0] for t in points})

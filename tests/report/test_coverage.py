@@ -231,7 +231,7 @@ def test_a_disagreement_without_a_known_category_counts_as_unexplained() -> None
 
 
 def test_the_categories_have_one_order_the_disagreements_table_shares() -> None:
-    from crosscheck.report.tables import disagreements
+    from crosscheck.report.summary_tables import disagreements
     assert sorted(WORST_FIRST, key=lambda c: Category(c).severity) == WORST_FIRST
     frame = pd.DataFrame({"status": ["disagree"] * 5 + ["crash"],
                           "category": ["tolerance", "", "convention", "error", "timestep", ""],

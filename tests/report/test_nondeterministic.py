@@ -17,9 +17,9 @@ import pytest
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
-from crosscheck.report.advise import Envelope, advise
+from crosscheck.report.advise.recommend import Envelope, advise
 from crosscheck.report.render import render
-from crosscheck.report.table import results_data
+from crosscheck.report.results_table import results_data
 from crosscheck.results.store import ResultsStore, read_run
 from crosscheck.run.launch import launch, new_info
 from tests import fakes

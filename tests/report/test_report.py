@@ -22,8 +22,8 @@ from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.report import charts, speed, style, tables
 from crosscheck.report import render as report
+from crosscheck.report import speed, speed_error, style, summary_tables
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore, read_results
 from crosscheck.results.timings import FILE, TimingRecord
@@ -181,11 +181,11 @@ def described(**descriptions: str) -> dict[str, AnyCase]:
 
 
 def chart_of(frame: pd.DataFrame, kind: str, cases: dict[str, AnyCase] | None = None
-             ) -> charts.SpeedChart:
-    return charts.speed_chart(frame, kind, info_of(), cases or {})
+             ) -> speed_error.SpeedChart:
+    return speed_error.speed_chart(frame, kind, info_of(), cases or {})
 
 
-def by_engine(chart: charts.SpeedChart) -> dict[str, charts.Point]:
+def by_engine(chart: speed_error.SpeedChart) -> dict[str, speed_error.Point]:
     return {p.engine: p for p in chart.points}
 
 
@@ -193,7 +193,7 @@ FRAME = pd.DataFrame([r.row() for r in records()])
 
 
 def test_one_point_per_engine_per_kind() -> None:
-    made = charts.speed_charts(FRAME, info_of(), {})
+    made = speed_error.speed_charts(FRAME, info_of(), {})
     kinds = {c.kind: [p.engine for p in c.points] for c in made}
     assert kinds == {"sphere": ["fast", "exact", "untimed", "skipper", "crashy"],
                      "sphere_response": ["fast"]}
@@ -218,9 +218,9 @@ def test_x_deduplicates_case_engine_rows() -> None:
 
 
 def test_error_stats_median_nearest_rank_95th_percentile_and_max() -> None:
-    assert charts.error_stats(pd.Series([float(v) for v in range(20)])) == (9.5, 18.0, 19.0)
-    assert charts.error_stats(pd.Series([1.0, 2.0, math.inf])) == (2.0, math.inf, math.inf)
-    assert all(math.isnan(v) for v in charts.error_stats(pd.Series([], dtype=float)))
+    assert speed_error.error_stats(pd.Series([float(v) for v in range(20)])) == (9.5, 18.0, 19.0)
+    assert speed_error.error_stats(pd.Series([1.0, 2.0, math.inf])) == (2.0, math.inf, math.inf)
+    assert all(math.isnan(v) for v in speed_error.error_stats(pd.Series([], dtype=float)))
 
 
 def test_response_errors_are_read_per_velocity() -> None:
@@ -234,11 +234,11 @@ def test_zero_errors_sit_at_the_labelled_floor() -> None:
     chart = chart_of(FRAME, "sphere")
     exact = by_engine(chart)["exact"]
     assert exact.errors["distance"].median == 0.0
-    fig = charts.figure(chart, list(dict.fromkeys(FRAME["engine"])))
+    fig = speed_error.figure(chart, list(dict.fromkeys(FRAME["engine"])))
     drawn = {t.name: t.y[0] for t in fig.data if t.type == "scatter" and t.showlegend is True}
-    assert drawn["exact"] == charts.FLOOR
+    assert drawn["exact"] == speed_error.FLOOR
     assert drawn["fast"] == pytest.approx(2e-3)
-    assert sum(a.text == charts.FLOOR_TEXT for a in fig.layout.annotations) == 2  # per panel
+    assert sum(a.text == speed_error.FLOOR_TEXT for a in fig.layout.annotations) == 2  # per panel
 
 
 def test_errors_below_the_floor_are_drawn_on_it() -> None:
@@ -246,20 +246,21 @@ def test_errors_below_the_floor_are_drawn_on_it() -> None:
                          + detection("s2", "a", 0.0, 1e-6) + detection("s3", "a", 2e-9, 1e-6)])
     errors = by_engine(chart_of(tiny, "sphere"))["a"].errors["distance"]
     assert (errors.below, errors.zeros, errors.off) == (2, 1, 0)
-    assert charts.SpeedChart.y(3e-21 / 1e-9) == charts.FLOOR
-    assert charts.SpeedChart.y(2.0) == 2.0
+    assert speed_error.SpeedChart.y(3e-21 / 1e-9) == speed_error.FLOOR
+    assert speed_error.SpeedChart.y(2.0) == 2.0
 
 
 def test_infinite_errors_sit_at_the_ceiling_counted() -> None:
     rows = [r for c, err in (("s1", 1e-9), ("s2", 1e-9), ("s3", math.inf))
             for r in detection(c, "a", err, 1e-6)]
     chart = chart_of(pd.DataFrame([r.row() for r in rows]), "sphere")
-    assert chart.y(math.inf) == charts.CEILING and chart.off_scale("distance") == 1
-    fig = charts.figure(chart, ["a"])
+    assert chart.y(math.inf) == speed_error.CEILING and chart.off_scale("distance") == 1
+    fig = speed_error.figure(chart, ["a"])
     whisker_top = fig.data[0].y[0] + fig.data[0].error_y.array[0]
-    assert fig.data[0].y[0] == pytest.approx(1.0) and whisker_top == charts.CEILING
-    assert fig.data[1].y[0] == charts.CEILING and fig.data[1].marker.symbol == charts.OFF_SYMBOL
-    assert charts.off_label(1) in [a.text for a in fig.layout.annotations]
+    assert fig.data[0].y[0] == pytest.approx(1.0) and whisker_top == speed_error.CEILING
+    assert fig.data[1].y[0] == speed_error.CEILING
+    assert fig.data[1].marker.symbol == speed_error.OFF_SYMBOL
+    assert speed_error.off_label(1) in [a.text for a in fig.layout.annotations]
     assert "1 off scale" in fig.data[0].hovertext[0]
 
 
@@ -281,11 +282,11 @@ def test_quick_run_draws_no_chart_and_inlines_no_plotly(tmp_path: Path) -> None:
 
 
 def test_case_group_matrix_counts() -> None:
-    counts = tables.group_counts(FRAME).set_index(["engine", "group"])
+    counts = summary_tables.group_counts(FRAME).set_index(["engine", "group"])
     assert counts.loc[("fast", "float_traps"), ["agree", "disagree"]].tolist() == [6, 3]
     assert counts.loc[("fast", "near_touching"), ["agree", "disagree"]].tolist() == [5, 1]
     assert counts.loc[("crashy", "float_traps"), "crash"] == 6
-    matrix = tables.group_matrix(FRAME)
+    matrix = summary_tables.group_matrix(FRAME)
     assert [g["name"] for g in matrix["groups"]] == ["near_touching", "float_traps", "response"]
     assert [g["cases"] for g in matrix["groups"]] == [2, 3, 2]
     cells = {row["engine"]: row["cells"] for row in matrix["rows"]}
@@ -293,9 +294,10 @@ def test_case_group_matrix_counts() -> None:
     assert (fast_traps["agree"], fast_traps["scored"]) == (6, 9)
     assert cells["crashy"][1]["failed"] == {"crash": 6} and cells["crashy"][1]["share"] == 0.0
     assert cells["skipper"][1]["skipped"] and cells["skipper"][1]["share"] is None
-    assert cells["skipper"][1]["colour"] == tables.share_colour(None)
+    assert cells["skipper"][1]["colour"] == summary_tables.share_colour(None)
     assert cells["fast"][0]["share"] == pytest.approx(5 / 6)
-    assert cells["exact"][0]["colour"] == tables.share_colour(1.0) != tables.share_colour(0.0)
+    colour = summary_tables.share_colour
+    assert cells["exact"][0]["colour"] == colour(1.0) != colour(0.0)
 
 
 def test_matrix_cells_are_rendered(rendered: str) -> None:
@@ -346,13 +348,13 @@ def test_script_in_text_is_escaped_everywhere_including_hover(rendered: str) -> 
     assert "\\u003cscript" not in rendered  # no raw tag inside the plotly figure JSON
     assert "&lt;script&gt;alert" in rendered
     chart = chart_of(FRAME, "sphere", described(s5=EVIL))
-    fig = charts.figure(chart, ["fast", "exact"])
+    fig = speed_error.figure(chart, ["fast", "exact"])
     hovers = [h for t in fig.data if t.hovertext for h in t.hovertext]
     assert any("worst case: s5: &lt;script&gt;" in h for h in hovers)
     assert not any("<script" in h for h in hovers)
-    point = by_engine(charts.speed_chart(FRAME, "sphere", info_of(EVIL), {}))["fast"]
-    assert "&lt;script&gt;" in charts.hover(point, chart.measure)
-    assert "<script" not in charts.hover(point, chart.measure)
+    point = by_engine(speed_error.speed_chart(FRAME, "sphere", info_of(EVIL), {}))["fast"]
+    assert "&lt;script&gt;" in speed_error.hover(point, chart.measure)
+    assert "<script" not in speed_error.hover(point, chart.measure)
 
 
 def test_chart_from_a_real_run_of_fakes(tmp_path: Path) -> None:
@@ -370,7 +372,8 @@ def test_chart_from_a_real_run_of_fakes(tmp_path: Path) -> None:
         assert points[engine].time.q1 <= points[engine].query_s <= points[engine].time.q3
         in_bounds = [error / bound(c, "distance") for c in cases]  # scale-free errors
         assert points[engine].errors["distance"].median == pytest.approx(np.median(in_bounds))
-    assert charts.SpeedChart.y(points["fake-right"].errors["distance"].median) == charts.FLOOR
+    median = points["fake-right"].errors["distance"].median
+    assert speed_error.SpeedChart.y(median) == speed_error.FLOOR
     section = part(report.render(folder)["report"].read_text(encoding="utf-8"),
                    '<h2 id="timing">', "<h2")
     assert 'id="yardstick"' in section and 'id="binding"' in section
@@ -384,8 +387,8 @@ def timed_html(tmp_path: Path) -> str:
     return report.render(timed_run(tmp_path / "timed"))["report"].read_text(encoding="utf-8")
 
 
-def timed_chart() -> charts.SpeedChart:
-    return charts.speed_chart(TIMED, "sphere", info_of(timing=timing_info()), {})
+def timed_chart() -> speed_error.SpeedChart:
+    return speed_error.speed_chart(TIMED, "sphere", info_of(timing=timing_info()), {})
 
 
 def part(html: str, start: str, end: str) -> str:
@@ -393,7 +396,7 @@ def part(html: str, start: str, end: str) -> str:
 
 
 def test_every_speed_point_has_a_horizontal_iqr_whisker_and_its_vertical_one() -> None:
-    fig = charts.figure(timed_chart(), list(dict.fromkeys(TIMED["engine"])))
+    fig = speed_error.figure(timed_chart(), list(dict.fromkeys(TIMED["engine"])))
     points = {t.legendgroup: t for t in fig.data if t.type == "scatter" and t.error_x.array}
     assert set(points) == {"fast", "exact", "noisy"}
     for engine, trace in points.items():
@@ -409,7 +412,7 @@ def test_every_speed_point_has_a_horizontal_iqr_whisker_and_its_vertical_one() -
 def test_unstable_share_in_hover_and_caption(timed_html: str) -> None:
     fast = by_engine(timed_chart())["fast"]
     assert (fast.unstable, fast.timed) == (1, 5)
-    assert "1 of 5 timings unstable (IQR &gt; 10% of median)" in charts.hover(
+    assert "1 of 5 timings unstable (IQR &gt; 10% of median)" in speed_error.hover(
         fast, timed_chart().measure)
     sphere_part = part(timed_html, 'id="speed-sphere-section"', 'id="speed-sphere-times"')
     assert "4 of 15 timings unstable (IQR &gt;\n10% of median)" in sphere_part
@@ -420,7 +423,7 @@ def test_mostly_unstable_engine_is_hollow_and_labelled(timed_html: str) -> None:
     chart = timed_chart()
     points = by_engine(chart)
     assert points["noisy"].mostly_unstable and not points["fast"].mostly_unstable
-    fig = charts.figure(chart, ["fast", "exact", "untimed", "skipper", "crashy", "noisy"])
+    fig = speed_error.figure(chart, ["fast", "exact", "untimed", "skipper", "crashy", "noisy"])
     named = {t.name: t.marker.symbol for t in fig.data if t.showlegend is not False}
     assert named["noisy (timing unstable)"].endswith("-open") and "noisy" not in named
     assert not named["fast"].endswith("-open")
@@ -434,9 +437,9 @@ def test_caption_says_times_are_per_call_through_python_bindings_with_overhead(
     assert "formula such as <code>reference</code> pays\nthe interpreter" in timed_html
     points = by_engine(timed_chart())
     assert points["fast"].binding_share == pytest.approx(1e-7 / 3e-6)
-    hover = charts.hover(points["fast"], timed_chart().measure)
+    hover = speed_error.hover(points["fast"], timed_chart().measure)
     assert "binding call (cheapest call into it): 100 ± 2 ns, 3% of the median" in hover
-    assert "binding call: none: no cheap call" in charts.hover(points["untimed"],
+    assert "binding call: none: no cheap call" in speed_error.hover(points["untimed"],
                                                                timed_chart().measure)
     table = part(timed_html, 'id="speed-sphere-times"', "</table>")
     assert "<td>fast</td>" in table and "100 ± 2 ns" in table and "3 ± 2 µs" in table
@@ -471,7 +474,7 @@ def test_timing_section_is_one_line_without_timing(rendered: str) -> None:
 
 
 def test_summary_shows_the_iqr_over_cases_beside_the_median(timed_html: str) -> None:
-    table = tables.summary(TIMED).set_index(["engine", "kind"])
+    table = summary_tables.summary(TIMED).set_index(["engine", "kind"])
     fast = TIMED[(TIMED["engine"] == "fast") & (TIMED["kind"] == "sphere")]
     q1, q3 = np.percentile(fast.drop_duplicates("case_id")["query_s"], [25, 75])
     assert table.loc[("fast", "sphere"), "iqr_query_s"] == pytest.approx(q3 - q1)
@@ -506,7 +509,7 @@ def test_the_summary_keeps_each_error_measure_apart() -> None:
             rec("s1", "fast", "distance", "disagree", 4e-3),
             rec("s2", "fast", "distance", "agree", 2e-3),
             rec("s1", "fast", "normal", "agree", 0.5)]
-    table = tables.summary(pd.DataFrame([r.row() for r in rows])).set_index("engine")
+    table = summary_tables.summary(pd.DataFrame([r.row() for r in rows])).set_index("engine")
     assert table.loc["fast", "wrong_verdicts"] == 0.5  # one of two verdicts wrong
     assert table.loc["fast", "distance_error"] == 3e-3 and table.loc["fast", "normal_angle"] == 0.5
     assert math.isnan(table.loc["fast", "velocity_error"])  # nothing measured: "-"

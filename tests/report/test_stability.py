@@ -18,7 +18,8 @@ from crosscheck.cases.load import load_paths
 from crosscheck.cli import stability as stability_command
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER
-from crosscheck.report import stability, stability_charts
+from crosscheck.report import stability
+from crosscheck.report.stability import charts as stability_charts
 from crosscheck.report.style import templates
 from crosscheck.results.store import ResultsStore, read_cases, read_results
 from crosscheck.run.launch import launch, new_info

@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 from markupsafe import Markup
 
-from crosscheck.report import stability, stability_charts
+from crosscheck.report import stability
+from crosscheck.report.stability import charts as stability_charts
 from crosscheck.report.style import packed_plotly_js, templates
 from tests.report.browser import needs_chromium, opened
 from tests.report.test_report import info_of

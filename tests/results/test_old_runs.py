@@ -42,8 +42,8 @@ from typing import Any
 import pytest
 
 from crosscheck.cli import main
+from crosscheck.compare.runs import compare
 from crosscheck.core.values import decode
-from crosscheck.report.compare import compare
 from crosscheck.results.store import read_results, read_run_info
 from crosscheck.results.timings import TimingRecord, read_timings
 from tests.conftest import ROOT

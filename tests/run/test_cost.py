@@ -13,10 +13,10 @@ from typing import Any
 import pandas as pd
 import pytest
 
+from crosscheck.compare.cost import cost_changes, judged, run_counts
+from crosscheck.compare.runs import compare
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
-from crosscheck.report.compare import compare
-from crosscheck.report.compare_cost import cost_changes, judged, run_counts
 from crosscheck.results.counts import FILE, CountRecord, read_counts, with_counts
 from crosscheck.results.store import ResultsStore, read_run
 from crosscheck.run import callgrind, cost

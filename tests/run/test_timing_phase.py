@@ -17,11 +17,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from crosscheck.compare.runs import compare
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.report.compare import compare
 from crosscheck.results.store import ResultsStore, read_run
 from crosscheck.results.timings import read_timings
 from crosscheck.run.execute import Outcome

@@ -12,7 +12,7 @@ envelope's cases the repeat check asked again and how many of those answered dif
 (``nondeterministic``).
 
 A case is *within* when the engine answers it (some row not ``skip``) and no row
-of it is ``wrong`` or ``failed`` (:mod:`crosscheck.report.advise_judge`).
+of it is ``wrong`` or ``failed`` (:mod:`crosscheck.report.advise.judge`).
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import pandas as pd
 
 from crosscheck.core.model import Status
 from crosscheck.report import repro_links
-from crosscheck.report.advise_judge import CONVENTION, FAILED, SKIP, WRONG
+from crosscheck.report.advise.judge import CONVENTION, FAILED, SKIP, WRONG
 from crosscheck.report.profiles import BASELINES, worst_statuses
 from crosscheck.report.query_cost import column
 from crosscheck.results.store import StoredRun, repro_name, repro_path

@@ -1,4 +1,4 @@
-"""The A/B symmetry check (:mod:`crosscheck.report.mirror`): the report lists every engine
+"""The A/B symmetry check (:mod:`crosscheck.report.symmetry`): the report lists every engine
 answer on a swapped twin that does not mirror the original's, and only those; its summary counts
 them per engine x quantity, leaving out the pairs whose truth is undefined."""
 
@@ -10,8 +10,8 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.report import mirror
-from crosscheck.report.mirror import asymmetries
 from crosscheck.report.style import templates
+from crosscheck.report.symmetry import asymmetries
 
 
 def row(case_id: str, quantity: str, value: str, engine: str = "e", tolerance: float = 0.0,

@@ -2,7 +2,7 @@
 
 A chart plots a relative error against the difficulty (:func:`figure`): the distance error
 over the case's length scale, a velocity error over its velocity scale, the normal error in
-radians (see :func:`crosscheck.report.stability.relative_error`).  Lower is better; x is the
+radians (see :func:`crosscheck.report.stability.points.relative_error`).  Lower is better; x is the
 difficulty, harder to the right (each axis title says so).  Exact answers sit on a labelled
 floor, failures and infinite errors on a labelled ceiling, and engines with the same answer at
 a point are drawn side by side (:mod:`crosscheck.report.axes`).  There is one chart per axis
@@ -28,7 +28,8 @@ from markupsafe import Markup
 from crosscheck.core.model import Status
 from crosscheck.report import axes
 from crosscheck.report.frames import records
-from crosscheck.report.stability import DIRECTIONS, HEADLINE, with_category
+from crosscheck.report.stability.points import DIRECTIONS, HEADLINE
+from crosscheck.report.stability.study import with_category
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 
 CHARTED = {"aabb": ("distance", "normal"), "sphere": ("distance", "normal"),

@@ -3,7 +3,7 @@
 A profile states the scene: dimensions, kinds, body sizes, largest offset from the origin;
 the dimensions of the moving kinds (largest body speed, mass ratio; a scene's time step,
 per-step travel and least simulated time; a time of impact's interval), each bounding the
-cases of the kinds that have it (:mod:`crosscheck.report.advise_units`); for scenes, the
+cases of the kinds that have it (:mod:`crosscheck.report.advise.units`); for scenes, the
 case tags that name the family (e.g. ``resting``).  It states the accuracy it needs, one
 tolerance per unit (metres, radians, m/s, seconds, a share of the quantity's own scale) and
 ``rtol`` relative to the smallest extent of the case's bodies (on lengths); the quantities
@@ -25,7 +25,7 @@ from typing import Any
 from crosscheck.core.geometry import norm
 from crosscheck.core.model import PAIR_KINDS
 from crosscheck.core.schema import DEFAULT_DT, AabbCase, AnyCase, ResponseCase, SceneCase, ToiCase
-from crosscheck.report.advise_units import (
+from crosscheck.report.advise.units import (
     ANGLE,
     FRACTION,
     LENGTH,
@@ -58,7 +58,7 @@ class Envelope:
     >>> Envelope(scale=(5.0, 1.0)).check()
     Traceback (most recent call last):
     ...
-    crosscheck.report.advise_profile.EnvelopeError: --scale: LO must be <= HI, got 5.0:1.0
+    crosscheck.report.advise.profile.EnvelopeError: --scale: LO must be <= HI, got 5.0:1.0
     >>> Envelope(tolerance=1e-9, rtol=1e-6).allowed("distance", 8.0)
     8e-06
     >>> Envelope(tolerance=1e-9, velocity_tolerance=1e-3).allowed("v1", 8.0)

@@ -7,9 +7,9 @@ engine versions and machines.  Verdicts and timings are then compared on the
 overlap only (the cases and engines both runs have): a verdict is a row's
 status and category.  Cost comes next: where both runs counted instructions
 (``--timer instructions``), a pair's cost change is judged on its counts
-(:mod:`crosscheck.report.compare_cost`), deterministic, with no statistics; a
+(:mod:`crosscheck.compare.cost`), deterministic, with no statistics; a
 count is never compared with a wall time.  The wall-clock change of each case x
-engine is judged on its stored samples (:mod:`crosscheck.report.compare_timing`)
+engine is judged on its stored samples (:mod:`crosscheck.compare.timing`)
 and recorded beside.  Added and removed cases are counted apart, never as
 verdict changes.
 """
@@ -22,8 +22,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from crosscheck.report import compare_cost
-from crosscheck.report.compare_timing import (
+from crosscheck.compare import cost as compare_cost
+from crosscheck.compare.timing import (
     ALPHA,
     MIN_EFFECT,
     VERDICTS,

@@ -1,7 +1,7 @@
 """The facts the report's "Which engine for my scene" form judges by, beside the results
 table's packed rows.
 
-The form in the page runs :func:`crosscheck.report.advise.advise`'s rules in JavaScript
+The form in the page runs :func:`crosscheck.report.advise.recommend.advise`'s rules in JavaScript
 (``_advise.html.j2``) over the results table's data; what a case's rows do not carry is
 computed here, by the same functions the Python answer uses: each case's place in an
 envelope (kind, dimension, tags, bad input, its smallest and largest extent, largest
@@ -35,9 +35,9 @@ import pandas as pd
 from crosscheck.core.model import PAIR_KINDS, Category, Kind, Status, quantities_of
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.report.advise_grade import is_float32
-from crosscheck.report.advise_judge import DEFINITION, engine_conventions, exact_gaps, natures
-from crosscheck.report.advise_profile import (
+from crosscheck.report.advise.grade import is_float32
+from crosscheck.report.advise.judge import DEFINITION, engine_conventions, exact_gaps, natures
+from crosscheck.report.advise.profile import (
     centres,
     extents,
     interval,
@@ -48,7 +48,7 @@ from crosscheck.report.advise_profile import (
     step_travel,
     time_step,
 )
-from crosscheck.report.advise_units import KIND_OPTIONS, TOLERANCE_OPTIONS, UNITS
+from crosscheck.report.advise.units import KIND_OPTIONS, TOLERANCE_OPTIONS, UNITS
 from crosscheck.report.profiles import BASELINES
 
 

@@ -48,7 +48,7 @@ from crosscheck.core.conventions import Conventions, Nature
 from crosscheck.core.model import Category, Status
 from crosscheck.core.schema import AnyCase
 from crosscheck.core.values import decode
-from crosscheck.report.advise_profile import Envelope, smallest_size
+from crosscheck.report.advise.profile import Envelope, smallest_size
 from crosscheck.truth import convention_fields
 from crosscheck.truth.bounds import failed
 

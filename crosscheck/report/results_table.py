@@ -37,7 +37,7 @@ from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
 from crosscheck.report import repro_links
 from crosscheck.report.style import datatables, packed
-from crosscheck.report.tables import case_group
+from crosscheck.report.summary_tables import case_group
 
 INPUTS = {"a", "b", "restitution", "tolerance"}
 """The fields of a case shown as its inputs in its details."""

@@ -1,9 +1,9 @@
 """Which engine for my scene: a graded, ranked answer from a stored run.
 
-The user states a scene profile (:mod:`crosscheck.report.advise_profile`);
+The user states a scene profile (:mod:`crosscheck.report.advise.profile`);
 :func:`advise` judges every answer of the run's in-envelope cases under it
-(:mod:`crosscheck.report.advise_judge`) and grades each engine variant
-(:mod:`crosscheck.report.advise_grade`).  The answer is never empty:
+(:mod:`crosscheck.report.advise.judge`) and grades each engine variant
+(:mod:`crosscheck.report.advise.grade`).  The answer is never empty:
 
 1. ``passing``: engines that answer every case of the envelope within the
    needed accuracy, cheapest first: by median instructions per query when every
@@ -42,7 +42,7 @@ import pandas as pd
 from crosscheck.cases.cover import coverage
 from crosscheck.core.model import PAIR_KINDS
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.report.advise_grade import (
+from crosscheck.report.advise.grade import (
     FAILS,
     PARTIAL,
     PASSES,
@@ -55,8 +55,8 @@ from crosscheck.report.advise_grade import (
     cost_key,
     grade,
 )
-from crosscheck.report.advise_judge import engine_conventions, judged
-from crosscheck.report.advise_profile import Envelope, EnvelopeError
+from crosscheck.report.advise.judge import engine_conventions, judged
+from crosscheck.report.advise.profile import Envelope, EnvelopeError
 from crosscheck.results.store import StoredRun
 
 __all__ = ["INSTRUCTIONS", "WALL", "Advice", "EngineAdvice", "Envelope", "EnvelopeError", "Mode",

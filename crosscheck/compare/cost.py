@@ -7,7 +7,7 @@ way (``more`` or ``less`` work); otherwise it is ``same``.  A pair counted in on
 run only, or a pair whose unit differs (a call, a scene run), is ``unknown``.  A
 count is never compared with a wall time: a run that counted nothing leaves every
 pair ``unknown`` with the reason, and the wall-clock comparison
-(:mod:`crosscheck.report.compare_timing`) stands alone.
+(:mod:`crosscheck.compare.timing`) stands alone.
 
 >>> judged(100_000.0, 105_000.0)
 ('more', '+5.00% instructions per query (100,000 -> 105,000), beyond the 1% threshold')
@@ -23,7 +23,7 @@ from typing import Any
 
 import pandas as pd
 
-from crosscheck.report.compare_timing import changes_first
+from crosscheck.compare.timing import changes_first
 from crosscheck.results.counts import FILE, read_counts
 from crosscheck.results.store import StoredRun
 from crosscheck.results.timings import geomean
