@@ -2,7 +2,8 @@
 
 Two routes lead to an engine (docs/adding-an-engine.md):
 
-- built-in: one module in this package and one line of :data:`REGISTRY`;
+- built-in: one package in this package (``adapters/<engine>/``: its variants in
+  ``__init__``, its engine calls in ``calls.py``) and one line of :data:`REGISTRY` per variant;
 - plug-in: a distribution declares an entry point in the ``crosscheck.adapters``
   group (:data:`ENTRY_POINT_GROUP`): its name is the engine's name, its value
   ``"module:Class"`` an :class:`~crosscheck.core.contract.Adapter` subclass.
@@ -36,25 +37,25 @@ if TYPE_CHECKING:  # the contract (pydantic, numpy) loads with an entry, not wit
 REGISTRY: dict[str, tuple[str, str]] = {
     "reference": ("adapters.reference", "ReferenceF64"),
     "reference-f32": ("adapters.reference", "ReferenceF32"),
-    "fcl": ("adapters.fcl_engine", "Fcl"),
-    "fcl-ccd-naive": ("adapters.fcl_engine", "FclCcdNaive"),
-    "fcl-ccd-ray-shooting": ("adapters.fcl_engine", "FclCcdRayShooting"),
-    "fcl-ccd-polynomial": ("adapters.fcl_engine", "FclCcdPolynomial"),
-    "pybullet": ("adapters.pybullet_engine", "PyBulletTuned"),
-    "pybullet-default": ("adapters.pybullet_engine", "PyBulletDefault"),
-    "pybullet-ccd": ("adapters.ccd_variants", "PyBulletCcd"),
-    "pymunk": ("adapters.pymunk_engine", "PymunkTuned"),
-    "pymunk-default": ("adapters.pymunk_engine", "PymunkDefault"),
+    "fcl": ("adapters.fcl", "Fcl"),
+    "fcl-ccd-naive": ("adapters.fcl", "FclCcdNaive"),
+    "fcl-ccd-ray-shooting": ("adapters.fcl", "FclCcdRayShooting"),
+    "fcl-ccd-polynomial": ("adapters.fcl", "FclCcdPolynomial"),
+    "pybullet": ("adapters.pybullet", "PyBulletTuned"),
+    "pybullet-default": ("adapters.pybullet", "PyBulletDefault"),
+    "pybullet-ccd": ("adapters.pybullet", "PyBulletCcd"),
+    "pymunk": ("adapters.pymunk", "PymunkTuned"),
+    "pymunk-default": ("adapters.pymunk", "PymunkDefault"),
     "mujoco": ("adapters.mujoco_engine", "MujocoStiff"),
     "mujoco-default": ("adapters.mujoco_engine", "MujocoDefault"),
-    "coal": ("adapters.coal_engine", "CoalTuned"),
-    "coal-default": ("adapters.coal_engine", "CoalDefault"),
-    "box2d": ("adapters.box2d_engine", "Box2dTuned"),
-    "box2d-default": ("adapters.box2d_engine", "Box2dDefault"),
-    "box2d-bullet": ("adapters.ccd_variants", "Box2dBullet"),
-    "rapier": ("adapters.rapier_engine", "RapierTuned"),
-    "rapier-default": ("adapters.rapier_engine", "RapierDefault"),
-    "rapier-ccd": ("adapters.ccd_variants", "RapierCcd"),
+    "coal": ("adapters.coal", "CoalTuned"),
+    "coal-default": ("adapters.coal", "CoalDefault"),
+    "box2d": ("adapters.box2d", "Box2dTuned"),
+    "box2d-default": ("adapters.box2d", "Box2dDefault"),
+    "box2d-bullet": ("adapters.box2d", "Box2dBullet"),
+    "rapier": ("adapters.rapier", "RapierTuned"),
+    "rapier-default": ("adapters.rapier", "RapierDefault"),
+    "rapier-ccd": ("adapters.rapier", "RapierCcd"),
 }
 
 ENTRY_POINT_GROUP = "crosscheck.adapters"
@@ -81,7 +82,7 @@ class Entry:
     ``origin`` is :data:`BUILT_IN` or a plug-in's distribution name and version;
     ``clash`` why its name is refused before anything is imported ('' if it is not).
 
-    >>> entry = Entry("fcl", "adapters.fcl_engine:Fcl")
+    >>> entry = Entry("fcl", "adapters.fcl:Fcl")
     >>> entry.builtin, entry.load().__name__
     (True, 'Fcl')
     >>> Entry("x", "no_such_module:X", "dist-x 1.0").problem()

@@ -3,7 +3,7 @@
 What it is for: the scene runners step a whole scene (N discs, one restitution, in open
 space or with gravity and static walls, :class:`adapters.scene.Surroundings`) with a fixed
 ``dt`` and return the final state, to be scored against the exact event-driven reference;
-:mod:`adapters.box2d_engine` answers single pair cases instead.  Types and input checks are
+:mod:`adapters.box2d` answers single pair cases instead.  Types and input checks are
 shared with the other runners in :mod:`adapters.scene`; the world and its discs are built by
 :mod:`adapters.box2d_world`, as the pair adapter's responses are.
 Box2D is 2-D: a 3-D scene raises ``ValueError``.
@@ -27,13 +27,13 @@ restitution and iterations come from the scene.  Neither sets damping (Box2D's d
 0) nor bullets: Box2D 2.3.0's continuous collision (``b2World::SolveTOI``) acts on a contact
 only when one of its bodies is static, kinematic or a bullet (``collideA = bA->IsBullet() ||
 typeA != b2_dynamicBody``, b2World.cpp), so between two dynamic discs contacts are found at
-step starts only.  Bullets (``box2d-bullet``, :mod:`adapters.ccd_variants`) passes the tuned
+step starts only.  Bullets (``box2d-bullet``, :mod:`adapters.box2d`) passes the tuned
 variant with ``bullet`` True: every disc is a bullet (``b2BodyDef.bullet``), and a contact
 between two of them gets a time of impact, a sub-step to it and a velocity solve with
 restitution.  Compiled-in constants no variant can change: ``b2_velocityThreshold`` (1 m/s),
 ``b2_maxTranslation`` (2 m a step), ``b2_linearSlop`` (0.005 m) and the position solver.
 
-Conventions, measured with this module (sources as cited in ``box2d_engine.SOURCES``):
+Conventions, measured with this module (sources as cited in ``adapters.box2d.SOURCES``):
 
 - restitution: Box2D mixes the fixtures' restitutions by ``max`` [b2Contact.h]; every
   fixture gets e, so every pair gets e.  Measured: masses 1 and 2 head-on at 1 and -1 with e

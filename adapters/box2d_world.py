@@ -1,6 +1,6 @@
 """Building Box2D (pybox2d 2.3.10) worlds of discs, shared by the response and the scene runner.
 
-What it is for: :mod:`adapters.box2d_engine` (``sphere_response``: two discs) and
+What it is for: :mod:`adapters.box2d` (``sphere_response``: two discs, in its calls) and
 :mod:`adapters.box2d_scene` (``sphere_scene``: N discs) build their worlds the same way,
 with the same variant settings (:class:`Variant`): a ``b2World`` with gravity 0 (a scene's
 gravity if it has one) and sleeping set with ``SetAllowSleeping`` (pybox2d's
@@ -9,7 +9,7 @@ with a box fixture (``add_wall``, sized by :mod:`adapters.wall_boxes`), and per 
 dynamic body with one circle fixture of density 0 whose mass is then set exactly through
 ``massData`` (centre 0; moment ``m r^2 / 2`` when rotation is free, what a density would
 give, else 0 with ``fixedRotation``).  The reasons for each setting are in
-:mod:`adapters.box2d_engine`'s docstring.  Box2D is imported on first use (``engine``), so a
+:mod:`adapters.box2d`'s docstring.  Box2D is imported on first use (``engine``), so a
 missing engine shows as unavailable.
 """
 
@@ -19,14 +19,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from adapters.shared.box2d import disc, engine, new_world, xy
 from adapters.wall_boxes import Slab
 
-
-def engine() -> Any:
-    """The ``Box2D`` module (pybox2d), imported on first use."""
-    import Box2D  # type: ignore[import-untyped]
-
-    return Box2D
+__all__ = ["Variant", "add_disc", "add_wall", "engine", "new_world", "xy"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -46,29 +42,12 @@ class Variant:
     impact) then acts between it and other dynamic bodies too, not only static ones."""
 
 
-def new_world(sleep: bool, gravity: Sequence[float] = (0.0, 0.0)) -> Any:
-    """A ``b2World`` with ``gravity`` (none by default); sleeping on or off in Box2D itself."""
-    world = engine().b2World(gravity=xy(gravity))
-    world.SetAllowSleeping(sleep)  # not doSleep=: it only sets a Python attribute
-    return world
-
-
-def xy(v: Sequence[float]) -> tuple[float, float]:
-    """The first two components of ``v`` as floats (a ``b2Vec2`` or a tuple)."""
-    return (float(v[0]), float(v[1]))
-
-
 def add_disc(world: Any, center: Sequence[float], velocity: Sequence[float], radius: float,
              mass: float, restitution: float, variant: Variant) -> Any:
-    """A dynamic body at ``center`` with ``velocity`` and ``mass``, with one circle fixture."""
-    b2 = engine()
-    body = world.CreateDynamicBody(position=xy(center), linearVelocity=xy(velocity),
-                                   fixedRotation=variant.fixed_rotation, bullet=variant.bullet)
-    extra = {} if variant.friction is None else {"friction": variant.friction}
-    body.CreateCircleFixture(radius=radius, density=0.0, restitution=restitution, **extra)
-    moment = 0.0 if variant.fixed_rotation else 0.5 * mass * radius**2
-    body.massData = b2.b2MassData(mass=mass, center=(0.0, 0.0), I=moment)
-    return body
+    """A dynamic body at ``center`` with ``velocity`` and ``mass``, with one circle fixture
+    (:func:`adapters.box2d.calls.disc` with the variant's settings)."""
+    return disc(world, center, velocity, radius, mass, restitution, variant.friction,
+                variant.fixed_rotation, variant.bullet)
 
 
 def add_wall(world: Any, slab: Slab, restitution: float, variant: Variant) -> Any:

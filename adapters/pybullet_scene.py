@@ -3,12 +3,12 @@
 What it is for: the scene runners step a whole scene (N spheres, one restitution, in open
 space or in :class:`adapters.scene.Surroundings`: gravity and static walls) with a fixed
 ``dt`` and return the final state (and, with ``record_every``, the trajectory), to be scored
-against the exact reference; :mod:`adapters.pybullet_engine` answers single pair cases
+against the exact reference; :mod:`adapters.pybullet` answers single pair cases
 instead.  Types and input checks are shared with :mod:`adapters.pymunk_scene` in
 :mod:`adapters.scene`.
 
 Building (``prepare_scene``, untimed): a DIRECT client of its own per scene (``connect`` of
-:mod:`adapters.pybullet_setup`, never the pooled clients of ``pybullet_engine``; the same
+:mod:`adapters.pybullet.calls`, never the pooled clients of its pairs; the same
 module's ``engine()`` and ``quiet()`` import pybullet and keep its C-level output off
 stdout/stderr), gravity 0 (the scene's gravity, ``setGravity``, when it has one: open
 space makes no extra call), ``setPhysicsEngineParameter`` with
@@ -88,12 +88,12 @@ Surroundings((0, 0, -9.81), (Wall((0, 0, 1), 0.0),)))`` then ``run_scene(p, roun
 record_every=1).samples`` (likewise the drop, a column, a ball between two walls, a gas).
 
 Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None): tuned
-(``pybullet``) passes ``Tuning(TUNED_WORLD, TUNED_BODY)`` of ``pybullet_setup``, the world
+(``pybullet``) passes ``Tuning(TUNED_WORLD, TUNED_BODY)`` of ``adapters.pybullet``, the world
 settings of the pair adapter (restitutionVelocityThreshold 0, contactSlop 0, contactERP 0;
 its fixed step replaced by dt) and its per-body settings (lateral, rolling and spinning
 friction 0, linear and angular damping 0).  Default (``pybullet-default``) passes None and
 sets only what the scene declares: dt, iterations if given, masses, restitution.
-CCD (``pybullet-ccd``, :mod:`adapters.ccd_variants`) passes the tuned settings with
+CCD (``pybullet-ccd``, :mod:`adapters.pybullet`) passes the tuned settings with
 ``maximal`` True and ``ccd`` 0.9: every sphere is a maximal-coordinates body
 (``createMultiBody(useMaximalCoordinates=True)``: a ``btRigidBody``, not a ``btMultiBody``)
 with ``changeDynamics(ccdSweptSphereRadius=0.9 r)``.  Both are needed: ``changeDynamics``
@@ -105,7 +105,7 @@ predictive contact and a motion clamp at the first hit) runs over rigid bodies o
 [btDiscreteDynamicsWorld.cpp, ``createPredictiveContactsInternal`` and
 ``integrateTransformsInternal``].
 
-Conventions, measured with this module (sources as cited in ``pybullet_engine.SOURCES``):
+Conventions, measured with this module (sources as cited in ``adapters.pybullet.SOURCES``):
 
 - restitution: Bullet combines the two bodies' restitutions by their product
   [btManifoldResult.cpp]; measured: bodies set to 0.5 and 0.8 bounce with 0.4 (not the
@@ -144,7 +144,7 @@ Conventions, measured with this module (sources as cited in ``pybullet_engine.SO
 - speed cap: a multibody's velocity coordinates are clamped to +-100 (``btMultiBody``
   ``m_maxCoordinateVelocity`` 100, in ``applyDeltaVeeMultiDof``, every step): a free ball at
   200 or 1000 ends at 100, per axis, not by the norm; changeDynamics ``maxJointVelocity``
-  sets it.  Not declared as ``max_speed`` (see ``pybullet_engine``).
+  sets it.  Not declared as ``max_speed`` (see ``adapters.pybullet``).
 - CCD variant (maximal-coordinates bodies, swept sphere 0.9 r), the same pair: no speed cap
   (1000 stays 1000); no pass-through at any v measured (5 to 1000, dt 1/240 and 1/60), but
   the bounce is lost: the predictive contact has restitution 0 (``m_combinedRestitution =
@@ -166,7 +166,6 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from adapters.pybullet_setup import connect, engine, quiet
 from adapters.scene import (
     Body,
     SceneRun,
@@ -177,6 +176,7 @@ from adapters.scene import (
     in_scene_dim,
     step_and_record,
 )
+from adapters.shared.pybullet import connect, engine, quiet
 from crosscheck.core.geometry import Vec3, to3
 
 __all__ = ["Body", "SceneRun", "Tuning", "body_settings", "drop_idle_clients", "idle_clients",
@@ -267,7 +267,7 @@ def world_settings(dt: float, iterations: int | None,
 
     >>> world_settings(1e-3, None, None)
     {'fixedTimeStep': 0.001, 'numSubSteps': 0}
-    >>> from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD
+    >>> from adapters.pybullet import TUNED_BODY, TUNED_WORLD
     >>> tuned = world_settings(1e-3, 20, Tuning(TUNED_WORLD, TUNED_BODY))
     >>> sorted(tuned)  # doctest: +NORMALIZE_WHITESPACE
     ['contactERP', 'contactSlop', 'fixedTimeStep', 'numSolverIterations', 'numSubSteps',

@@ -3,7 +3,7 @@
 What it is for: the scene runners step a whole scene (N discs, one restitution, in open
 space or with gravity and static walls, :class:`adapters.scene.Surroundings`) with a fixed
 ``dt`` and return the final state, to be scored against the exact event-driven reference;
-:mod:`adapters.pymunk_engine` answers single pair cases instead.  Types and input checks are
+:mod:`adapters.pymunk` answers single pair cases instead.  Types and input checks are
 shared with :mod:`adapters.pybullet_scene` in :mod:`adapters.scene`.  pymunk is 2-D: a 3-D
 scene raises ``ValueError``.
 
@@ -11,7 +11,7 @@ Building (``prepare_scene``, untimed): a new ``pymunk.Space`` per scene with the
 gravity ((0, 0) in open space) and damping 1.0 (velocities kept), ``iterations`` if given
 (else pymunk's 10); per disc a dynamic ``pymunk.Body(m, moment_for_circle(m, 0, r))`` at its
 centre with its velocity and a ``pymunk.Circle(body, r)`` (radii are positive and finite
-here, ``check_scene``; the pair adapter ``pymunk_engine`` gives its response bodies an
+here, ``check_scene``; the pair adapter ``adapters.pymunk`` gives its response bodies an
 infinite moment instead, as it must take radius 0 and NaN); per wall a ``pymunk.Poly`` box
 (radius 0) on ``space.static_body`` (below); only the declared bodies and walls.
 ``run_scene`` times only ``space.step(dt)`` (``adapters.scene.step_and_record``, a
@@ -20,13 +20,13 @@ infinite moment instead, as it must take radius 0 and NaN); per wall a ``pymunk.
 empties the Space.
 
 Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None): tuned
-(``pymunk``, from ``PymunkTuned`` in ``pymunk_engine``) passes collision_slop 0 and
+(``pymunk``, from ``PymunkTuned`` in ``adapters.pymunk``) passes collision_slop 0 and
 collision_bias 1.0 (no positional correction) and friction 0 for every shape (pymunk's
 default is 0 too); the adapter's dt and iterations do not apply (the scene gives them).
 Default (``pymunk-default``) passes None and sets only what the scene declares: dt,
 iterations if given, masses, elasticity; slop (0.1f) and bias stay.
 
-Conventions, measured with this module (sources as cited in ``pymunk_engine.SOURCES``):
+Conventions, measured with this module (sources as cited in ``adapters.pymunk.SOURCES``):
 
 - restitution: Munk2D combines the shapes' elasticities by their product [cpArbiter.c];
   measured: shapes set to 0.5 and 0.8 bounce with 0.4 (not the min, mean or max).  Every

@@ -3,18 +3,18 @@
 What it is for: the scene runners step a whole scene (N spheres, one restitution, in open
 space or under gravity between static walls) with a fixed ``dt`` and return the final state
 (and, if asked, the states every k steps), to be scored against the exact event-driven
-reference; :mod:`adapters.rapier_engine` answers single pair cases.  Types and input checks
+reference; :mod:`adapters.rapier` answers single pair cases.  Types and input checks
 are shared with the other scene runners in :mod:`adapters.scene`.
 
 Building (``prepare_scene``, untimed): a new ``PhysicsWorld`` per scene (gravity 0;
-:func:`adapters.rapier_response.new_world`) with the scene's ``dt`` and, if given,
+:func:`adapters.shared.rapier.new_world`) with the scene's ``dt`` and, if given,
 ``num_solver_iterations`` (else rapier's 4); one dynamic body per sphere at its centre with
 its velocity (``in_plane``: a 2-D scene lies in z = 0 with z translation locked, as the
 responses do: a 3-D build in the plane, 2-D walls are half-spaces with a normal in it)
 carrying ``Collider.ball(r).mass(m)`` with restitution e; then the ``surroundings``' gravity
 and walls (:mod:`adapters.rapier_walls`: one fixed body with a ``HalfSpace`` collider per
 wall, the variant's material with restitution e; open space adds nothing, so its worlds are
-unchanged).  The builders are the response adapter's (:mod:`adapters.rapier_response`).
+unchanged).  The builders are the response adapter's (:mod:`adapters.shared.rapier`).
 Numbers float32 cannot hold raise ``OverflowError`` (rapier would read them as infinite).
 ``run_scene`` times only ``PhysicsWorld.step`` (:func:`adapters.scene.step_and_record`,
 reading ``translation`` / ``linvel`` untimed between runs of steps) and raises if rapier
@@ -32,7 +32,7 @@ by rapier's default Average); prediction distance 0.02, friction 0.5, free rotat
 sleeping and the speed cap 400 stay.
 
 Conventions, measured with this module on rapier3d 0.36.1 (sources as cited in
-``rapier_engine.SOURCES``; sleeping: ``RigidBodyActivation`` in _rapier3d.pyi and
+``adapters.rapier.SOURCES``; sleeping: ``RigidBodyActivation`` in _rapier3d.pyi and
 rigid_body_components.rs):
 
 - restitution: the stronger ``CoefficientCombineRule`` of two colliders wins
@@ -57,7 +57,7 @@ rigid_body_components.rs):
   = 20 at 1/240): Rapier's CCD sweeps a fast body against fixed colliders, and a
   ``ccd_enabled`` body ("bullet") also against moving bodies but "never sweeps another
   bullet, so two bullets can still tunnel through each other" (``RigidBody::enable_ccd``,
-  rigid_body.rs; ccd_solver.rs, v0.35.2).  ``rapier-ccd`` (:mod:`adapters.ccd_variants`)
+  rigid_body.rs; ccd_solver.rs, v0.35.2).  ``rapier-ccd`` (:mod:`adapters.rapier`)
   enables it on every body of the tuned variant.
 - sleeping: tuned none.  Default: a body slower than about 0.1 m/s (bisected: 0.1000017 at dt
   1e-3; ``linear_threshold`` reads 0.05, ``time_until_sleep`` 0.5) falls asleep, its velocity
@@ -96,14 +96,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from adapters.rapier_response import (
-    default_body,
-    default_collider,
-    in_plane,
-    new_world,
-    tuned_body,
-    tuned_collider,
-)
 from adapters.rapier_walls import add_surroundings
 from adapters.rapier_walls import check_f32 as check_f32_surroundings
 from adapters.scene import (
@@ -115,6 +107,14 @@ from adapters.scene import (
     check_surroundings,
     in_scene_dim,
     step_and_record,
+)
+from adapters.shared.rapier import (
+    default_body,
+    default_collider,
+    in_plane,
+    new_world,
+    tuned_body,
+    tuned_collider,
 )
 from crosscheck.core.geometry import to3
 
@@ -130,7 +130,7 @@ class Tuning:
 
     ``parameters``: ``IntegrationParameters`` overrides (a ``dt`` among them is replaced by
     the scene's); with a Tuning every body and collider is the tuned variant's
-    (:func:`adapters.rapier_response.tuned_body`, ``tuned_collider`` with restitution e on
+    (:func:`adapters.shared.rapier.tuned_body`, ``tuned_collider`` with restitution e on
     every collider, combined by ``rule``); ``ccd``: every body also ``ccd_enabled``.
     """
 

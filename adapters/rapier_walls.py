@@ -21,7 +21,7 @@ default) and restitution e under rapier's default Average ((e + e) / 2 = e): the
 rule of the two colliders applies (coefficient_combine_rule.rs), and a sphere gets the
 same rule, so a sphere-wall contact bounces with e exactly as a sphere-sphere one.
 
-Conventions (declared in ``rapier_engine.TUNED`` / ``DEFAULT``, with :data:`TUNED_NOTES` /
+Conventions (declared in ``adapters.rapier.TUNED`` / ``DEFAULT``, with :data:`TUNED_NOTES` /
 :data:`DEFAULT_NOTES`; sources :data:`SOURCES`, Rapier files at v0.35.2):
 
 - rest gap: no slop band.  "No slop deadzone on the position-correction bias"

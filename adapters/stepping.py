@@ -9,15 +9,20 @@ states every :func:`~crosscheck.truth.scene_measures.record_every` steps in such
 reports the final state, momentum, kinetic energy and the measures
 (:mod:`crosscheck.truth.scene_measures`) with the wall time of the loop; ``release`` frees
 the world.
+
+:class:`SceneSteppingAdapter` is the base of the engines whose pairs are calls
+(:class:`~crosscheck.core.contract.CallsAdapter`) and whose scenes are still a scene module
+of this kind (until they are calls too): a scene goes here, every other kind to the calls.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from types import ModuleType
-from typing import Any
+from typing import Any, ClassVar
 
 from adapters.scene import Samples, Surroundings, Wall
+from crosscheck.core.contract import CallsAdapter
 from crosscheck.core.model import Observation, Trajectory
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth import scene_measures, scenes
@@ -82,3 +87,28 @@ def query(p: PreparedScene) -> Observation:
 def release(p: PreparedScene) -> None:
     """Free the scene's world."""
     p.module.release_scene(p.world)
+
+
+class SceneSteppingAdapter(CallsAdapter):
+    """A calls adapter whose scenes are stepped by ``scene_module`` with ``scene_tuning``."""
+
+    scene_module: ClassVar[ModuleType]
+    """The engine's scene module (``prepare_scene``, ``run_scene``, ``release_scene``)."""
+    scene_tuning: ClassVar[Any] = None
+    """What scenes are built with (the module's ``Tuning``); None: the engine's defaults."""
+
+    def prepare(self, case: Any) -> Any:
+        if isinstance(case, SceneCase):
+            return prepare(self.scene_module, case, self.scene_tuning)
+        return super().prepare(case)
+
+    def query(self, prepared: Any) -> Observation:
+        if isinstance(prepared, PreparedScene):
+            return query(prepared)
+        return super().query(prepared)
+
+    def release(self, prepared: Any) -> None:
+        if isinstance(prepared, PreparedScene):
+            release(prepared)
+            return
+        super().release(prepared)

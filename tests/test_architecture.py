@@ -1,5 +1,8 @@
 """The house rules that import-linter does not check: function-level imports, private names,
-module length.  (The layers themselves are checked by ``lint-imports`` in ``make lint``.)
+module length, import circles.  (The layers themselves are checked by ``lint-imports`` in
+``make lint``; a layer contract allows a circle inside one layer, so circles are checked here,
+on grimp's graph of every module of ``crosscheck``, ``adapters`` and ``reference_impl``, a
+package's ``__init__`` counting as a module.)
 
 Function-level imports are allowed in three places only:
 
@@ -19,8 +22,10 @@ Function-level imports are allowed in three places only:
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterable
 from pathlib import Path
 
+import grimp
 import pytest
 
 from tests.conftest import ROOT
@@ -108,3 +113,40 @@ def test_only_cli_commands_import_the_library_lazily() -> None:
                                                                 (5, "json")]
     assert _function_imports(tree, "crosscheck/report/render.py") == [
         (2, "pandas"), (3, "crosscheck.cases"), (4, "crosscheck.cli"), (5, "json")]
+
+
+def _reachable(graph: grimp.ImportGraph, start: str) -> set[str]:
+    """The modules ``start`` imports, directly or through others."""
+    found: set[str] = set()
+    todo = [start]
+    while todo:
+        for imported in graph.find_modules_directly_imported_by(todo.pop()):
+            if imported not in found:
+                found.add(imported)
+                todo.append(imported)
+    return found
+
+
+def circles(graph: grimp.ImportGraph, modules: Iterable[str]) -> list[list[str]]:
+    """The import circles among ``modules``: each set of modules that import each other, in
+    turn (a strongly connected component of more than one module, or one that imports
+    itself), sorted."""
+    reach = {m: _reachable(graph, m) for m in modules}
+    found: list[list[str]] = []
+    for module in sorted(reach):
+        if module in reach[module] and not any(module in c for c in found):
+            found.append(sorted({module} | {m for m in reach[module] if module in reach[m]}))
+    return found
+
+
+def test_no_import_circle() -> None:
+    graph = grimp.build_graph(*PACKAGES)
+    assert circles(graph, graph.modules) == []
+
+
+def test_the_circle_check_can_fail() -> None:
+    graph = grimp.ImportGraph()
+    for importer, imported in (("p.a", "p.b"), ("p.b", "p.c"), ("p.c", "p.a"), ("p.c", "p.d"),
+                               ("p", "p.d"), ("p.d", "p")):
+        graph.add_import(importer=importer, imported=imported)
+    assert circles(graph, graph.modules) == [["p", "p.d"], ["p.a", "p.b", "p.c"]]

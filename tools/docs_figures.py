@@ -29,8 +29,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from crosscheck.report import speed
-from crosscheck.results.store import StoredRun, StoreError, read_run
+from crosscheck.report import text as speed
+from crosscheck.results.run import Run, read_run
+from crosscheck.results.store import StoreError
 from tools import run_figures
 from tools.measure_report import sha256
 from tools.run_figures import DASH, count, machine_line, table
@@ -52,7 +53,7 @@ class Inputs:
 
     run_arg: str
     """The run folder as given on the command line (it is named in every header)."""
-    run: StoredRun
+    run: Run
     bench_arg: str = ""
     bench: dict[str, Any] | None = None
     load: dict[str, Any] | None = None

@@ -1,6 +1,6 @@
 """The figures of ``docs/generated/`` that come from one stored run, as Markdown bodies.
 
-Each function takes the run (:class:`crosscheck.results.store.StoredRun`) and returns the
+Each function takes the run (:class:`crosscheck.results.run.Run`) and returns the
 body of one generated file; :mod:`tools.docs_figures` adds the provenance header and writes
 it.  The numbers are the report's own: status counts from
 :func:`crosscheck.report.summary_tables.summary`, the case-group matrix from
@@ -9,7 +9,7 @@ it.  The numbers are the report's own: status counts from
 
 A run made with ``crosscheck run --timer instructions`` also has counted instructions per
 query (``counts.jsonl``).  Where it does, the figures show them as the report does
-(:mod:`crosscheck.report.query_cost`): the headline gives a profile's counted cost where every
+(:mod:`crosscheck.report.cost`): the headline gives a profile's counted cost where every
 ranked engine of it was counted (:attr:`~crosscheck.report.profiles.ProfileVerdict.by_counts`),
 the advice tables each engine's median instructions per query before its wall-clock time,
 and the query times a table of instructions per query beside the wall times.  A run without
@@ -28,8 +28,10 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Category, Status
-from crosscheck.report import profiles, query_cost, speed, summary_tables, verdict
-from crosscheck.results.store import StoredRun
+from crosscheck.report import profiles, speed, summary_tables, verdict
+from crosscheck.report.cost import column, cost_of
+from crosscheck.report.text import instructions_iqr, with_iqr
+from crosscheck.results.run import Run
 
 DASH = "\u2013"
 """The kinds whose query is one detection call: the headline's time is theirs."""
@@ -80,7 +82,7 @@ def _expansion(case: Any) -> str:
 EXPANSIONS = ("as written", "sweep or scene points", "2-D twins", "A/B swaps")
 
 
-def _suite_rows(run: StoredRun, key: str) -> list[list[object]]:
+def _suite_rows(run: Run, key: str) -> list[list[object]]:
     blocks: dict[str, set[str]] = {}
     cases: dict[str, Counter[str]] = {}
     for case in run.cases.values():
@@ -103,7 +105,7 @@ def _suite_rows(run: StoredRun, key: str) -> list[list[object]]:
     return rows
 
 
-def suite(run: StoredRun) -> str:
+def suite(run: Run) -> str:
     """The case suite of the run: curated blocks, cases in all, per kind and per case group,
     and the engine variants it ran."""
     blocks = {b for b in (_block(c) for c in run.cases.values()) if b is not None}
@@ -149,7 +151,7 @@ def machine_line(machine: dict[str, Any]) -> str:
             f"{machine.get('platform', '?')}")
 
 
-def run_time(run: StoredRun) -> str:
+def run_time(run: Run) -> str:
     """How long the run took, start to end, with its lanes, its timing phase and machine."""
     info, options = run.info, run.info.options
     start, end = _instant(info.started), _instant(info.finished)
@@ -174,7 +176,7 @@ def run_time(run: StoredRun) -> str:
     return "\n".join(lines)
 
 
-def _timing_line(run: StoredRun) -> str:
+def _timing_line(run: Run) -> str:
     timing, options = run.info.timing, run.info.options
     if timing is None:
         return "none (--quick)" if options.quick else "none recorded"
@@ -201,7 +203,7 @@ def _counting_text(timing: dict[str, Any]) -> str:
 STATUSES = [str(s) for s in Status]
 
 
-def status_counts(run: StoredRun) -> str:
+def status_counts(run: Run) -> str:
     """Status counts (case x quantity rows) per engine x kind: the report's summary table."""
     frame = run.results
     if frame.empty:
@@ -215,7 +217,7 @@ def status_counts(run: StoredRun) -> str:
         table(["engine", "kind", *STATUSES], [*rows, ["all", "", *totals]])])
 
 
-def categories(run: StoredRun) -> str:
+def categories(run: Run) -> str:
     """Disagreement categories per engine (rows with status disagree)."""
     frame = run.results
     names = [str(c) for c in Category]
@@ -240,7 +242,7 @@ def _matrix_cell(c: dict[str, Any]) -> str:
     return f"{count(c['agree'])} / {count(judged)}" if judged else DASH
 
 
-def group_matrix(run: StoredRun) -> str:
+def group_matrix(run: Run) -> str:
     """The engines x case groups matrix of the report: agree / judged rows per cell."""
     if run.results.empty:
         return "The run has no results rows.\n"
@@ -254,24 +256,24 @@ def group_matrix(run: StoredRun) -> str:
 
 
 def _spread(rows: pd.DataFrame) -> tuple[str, int]:
-    spread, _unstable = speed.case_times(rows)
-    return (DASH if spread.n == 0 else speed.with_iqr(spread)), spread.n
+    spread = cost_of(rows).wall
+    return (DASH if spread.n == 0 else with_iqr(spread)), spread.n
 
 
 def _instructions(rows: pd.DataFrame) -> tuple[str, int]:
     """The median instructions per query over the counted cases of ``rows``, with their IQR,
     and how many cases were counted."""
-    counted = query_cost.cost_of(rows).counted
-    text = DASH if counted.n == 0 else speed.instructions_iqr(counted.median, counted.iqr)
+    counted = cost_of(rows).counted
+    text = DASH if counted.n == 0 else instructions_iqr(counted.median, counted.iqr)
     return text, counted.n
 
 
 def _is_counted(frame: pd.DataFrame) -> bool:
     """Whether the run counted instructions of any pair (``--timer instructions``)."""
-    return bool(query_cost.column(frame, "query_instructions").notna().any())
+    return bool(column(frame, "query_instructions").notna().any())
 
 
-def query_times(run: StoredRun) -> str:
+def query_times(run: Run) -> str:
     """Median query time per engine x kind with its IQR over the timed cases; where the run
     counted instructions, the median instructions per query with their IQR over the counted
     cases beside them."""
@@ -308,7 +310,7 @@ HEADLINE_TOP = 3
 """Ranked engines shown per profile in the headline (the report shows them all)."""
 
 
-def headline(run: StoredRun) -> str:
+def headline(run: Run) -> str:
     """The report's verdict on common ground, short: per standard profile, its top ranked
     engines and the float64 textbook baseline, with score, coverage and median query time;
     where a profile's ranked engines were all counted (``ProfileVerdict.by_counts``), their
@@ -366,7 +368,7 @@ def _source(text: str) -> str:
     return f"<{text}>" if text.startswith(("http://", "https://")) else f"`{text}`"
 
 
-def conventions(run: StoredRun) -> str:
+def conventions(run: Run) -> str:
     """Each engine variant's declared conventions, with their sources, from run.json."""
     parts = ["The conventions each adapter declares (they decide the category of every "
              "disagreement), as the run recorded them.", ""]
@@ -398,10 +400,11 @@ fourth again with ``--scale 0:10``, which admits zero-size bodies (without ``--s
 body has a positive size)."""
 
 
-def advice(run: StoredRun) -> str:
+def advice(run: Run) -> str:
     """``crosscheck advise`` on each of :data:`ADVICE_PROFILES`: the command and its answer."""
     from crosscheck.cli import build_parser
-    from crosscheck.cli.advise import envelope_of, worst_text
+    from crosscheck.cli.advise import envelope_of
+    from crosscheck.report.advise import table as advise_table
     from crosscheck.report.advise.recommend import INSTRUCTIONS, EnvelopeError, advise
 
     parts = []
@@ -416,18 +419,12 @@ def advice(run: StoredRun) -> str:
         if not answer.cases:
             parts += ["No case of this run lies inside this envelope.", ""]
             continue
-        counted = any(e.median_query_instructions is not None
-                      for e in (*answer.ranking, *answer.baselines))
-        rows = [[str(rank), *_grade_cells(e, worst_text(e), counted)]
-                for rank, e in enumerate(answer.ranking, 1)]
-        rows += [["baseline", *_grade_cells(e, worst_text(e), counted)]
-                 for e in answer.baselines]
-        costs = COUNTED_COLUMNS if counted else ("median ± IQR",)
+        head, shown = advise_table.table(answer)
+        rows = [[*cells, advise_table.worst_text(e)] for cells, e in shown]
         by = " by instructions per query" if answer.cost_by == INSTRUCTIONS else ""
         parts += [f"{answer.cases:,} cases inside the envelope "
                   f"({', '.join(answer.kinds)}; {', '.join(f'{d}-D' for d in answer.dims)}).",
-                  "", table(["#", "engine", "tier", "cases", "coverage", "within", *costs,
-                             "worst answer"], rows)]
+                  "", table([*head, "worst answer"], rows)]
         if answer.unsupported:
             parts += [f"Answer no case (not ranked): "
                       f"{', '.join(e.engine for e in answer.unsupported)}.", ""]
@@ -437,24 +434,6 @@ def advice(run: StoredRun) -> str:
                   f"Nothing passes the whole envelope; closest: {answer.closest}, decided by "
                   f"{', '.join(answer.deciding)}" + _mode_text(answer), ""]
     return "\n".join(parts).rstrip() + "\n"
-
-
-COUNTED_COLUMNS = ("instr/query ± IQR", "wall ± IQR")
-"""An advice table's cost columns when an engine of it was counted (``--timer instructions``),
-as ``crosscheck advise`` heads them: instructions per query first, the wall clock beside."""
-
-
-def _grade_cells(engine: Any, worst: str, counted: bool = False) -> list[str]:
-    """An engine's cells of an advice table: with ``counted``, its median instructions per
-    query ± their IQR ('-': not counted) before its median wall-clock time ± its IQR."""
-    cost = ("-" if engine.median_query_s is None else
-            speed.median_iqr(engine.median_query_s, engine.query_iqr_s))
-    instructions = ("-" if engine.median_query_instructions is None else
-                    speed.instructions_iqr(engine.median_query_instructions,
-                                           engine.query_instructions_iqr))
-    share = "-" if engine.share_within is None else f"{engine.share_within:.0%}"
-    return [engine.engine, engine.tier, str(engine.answered), f"{engine.coverage:.0%}", share,
-            *([instructions] if counted else []), cost, worst]
 
 
 def _mode_text(answer: Any) -> str:

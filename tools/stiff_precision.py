@@ -26,6 +26,7 @@ from typing import Any
 import adapters
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.schema import CASE_ADAPTER, ResponseCase
+from crosscheck.results.timings import quantiles
 from crosscheck.truth import oracle
 from crosscheck.truth.allowance import velocity_scale
 
@@ -82,10 +83,6 @@ def relative_error(case: ResponseCase, adapter: Any) -> float:
     return max(errors) / velocity_scale(case)
 
 
-def _quantile(sorted_values: Sequence[float], q: float) -> float:
-    return sorted_values[min(len(sorted_values) - 1, int(q * len(sorted_values)))]
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     """Measure and print (see the module docstring)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -101,7 +98,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     worst, case = max(measured, key=lambda m: m[0])
     print(f"{len(errors)} random touching pairs (seed {args.seed}): |v - truth| / V")
     print("  median {:.3g}, 90% {:.3g}, 99% {:.3g}, worst {:.3g}".format(
-        *(_quantile(errors, q) for q in (0.5, 0.9, 0.99)), worst))
+        *quantiles(errors, (0.5, 0.9, 0.99), nearest=True), worst))
     speeds: Vec = (norm(case.a.velocity), norm(case.b.velocity))
     print(f"  worst: {case.dim}-D, e = {case.restitution:.3g}, mass ratio "
           f"{case.b.mass / case.a.mass:.3g}, speeds {speeds[0]:.3g} and {speeds[1]:.3g}")

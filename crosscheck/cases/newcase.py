@@ -21,10 +21,13 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from pydantic import BaseModel
+
 from crosscheck.cases.load import load_paths
 from crosscheck.cases.writer import SCHEMA_LINE, literal
+from crosscheck.core.kinds import NEW_CASE_KINDS
 from crosscheck.core.model import Kind
-from crosscheck.core.schema import ID_PATTERN
+from crosscheck.core.schema import ID_PATTERN, case_class
 
 Body = dict[str, Any]
 
@@ -88,12 +91,17 @@ def _problems(text: str) -> list[str]:
                 for e in load_paths([path]).errors if e.field != "description"]
 
 
-BODY_KEYS: dict[Kind, frozenset[str]] = {
-    Kind.AABB: frozenset({"center", "half"}),
-    Kind.SPHERE: frozenset({"center", "radius"}),
-    Kind.SPHERE_RESPONSE: frozenset({"center", "radius", "mass", "velocity"}),
-    Kind.SPHERE_TOI: frozenset({"center", "radius", "velocity"})}
-"""The body fields each kind of new case takes (``--a-<field>``, ``--b-<field>``)."""
+def body_keys(kind: str) -> frozenset[str]:
+    """The body fields a kind of new case takes (``--a-<field>``, ``--b-<field>``): those of
+    its schema's body A.
+
+    >>> sorted(body_keys("sphere_toi"))
+    ['center', 'radius', 'velocity']
+    """
+    body = case_class(kind).model_fields["a"].annotation
+    return frozenset(body.model_fields) if isinstance(body, type) and issubclass(
+        body, BaseModel) else frozenset()
+
 
 VECTORS = frozenset({"center", "half", "velocity"})
 """Body fields that are vectors of ``dim`` numbers (the others are one number)."""
@@ -116,8 +124,8 @@ def _option_problems(kind: str, dim: int, case_id: str, a: Mapping[str, Any],
     for side, body in (("a", a), ("b", b)):
         for key, value in body.items():
             option = f"--{side}-{key}"
-            if key not in BODY_KEYS[Kind(kind)]:
-                kinds = [k.value for k, keys in BODY_KEYS.items() if key in keys]
+            if key not in body_keys(kind):
+                kinds = [k for k in NEW_CASE_KINDS if key in body_keys(k)]
                 problems.append(f"{option} applies to {', '.join(kinds)} cases only, not {kind}")
             elif key in VECTORS and len(value) != dim:
                 problems.append(f"{option} needs {dim} numbers (--dim {dim}), got {len(value)}")

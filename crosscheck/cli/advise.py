@@ -21,7 +21,7 @@ from crosscheck.core.options import QUICK_SCENE_STEPS
 
 if TYPE_CHECKING:
     from crosscheck.report.advise.recommend import Advice, EngineAdvice, Envelope
-    from crosscheck.results.store import StoredRun
+    from crosscheck.results.run import Run
 
 
 def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
@@ -171,8 +171,8 @@ def envelope_of(args: argparse.Namespace) -> Envelope:
     return envelope
 
 
-def _stored(directory: Path) -> StoredRun:
-    from crosscheck.results.store import read_run
+def _stored(directory: Path) -> Run:
+    from crosscheck.results.run import read_run
 
     if not directory.is_dir():
         raise OptionError(f"RUN_DIR: {directory} is not a folder")
@@ -208,93 +208,34 @@ def cmd_advise(args: argparse.Namespace) -> int:
     return 0
 
 
-def _time(engine: EngineAdvice) -> str:
-    """The median query time ± its IQR, as the report page writes it ('-': not timed)."""
-    from crosscheck.report.speed import median_iqr
-
-    return "-" if engine.median_query_s is None else median_iqr(engine.median_query_s,
-                                                                 engine.query_iqr_s)
-
-
-def _count(engine: EngineAdvice) -> str:
-    """The median instructions per query ± their IQR, as the report page writes them ('-':
-    not counted)."""
-    from crosscheck.report.speed import instructions_iqr
-
-    median = engine.median_query_instructions
-    return "-" if median is None else instructions_iqr(median, engine.query_instructions_iqr)
-
-
-def _percent(share: float | None) -> str:
-    return "-" if share is None else f"{share:.0%}"
-
-
-def worst_text(engine: EngineAdvice) -> str:
-    """The worst answer in a few words: quantity, status, number against the need, case; with
-    none, the part of the envelope it skips (kind, dimension, cases skipped of all), or else
-    its most frequent declared convention (quantity, cases, largest number)."""
-    worst = engine.worst
-    skipped = [f"{p.kind} {p.dim}-D {p.cases - p.answered}/{p.cases}"
-               for p in engine.parts if p.answered < p.cases]
-    if worst is None and engine.answered and skipped:
-        return "skips " + ", ".join(skipped)
-    if worst is None and engine.conventions:
-        mode = engine.conventions[0]
-        number = "" if mode.largest is None else f" ≤{_g(mode.largest)}"
-        return f"conv {mode.quantity} n={mode.cases}{number}"
-    if worst is None:
-        return "-" if engine.answered else "answers no case here"
-    number = "" if worst.measure is None else f" {_g(worst.measure)}>{_g(worst.allowed)}"
-    what = worst.status if worst.status != "disagree" else ""
-    return f"{worst.quantity} {what}{number} {worst.case_id}".replace("  ", " ")
-
-
-def _g(value: float) -> str:
-    """A number in at most about five characters: 0.42, 1e-04, 3e+08."""
-    text = f"{value:.2g}"
-    return text if len(text) <= 5 else f"{value:.0e}"
-
-
-TIERS = {"passes": ("pass", "green"), "partial": ("part", "yellow"), "fails": ("fail", "red"),
-         "unsupported": ("none", "")}
-"""Each tier's word in the table, and its colour."""
-HEADER = ("#", "engine", "tier", "cases", "within", "median ± IQR")
-"""The ranking's columns; the first three read left to right, the numbers align right
-(``cases``: the cases of the envelope the engine answers, which its grade rests on; of the
-envelope's, in the line above the table)."""
-COUNTED_HEADER = (*HEADER[:5], "instr/query ± IQR", "wall ± IQR")
-"""The ranking's columns when an engine was counted: its instructions per query first, the
-wall-clock time beside them."""
-
-
-def _cells(rank: str, engine: EngineAdvice, counted: bool) -> tuple[str, ...]:
-    cost = (_count(engine), _time(engine)) if counted else (_time(engine),)
-    return (rank, engine.engine, TIERS[engine.tier][0], str(engine.answered),
-            _percent(engine.share_within), *cost)
+TIER_STYLES = {"passes": "green", "partial": "yellow", "fails": "red", "unsupported": ""}
+"""Each tier's colour in the table."""
 
 
 def ranking_lines(rows: Sequence[tuple[str, EngineAdvice]], width: int) -> list[Text]:
-    """The ranking as aligned columns, one line per engine, with its worst answer on the
-    line below (indented, wrapped at spaces to ``width``, never cut): a case id is too long
-    to share a line with the figures in 80 columns.  When an engine was counted
-    (``--timer instructions``), its instructions per query come before its wall-clock time."""
-    counted = any(engine.median_query_instructions is not None for _, engine in rows)
-    header = COUNTED_HEADER if counted else HEADER
-    table = [header, *(_cells(rank, engine, counted) for rank, engine in rows)]
-    widths = [max(len(cells[i]) for cells in table) for i in range(len(header))]
+    """The ranking (:mod:`crosscheck.report.advise.table`) as aligned columns, one line per
+    engine, with its worst answer on the line below (indented, wrapped at spaces to
+    ``width``, never cut): a case id is too long to share a line with the figures in 80
+    columns."""
+    from crosscheck.report.advise.table import cells, header, is_counted, worst_text
 
-    def line(cells: Sequence[str], tier_style: str = "", style: str = "") -> Text:
+    counted = is_counted(engine for _, engine in rows)
+    head = header(counted)
+    table = [head, *(cells(rank, engine, counted) for rank, engine in rows)]
+    widths = [max(len(row[i]) for row in table) for i in range(len(head))]
+
+    def line(row: Sequence[str], tier_style: str = "", style: str = "") -> Text:
         text = Text(style=style)
-        for i, (cell, size) in enumerate(zip(cells, widths, strict=True)):
+        for i, (cell, size) in enumerate(zip(row, widths, strict=True)):
             text.append("  " if i else "")
             text.append(cell.ljust(size) if i < 3 else cell.rjust(size),
                         tier_style if i == 2 else "")
         return text
 
-    lines = [line(header, style="bold"), Text("─" * (sum(widths) + 2 * (len(widths) - 1)))]
+    lines = [line(head, style="bold"), Text("─" * (sum(widths) + 2 * (len(widths) - 1)))]
     indent = " " * (widths[0] + 2)
-    for rank, engine in rows:
-        lines.append(line(_cells(rank, engine, counted), TIERS[engine.tier][1]))
+    for (_, engine), row in zip(rows, table[1:], strict=True):
+        lines.append(line(row, TIER_STYLES[engine.tier]))
         worst = worst_text(engine)
         if worst != "-":
             lines += [Text(text) for text in wrapped(f"{indent}worst: {worst}", width)]
@@ -367,9 +308,9 @@ def print_advice(advice: Advice) -> None:
     quick = quick_line(advice)
     if quick:
         say(quick)
-    rows = [*((str(rank), e) for rank, e in enumerate(advice.ranking, 1)),
-            *(("b", e) for e in advice.baselines)]
-    for text in ranking_lines(rows, stdout.width):
+    from crosscheck.report.advise.table import rows
+
+    for text in ranking_lines(rows(advice), stdout.width):
         stdout.print(text, soft_wrap=True)
     for label, engines in (("answer no case (not ranked)", advice.unsupported),
                            ("float32, not accepted", advice.excluded)):
@@ -382,8 +323,7 @@ def print_advice(advice: Advice) -> None:
         say(f"bad input, judged apart ({advice.bad_input_cases} cases): "
             + (", ".join(broken) if broken else "no crash or timeout"))
     if advice.passing:
-        by = " by instructions per query" if advice.cost_by == "instructions" else ""
-        say(f"passing: {', '.join(e.engine for e in advice.passing)} (cheapest first{by})")
+        say(f"passing: {', '.join(e.engine for e in advice.passing)} ({advice.passing_order})")
     else:
         more = f" and {len(advice.deciding) - 3} more" if len(advice.deciding) > 3 else ""
         say(f"nothing passes the whole envelope; closest: {advice.closest or '-'}, decided by "

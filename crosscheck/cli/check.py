@@ -35,13 +35,16 @@ from crosscheck.results.baseline import (
 if TYPE_CHECKING:
     import pandas as pd
 
+    from crosscheck.results.run import Run
+
 EXIT_CODES = """\
 exit codes:
   0  every row as expected (skipped rows too); --update: the baseline rewritten
   1  any regression, stale entry, missing or new row
   2  a usage or input error: a bad option, a missing run folder or one without
      results, an unreadable or malformed baseline (the message names its file,
-     its line and the reason)
+     its line and the reason), a run with engines the baseline has no row of and
+     no --engine to scope the check (the message names the baseline's engines)
 """
 SUITE = "crosscheck"
 """The name of the JUnit XML's test suites."""
@@ -100,7 +103,8 @@ def _run_problem(run: Path) -> str | None:
 def _read(run: Path, engines: Sequence[str] | None,
           baseline: Baseline | None) -> tuple[pd.DataFrame, bool] | None:
     """The run's results and whether it finished, after every check (None: refused, said)."""
-    from crosscheck.results.store import StoreError, read_results, read_run_info
+    from crosscheck.results.run import read_results, read_run_info
+    from crosscheck.results.store import StoreError
 
     problem = _run_problem(run)
     try:
@@ -159,6 +163,9 @@ def cmd_check(args: argparse.Namespace) -> int:
     if read is None:
         return 2
     frame, finished = read
+    if given and not args.engine and not args.update and beyond_baseline(
+            frame, given, args.run, "Check only the baseline's engines with"):
+        return 2
     console = stderr if args.markdown == "-" else stdout
     if not finished:
         say(f"warning: {args.run} is unfinished: the rows it has not reached are missing", stderr)
@@ -182,6 +189,26 @@ def cmd_check(args: argparse.Namespace) -> int:
         show_changes(findings, given.path, args.run, new, console)
         return 0
     return 1 if any(f.verdict.fails for f in findings) else 0
+
+
+def beyond_baseline(frame: pd.DataFrame, given: BaselineFile, run: Path, scope: str) -> bool:
+    """Whether ``run`` has engines ``given`` holds no row of, said before any row is judged
+    (each of their rows would be "new"): the message names the baseline's engines and how
+    to scope the check to them (``scope``, followed by ``--engine NAME`` for each)."""
+    from crosscheck.results.baseline import engines_beyond
+
+    beyond = engines_beyond(frame, given.baseline)
+    if not beyond:
+        return False
+    known = sorted(given.baseline.engines)
+    others = ", ".join(sorted(beyond)[:5]) + (f" and {len(beyond) - 5} more" if len(beyond) > 5
+                                              else "")
+    fail(f"{given.path} holds rows of {', '.join(known)} only, and {run} also has "
+         f"{len(beyond)} engine{'s' if len(beyond) > 1 else ''} it has no row of ({others}): "
+         f"each of their {sum(beyond.values()):,} rows would be new. {scope} "
+         f"{' '.join(f'--engine {e}' for e in known)}, or add the others to the baseline "
+         f"with crosscheck check {run} --baseline {given.path} --update")
+    return True
 
 
 def show(findings: Sequence[Finding], run: Path, given: BaselineFile | None,
@@ -261,18 +288,22 @@ def write_outputs(findings: Sequence[Finding], run: Path, junit: str | None,
     return True
 
 
-def after_run(directory: Path, args: argparse.Namespace) -> int | None:
+def after_run(run: Run, args: argparse.Namespace) -> int | None:
     """After ``crosscheck run`` rendered its report: the outputs of ``--junit``, ``--markdown``
-    and ``--baseline``; the check's exit code with ``--baseline`` (else None: the run's own)."""
+    and ``--baseline`` for ``run`` (the object the run built, not read again); the check's
+    exit code with ``--baseline`` (else None: the run's own)."""
     junit, markdown = getattr(args, "junit", None), getattr(args, "markdown", None)
     given: BaselineFile | None = getattr(args, "baseline", None)
     if junit is None and markdown is None and given is None:
         return None
     from crosscheck.results.baseline import judge
-    from crosscheck.results.store import read_results
 
+    directory = run.directory
     baseline = given.baseline if given else None
-    findings = judge(read_results(directory), baseline)
+    if given and beyond_baseline(run.results, given, directory,
+                                 "Run only the baseline's engines with crosscheck run"):
+        return 2
+    findings = judge(run.results, baseline)
     margin, factor = (baseline.margin, baseline.stale_factor) if baseline else (None, None)
     show(findings, directory, given, margin, factor, None, stderr if markdown == "-" else stdout)
     if not write_outputs(findings, directory, junit, markdown, given, margin, factor, None):

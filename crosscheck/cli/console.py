@@ -13,7 +13,6 @@ import math
 import textwrap
 import time
 from collections.abc import Callable, Iterator, Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from rich import box
@@ -36,6 +35,7 @@ if TYPE_CHECKING:
     import pandas as pd
 
     from crosscheck.cases.load import LoadResult
+    from crosscheck.results.run import Run
 
 stdout = Console()
 stderr = Console(stderr=True, soft_wrap=True)
@@ -134,14 +134,14 @@ def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
         yield start
 
 
-def print_summary(directory: Path) -> None:
-    """Print the engine x kind counts from the run's summary.csv (written by the report), then
-    the instructions per query when the run counted any case (``--timer instructions``),
-    then the query times when it timed any."""
-    import pandas as pd
+def print_summary(run: Run) -> None:
+    """Print the engine x kind counts of the run (the report's summary table, from the run's
+    rows: no file is read), then the instructions per query when the run counted any case
+    (``--timer instructions``), then the query times when it timed any."""
+    from crosscheck.report.summary_tables import summary
 
-    table = pd.read_csv(directory / "summary.csv")
-    stdout.print(summary_table(table, f"summary of {directory}"))
+    table = summary(run.results)
+    stdout.print(summary_table(table, f"summary of {run.directory}"))
     if "median_query_instructions" in table and table["median_query_instructions"].notna().any():
         say(COUNTS_TITLE)
         stdout.print(counts_table(table))
@@ -157,7 +157,7 @@ COUNTS_TITLE = "instructions per query (callgrind): median ± IQR over the count
 def times_table(table: pd.DataFrame) -> Table:
     """Per engine x kind, the median query time ± its IQR over the timed cases: the figure and
     the format of the report page's engine x kind table (``-``: not timed)."""
-    from crosscheck.report.speed import median_iqr
+    from crosscheck.report.text import median_iqr
 
     return _engine_kind_table(table, "median_query_s", "iqr_query_s", median_iqr)
 
@@ -166,7 +166,7 @@ def counts_table(table: pd.DataFrame) -> Table:
     """Per engine x kind, the median instructions per query ± their IQR over the counted cases:
     the figure and the format of the report page's engine x kind table (``-``: not
     counted)."""
-    from crosscheck.report.speed import instructions_iqr
+    from crosscheck.report.text import instructions_iqr
 
     return _engine_kind_table(table, "median_query_instructions", "iqr_query_instructions",
                               instructions_iqr)

@@ -129,7 +129,7 @@ def cmd_coverage(args: argparse.Namespace) -> int:
 def run_coverage(folder: Path) -> Mapped:
     """The coverage map of the run in ``folder``."""
     from crosscheck.report.coverage import run_map
-    from crosscheck.results.store import read_run
+    from crosscheck.results.run import read_run
 
     stored = read_run(folder)
     engines = stored.info.engine_names

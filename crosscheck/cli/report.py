@@ -32,15 +32,17 @@ lists examples with the repro command of both sides. Exit code 0 once written
 
 def cmd_report(args: argparse.Namespace) -> int:
     from crosscheck.report.render import markdown_summary, render
-    from crosscheck.results.store import StoreError, read_results
+    from crosscheck.results.run import read_run
+    from crosscheck.results.store import StoreError
 
     try:
-        paths = render(args.directory)
+        run = read_run(args.directory)
+        paths = render(run)
     except (OSError, StoreError) as exc:
         fail(f"cannot render {args.directory}: {exc}")
         return 2
     if args.markdown:
-        print(markdown_summary(read_results(args.directory)))
+        print(markdown_summary(run.results))
     say(f"report: {paths['report']}")
     return 0
 
@@ -81,10 +83,10 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
 
 def _shared_engines(a: Path, b: Path) -> list[str]:
-    from crosscheck.results.store import read_run
+    from crosscheck.results.run import read_run_info
 
-    theirs = set(read_run(b).info.engine_names)
-    return [e for e in read_run(a).info.engine_names if e in theirs]
+    theirs = set(read_run_info(b).engine_names)
+    return [e for e in read_run_info(a).engine_names if e in theirs]
 
 
 def _say_changes(found: Sequence[Changes], markdown: Path) -> None:

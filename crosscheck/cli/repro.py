@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 from crosscheck.cli.console import fail, say, stderr
 
 if TYPE_CHECKING:
-    from crosscheck.results.store import StoredRun
+    from crosscheck.results.run import Run
     from crosscheck.studies.repro import Script
 
 DESCRIPTION = """\
@@ -76,7 +76,7 @@ def targets(made: Sequence[Script], out: Path, suffix: str) -> list[Path]:
     return [out.with_name(f"{out.stem}-{s.engine}{out.suffix or suffix}") for s in made]
 
 
-def texts(stored: StoredRun, made: Sequence[Script], issue: bool) -> list[str]:
+def texts(stored: Run, made: Sequence[Script], issue: bool) -> list[str]:
     """Each script's text, or with ``issue`` its bug report."""
     if not issue:
         return [s.text for s in made]
@@ -134,7 +134,8 @@ def write_all(run_dir: Path, out: Path | None) -> int:
 
 
 def cmd_repro(args: argparse.Namespace) -> int:
-    from crosscheck.results.store import StoreError, read_run
+    from crosscheck.results.run import read_run
+    from crosscheck.results.store import StoreError
     from crosscheck.studies.repro import ReproError, engines_for, scripts
     from crosscheck.studies.repro.script import RunRows
 

@@ -29,6 +29,7 @@ from crosscheck.core.options import RunOptions
 if TYPE_CHECKING:  # the library loads per command, not for --help (tests/cli/test_startup)
     from crosscheck.core.contract import Adapter
     from crosscheck.core.schema import AnyCase
+    from crosscheck.results.run import Run
     from crosscheck.results.runinfo import RunInfo
     from crosscheck.results.store import ResultsStore
 
@@ -43,8 +44,10 @@ def run_dir(base: Path, prefix: str = "") -> Path:
 
 
 def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
-           options: RunOptions, info: RunInfo) -> int:
-    """Run what is left with a progress bar, then render and summarise; the exit code."""
+           options: RunOptions, info: RunInfo,
+           after: Callable[[Run], int | None] = lambda run: None) -> int:
+    """Run what is left with a progress bar, then render and summarise; the exit code
+    (``after``'s, given the run, when it returns one: the baseline check)."""
     from crosscheck.results.store import StoreError
     from crosscheck.run.distributed import ClusterLost
     from crosscheck.run.launch import launch
@@ -55,9 +58,9 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     hint = f"crosscheck run --resume {store.directory}"
     try:
         with phase_bars() as phases:
-            info = launch(store, cases, engines, options, info, phases=phases)
-        _say_repeat_check(info)
-        rendered = _render(store.directory)
+            run = launch(store, cases, engines, options, info, phases=phases)
+        _say_repeat_check(run.info)
+        rendered = _render(run)
     except KeyboardInterrupt:  # in the run, or after its last row (a resume then renders)
         stderr.print(f"interrupted; finished rows are kept. Resume with: {hint}",
                   markup=False, highlight=False)
@@ -67,9 +70,9 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
         return 1
     if not rendered:
         return 1
-    print_summary(store.directory)
+    print_summary(run)
     say(f"finished in {time.monotonic() - started:.0f} s")
-    return 0
+    return after(run) or 0
 
 
 def _say_repeat_check(info: RunInfo) -> None:
@@ -80,12 +83,13 @@ def _say_repeat_check(info: RunInfo) -> None:
             f"{check['nondeterministic']} answered differently (nondeterministic)")
 
 
-def _render(directory: Path) -> bool:
+def _render(run: Run) -> bool:
     """Render the run's report; on failure say so (the results are kept) and how to retry."""
     from crosscheck.report.render import render
 
+    directory = run.directory
     try:
-        paths = render(directory)
+        paths = render(run)
     except Exception as exc:  # any fault of the report must not cost the run's results
         fail(f"the results are complete in {directory}, but its report failed to render "
              f"({type(exc).__name__}: {exc}); retry with: crosscheck report {directory}")
@@ -147,7 +151,8 @@ def start(args: argparse.Namespace) -> int:
     except StoreError as exc:
         fail(str(exc))
         return 2
-    code = finish(store, loaded.cases, engines, options, info) or check.after_run(directory, args)
+    code = finish(store, loaded.cases, engines, options, info,
+                  lambda run: check.after_run(run, args))
     return code or (1 if loaded.errors else 0)
 
 
@@ -200,7 +205,8 @@ def _timer_problem(args: argparse.Namespace) -> str | None:
 
 def resume(directory: Path) -> int:
     """Finish a stopped run in ``directory`` with its own cases, engines and options."""
-    from crosscheck.results.store import ResultsStore, StoreError, read_run
+    from crosscheck.results.run import read_run
+    from crosscheck.results.store import ResultsStore, StoreError
 
     problem = _unresumable(directory)
     if problem:

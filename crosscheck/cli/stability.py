@@ -24,6 +24,8 @@ from crosscheck.core.options import RunOptions
 if TYPE_CHECKING:
     import pandas as pd
 
+    from crosscheck.results.run import Run
+
 SWEEPS = Path("cases/sweeps.toml")
 
 
@@ -41,8 +43,9 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.set_defaults(func=cmd_stability)
 
 
-def run_sweeps(directory: Path, engine_names: list[str] | None) -> int:
-    """Run the sweeps, quick, through the normal launch and report; the exit code."""
+def run_sweeps(directory: Path, engine_names: list[str] | None) -> tuple[int, Run | None]:
+    """Run the sweeps, quick, through the normal launch and report; the exit code and the
+    run (None: it did not finish)."""
     from crosscheck.cases.load import load_paths
     from crosscheck.results.store import ResultsStore, StoreError
     from crosscheck.run.launch import new_info
@@ -51,18 +54,20 @@ def run_sweeps(directory: Path, engine_names: list[str] | None) -> int:
     report_case_errors(loaded)
     if not loaded.cases:
         fail(f"no sweep cases in {SWEEPS} (run from the project folder)")
-        return 2
+        return 2, None
     try:
         engines = engine_choice.select(engine_names)
         store = ResultsStore(directory)
     except (engine_choice.UnknownEngine, StoreError) as exc:
         fail(str(exc.args[0]))
-        return 2
+        return 2, None
     options = RunOptions(quick=True, jobs=os.cpu_count() or 1)
     command = "".join(f" --engine {e}" for e in engine_names or [])
     info = new_info(directory, f"crosscheck stability{command} --out {directory}", options,
                     engines, loaded.cases, [SWEEPS], [e.message for e in loaded.errors])
-    return finish(store, loaded.cases, engines, options, info)
+    ran: list[Run] = []
+    code = finish(store, loaded.cases, engines, options, info, lambda run: ran.append(run))
+    return code, ran[0] if ran else None
 
 
 def print_table(table: pd.DataFrame) -> None:
@@ -90,13 +95,15 @@ def cmd_stability(args: argparse.Namespace) -> int:
     directory, out_dir = args.directory, chosen(args.out)
     if directory is None:
         directory = out_dir or run_dir(Path("reports"), "stability-")
-        code = run_sweeps(directory, args.engine)
-        if code:
-            return code
+        code, ran = run_sweeps(directory, args.engine)
+        if code or ran is None:
+            return code or 1
+        points, table = analyse(ran)  # the run just made, not read again
     elif not (directory / "results.jsonl").is_file():
         fail(f"{directory} holds no results.jsonl")
         return 2
-    points, table = analyse(directory)
+    else:
+        points, table = analyse(directory)
     if table.empty:
         say(f"no sweep cases in {directory}: nothing to analyse")
     else:

@@ -39,7 +39,7 @@ from crosscheck.results.baseline import (
     from_rows,
     judge,
 )
-from crosscheck.results.store import read_results, read_run
+from crosscheck.results.run import read_results, read_run_info
 
 SAME = "(engine)"
 """The one engine label both sides' rows are given before they are judged."""
@@ -92,7 +92,7 @@ class Changes:
 
 def side(run: Path, engine: str) -> Side:
     """``engine`` of the stored run in ``run``, with the version its run.json records."""
-    info = read_run(run).info
+    info = read_run_info(run)
     versions = {str(e.get("name")): str(e.get("version", "")) for e in info.engines}
     if engine not in versions:
         raise KeyError(f"{run} has no engine {engine!r} (it has {', '.join(versions)})")

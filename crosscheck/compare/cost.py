@@ -25,7 +25,7 @@ import pandas as pd
 
 from crosscheck.compare.timing import changes_first
 from crosscheck.results.counts import FILE, read_counts
-from crosscheck.results.store import StoredRun
+from crosscheck.results.run import Run
 from crosscheck.results.timings import geomean
 
 THRESHOLD = 0.01
@@ -45,7 +45,7 @@ class RunCounts:
     """Why the run has no counts (None: it has ``counts.jsonl``)."""
 
 
-def run_counts(run: StoredRun) -> RunCounts:
+def run_counts(run: Run) -> RunCounts:
     """The stored counts of ``run``."""
     frame = read_counts(run.directory)
     counts = {(str(c), str(e)): (str(u), float(q), float(g)) for c, e, u, q, g in zip(

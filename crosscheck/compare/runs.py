@@ -33,8 +33,8 @@ from crosscheck.compare.timing import (
     timing_changes,
 )
 from crosscheck.report.style import templates
+from crosscheck.results.run import Run, read_run
 from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import StoredRun, read_run
 from crosscheck.results.timings import MIN_SAMPLES
 
 KEY = ["case_id", "engine", "quantity"]
@@ -53,12 +53,12 @@ def verdict_changes(a: pd.DataFrame, b: pd.DataFrame) -> pd.DataFrame:
     return both[~same].reset_index(drop=True)
 
 
-def case_ids(run: StoredRun) -> set[str]:
+def case_ids(run: Run) -> set[str]:
     """The cases of a run: its stored cases and any case its results name."""
     return set(run.cases) | set(run.results["case_id"])
 
 
-def engine_names(run: StoredRun) -> list[str]:
+def engine_names(run: Run) -> list[str]:
     """The engines of a run, in run order (and any engine its results name)."""
     return list(dict.fromkeys([*run.info.engine_names, *run.results["engine"]]))
 
@@ -203,7 +203,7 @@ class Comparison:
         return lines
 
 
-def _differences(run_a: StoredRun, run_b: StoredRun) -> dict[str, list[str]]:
+def _differences(run_a: Run, run_b: Run) -> dict[str, list[str]]:
     ca, cb = case_ids(run_a), case_ids(run_b)
     ea, eb = engine_names(run_a), engine_names(run_b)
     return {"added_cases": sorted(cb - ca), "removed_cases": sorted(ca - cb),
@@ -257,7 +257,7 @@ def compare(dir_a: Path, dir_b: Path, out: Path) -> Comparison:
     return result
 
 
-def _write(result: Comparison, run_a: StoredRun, run_b: StoredRun, verdicts: pd.DataFrame,
+def _write(result: Comparison, run_a: Run, run_b: Run, verdicts: pd.DataFrame,
            timings: pd.DataFrame, per_engine: pd.DataFrame,
            costs: tuple[pd.DataFrame, pd.DataFrame]) -> None:
     """The CSV tables and compare.html (cost: the pairs and the per-engine summary)."""

@@ -67,8 +67,15 @@ import numpy.typing as npt
 import pandas as pd
 from scipy.stats import mannwhitneyu
 
-from crosscheck.results.store import StoredRun
-from crosscheck.results.timings import FILE, MIN_SAMPLES, UNSTABLE_SPREAD, geomean, read_timings
+from crosscheck.results.run import Run
+from crosscheck.results.timings import (
+    FILE,
+    MIN_SAMPLES,
+    UNSTABLE_SPREAD,
+    geomean,
+    read_timings,
+    spread,
+)
 from crosscheck.results.timings import normalised as timings_normalised
 
 ALPHA = 0.001
@@ -114,7 +121,7 @@ class RunTimings:
     """Why the run has no samples at all (None: it has ``timings.jsonl``)."""
 
 
-def run_timings(run: StoredRun) -> RunTimings:
+def run_timings(run: Run) -> RunTimings:
     """The stored samples, timed pairs and yardstick of ``run``."""
     frame = read_timings(run.directory)
     samples, normalised, rounds = {}, {}, []
@@ -277,8 +284,8 @@ def judged(a: Sequence[float], b: Sequence[float], scale: float) -> dict[str, An
                                                 "loop's resolution)"}
     ratio, p = median_b / median_a, p_value(xa, xb)
     size = max(ratio, 1 / ratio)
-    qa, qb = np.percentile(xa, [25, 75]), np.percentile(xb, [25, 75])
-    apart = qb[0] > qa[1] if ratio > 1 else qb[1] < qa[0]
+    qa, qb = spread(xa.tolist()), spread(xb.tolist())
+    apart = qb.q1 > qa.q3 if ratio > 1 else qb.q3 < qa.q1
     verdict = ("same" if p >= ALPHA or size <= MIN_EFFECT or not apart
                else "slower" if ratio > 1 else "faster")
     why = (f"p = {p:.2g} >= {ALPHA:g}" if p >= ALPHA

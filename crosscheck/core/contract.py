@@ -12,14 +12,23 @@ timed; ``query`` does only the measured work.  An adapter declares:
 - ``conventions``: the engine's documented rules
   (:class:`~crosscheck.core.conventions.Conventions`, re-exported here).  They feed the
   report's conventions table and the category of every disagreement.
+
+A built-in engine is a :class:`CallsAdapter`: its engine calls are a module of plain
+functions of plain data (``adapters/<engine>/calls.py``, named by ``calls``), and the
+adapter says, per kind family (the protocols :class:`Pairs`, :class:`Responses`,
+:class:`Scenes`, :class:`Impacts`), which :class:`Call` a case is.  ``prepare`` and
+``query`` dispatch on the case's kind once, here; a repro script is that module's source
+with the call's exact inputs (:mod:`crosscheck.studies.repro`).
 """
 
 from __future__ import annotations
 
+import importlib
 from abc import ABC, abstractmethod
-from collections.abc import Callable
-from dataclasses import asdict
-from typing import Any, ClassVar
+from collections.abc import Callable, Mapping
+from dataclasses import asdict, dataclass, field
+from types import ModuleType
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
 from crosscheck.core.conventions import (
     FEATURES,
@@ -29,12 +38,13 @@ from crosscheck.core.conventions import (
     Nature,
     nature_of,
 )
-from crosscheck.core.model import Kind, Observation, quantities_of
-from crosscheck.core.schema import AnyCase
+from crosscheck.core.model import Kind, Observation, Undefined, Value, quantities_of
+from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase, SphereCase, ToiCase
 
 __all__ = ["FEATURES", "HANG_PROBE_S", "SPEED_CAP_STAGES", "TEXTBOOK_TOUCHING", "Adapter",
-           "Capability", "Conventions", "Nature", "all_capabilities", "describe", "engine_info",
-           "import_problem", "nature_of"]
+           "Answer", "Call", "CallsAdapter", "Capability", "Conventions", "Impacts", "Nature",
+           "Pairs", "Prepared", "Responses", "Scenes", "all_capabilities", "describe",
+           "engine_info", "import_problem", "nature_of", "observation_of", "refused"]
 
 Capability = tuple[Kind, int]
 
@@ -185,3 +195,157 @@ def engine_info(adapter: Adapter) -> dict[str, object]:
             "capabilities": describe(adapter.capabilities),
             "conventions": asdict(adapter.conventions),
             "touching_rule": adapter.conventions.touching_rule()}
+
+
+Answer = Mapping[str, Any]
+"""A call's plain answer: quantity -> bool, float, tuple of floats (of tuples, per body), a
+``str`` (no defined value: the reason) or None (the engine gives none); also
+``resolved_at`` (a response's centres of A and B where it resolved the contact)."""
+
+
+@dataclass(frozen=True)
+class Call:
+    """One case as calls into an engine's calls module, with plain inputs (floats, tuples).
+
+    ``build(**inputs)`` makes the engine's objects (in ``prepare``, untimed);
+    ``ask(built)`` is the measured call (in ``query``) and returns an :data:`Answer`;
+    ``release(built)``, if named, frees what ``build`` made.  A repro script makes exactly
+    these calls on exactly these inputs.
+
+    ``partial``, if named, is the ask without the quantities the adapter declares hanging on
+    the case (:meth:`Adapter.hanging_quantities`; the runner's :meth:`Adapter.query_without`).
+    ``refusal``, if given, is the exception ``prepare`` raises instead of asking the engine (an
+    input it would take without a word; a script raises it too, unless told to ask anyway:
+    :func:`refused` makes one); ``undefined``, if
+    given, is why it is not asked and every quantity is Undefined for that reason instead.
+    """
+
+    build: str
+    ask: str
+    inputs: Mapping[str, Any] = field(default_factory=dict)
+    release: str = ""
+    partial: str = ""
+    refusal: Exception | None = None
+    undefined: str = ""
+
+
+def refused(why: str | None) -> Exception | None:
+    """A :class:`Call`'s ``refusal``: ``ValueError(why)``, or None when ``why`` is empty.
+
+    >>> refused(""), refused("negative radius")
+    (None, ValueError('negative radius'))
+    """
+    return ValueError(why) if why else None
+
+
+@runtime_checkable
+class Pairs(Protocol):
+    """Detection (``aabb``, ``sphere``): a call per pair of bodies at one instant."""
+
+    def pair_call(self, case: AabbCase | SphereCase) -> Call:
+        """The call that detects ``case``'s pair."""
+
+
+@runtime_checkable
+class Responses(Protocol):
+    """Collision response (``sphere_response``): a call that resolves one impact."""
+
+    def response_call(self, case: ResponseCase) -> Call:
+        """The call that resolves ``case``'s impact."""
+
+
+@runtime_checkable
+class Scenes(Protocol):
+    """Scenes (``sphere_scene``): a call that steps a world of spheres."""
+
+    def scene_call(self, case: SceneCase) -> Call:
+        """The call that steps ``case``'s scene."""
+
+
+@runtime_checkable
+class Impacts(Protocol):
+    """Times of impact (``sphere_toi``): a call for the first contact of two moving spheres."""
+
+    def toi_call(self, case: ToiCase) -> Call:
+        """The call that finds ``case``'s first contact."""
+
+
+def observation_of(answer: Answer) -> Observation:
+    """An :class:`Observation` of a plain answer (a ``str`` is an Undefined's reason).
+
+    >>> seen = observation_of({"hit": True, "distance": -0.5, "normal": "coincident centres"})
+    >>> seen.hit, seen.normal, seen.v1
+    (True, Undefined(reason='coincident centres'), None)
+    """
+    values: dict[str, Value | None] = {
+        q: Undefined(v) if isinstance(v, str) else v for q, v in answer.items()}
+    return Observation(**values)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True, slots=True)
+class Prepared:
+    """What :meth:`CallsAdapter.prepare` built: the call, the engine's objects, its ask."""
+
+    call: Call
+    built: Any
+    ask: Callable[[Any], Answer]
+    module: ModuleType
+
+
+class CallsAdapter(Adapter):
+    """An adapter whose engine calls are the plain functions of one module (``calls``).
+
+    It implements the kind families it supports (:class:`Pairs`, :class:`Responses`,
+    :class:`Scenes`, :class:`Impacts`); :meth:`call` picks the family by the case's kind,
+    once, and ``prepare``/``query``/``release`` make the call's functions.
+    """
+
+    calls: ClassVar[str]
+    """The dotted name of the module of engine calls (``adapters.pymunk.calls``): functions
+    of plain data importing only the engine library, the standard library and numpy, and
+    no ``from __future__`` import (a repro script includes its source verbatim)."""
+
+    def call(self, case: AnyCase) -> Call:
+        """The :class:`Call` of ``case``, from the protocol of its kind's family."""
+        if isinstance(case, AabbCase | SphereCase) and isinstance(self, Pairs):
+            return self.pair_call(case)
+        if isinstance(case, ResponseCase) and isinstance(self, Responses):
+            return self.response_call(case)
+        if isinstance(case, SceneCase) and isinstance(self, Scenes):
+            return self.scene_call(case)
+        if isinstance(case, ToiCase) and isinstance(self, Impacts):
+            return self.toi_call(case)
+        raise NotImplementedError(f"{self.name} has no call for {case.kind}")
+
+    def calls_module(self) -> ModuleType:
+        """The module of engine calls (imported on first use: it imports the engine)."""
+        return importlib.import_module(self.calls)
+
+    def prepare(self, case: AnyCase) -> Any:
+        call = self.call(case)
+        if call.refusal is not None:
+            raise call.refusal
+        module = self.calls_module()
+        if call.undefined:
+            unasked = {q: call.undefined for q in quantities_of(case.kind_enum)}
+            return Prepared(call, unasked, dict, module)
+        return Prepared(call, getattr(module, call.build)(**call.inputs),
+                        getattr(module, call.ask), module)
+
+    def query(self, prepared: Any) -> Observation:
+        return self.observation(prepared.ask(prepared.built))
+
+    def query_without(self, prepared: Any, skip: frozenset[str]) -> Observation:
+        """The call's ``partial`` ask, if it has one and ``skip`` is not empty."""
+        if skip and isinstance(prepared, Prepared) and prepared.call.partial:
+            partial = getattr(prepared.module, prepared.call.partial)
+            return self.observation(partial(prepared.built))
+        return self.query(prepared)
+
+    def observation(self, answer: Answer) -> Observation:
+        """The answer in the harness's terms (default: :func:`observation_of`)."""
+        return observation_of(answer)
+
+    def release(self, prepared: Any) -> None:
+        if isinstance(prepared, Prepared) and prepared.call.release and not prepared.call.undefined:
+            getattr(prepared.module, prepared.call.release)(prepared.built)

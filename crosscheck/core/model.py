@@ -2,7 +2,9 @@
 
 Everything here is small, typed and immutable.  A :class:`Observation` is what
 an engine (or the exact oracle) says about one case; a :class:`Record` is one
-tidy row of the results table: one case x engine x quantity.
+tidy row of the results table: one case x engine x quantity.  :class:`Kind`,
+:func:`quantities_of` and the kind lists are those of :mod:`crosscheck.core.kinds` (one spec
+per kind), named here too for the modules that import them with the other values.
 
 >>> obs = Observation(hit=True, distance=-0.25, normal=(1.0, 0.0, 0.0))
 >>> obs.get("distance")
@@ -21,9 +23,12 @@ from enum import StrEnum
 from typing import Literal, get_args
 
 from crosscheck.core.geometry import Vec
+from crosscheck.core.kinds import NEW_CASE_KINDS, PAIR_KINDS, Kind, quantities_of
 from reference_impl.types import Undefined
 
 __all__ = [
+    "NEW_CASE_KINDS",
+    "PAIR_KINDS",
     "Category",
     "Kind",
     "Observation",
@@ -33,17 +38,6 @@ __all__ = [
     "Value",
     "quantities_of",
 ]
-
-
-class Kind(StrEnum):
-    """What a case asks: box overlap, sphere detection, sphere response, a stepped scene, or
-    the first contact time of two spheres in linear motion (time of impact)."""
-
-    AABB = "aabb"
-    SPHERE = "sphere"
-    SPHERE_RESPONSE = "sphere_response"
-    SPHERE_SCENE = "sphere_scene"
-    SPHERE_TOI = "sphere_toi"
 
 
 class Status(StrEnum):
@@ -155,26 +149,6 @@ class Category(StrEnum):
 
 
 _CATEGORY_SEVERITY = (Category.ERROR, Category.TIMESTEP, Category.CONVENTION, Category.TOLERANCE)
-
-
-PAIR_KINDS = ("aabb", "sphere", "sphere_response")
-"""The two-body kinds at one instant: what fuzz makes."""
-NEW_CASE_KINDS = (*PAIR_KINDS, "sphere_toi")
-"""The kinds ``crosscheck new-case`` writes: every two-body kind (scenes are written by hand)."""
-
-_QUANTITIES: dict[Kind, tuple[str, ...]] = {
-    Kind.AABB: ("hit", "distance", "normal"),
-    Kind.SPHERE: ("hit", "distance", "normal"),
-    Kind.SPHERE_RESPONSE: ("v1", "v2"),
-    Kind.SPHERE_SCENE: ("positions", "velocities", "momentum", "energy", "settle", "jitter",
-                        "energy_drift", "apex", "bounce_time", "divergence"),
-    Kind.SPHERE_TOI: ("hit", "toi", "normal"),
-}
-
-
-def quantities_of(kind: Kind) -> tuple[str, ...]:
-    """The quantities scored for a kind, in report order."""
-    return _QUANTITIES[kind]
 
 
 Value = bool | float | Vec | tuple[Vec, ...] | Undefined

@@ -14,7 +14,7 @@ purpose (finite numbers, sizes >= 0, masses > 0) are checked afterwards by
 from __future__ import annotations
 
 import json
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 from pydantic import (
     BaseModel,
@@ -29,6 +29,7 @@ from pydantic import (
 )
 from pydantic.json_schema import SkipJsonSchema
 
+from crosscheck.core.kinds import spec
 from crosscheck.core.model import Kind
 from crosscheck.core.scenegen import generated_bodies
 
@@ -307,6 +308,18 @@ Case = Annotated[AabbCase | SphereCase | ResponseCase | SceneCase | ToiCase,
 
 AnyCase = AabbCase | SphereCase | ResponseCase | SceneCase | ToiCase
 CASE_ADAPTER: TypeAdapter[AnyCase] = TypeAdapter(Case)
+
+
+def case_class(kind: Kind | str) -> type[AnyCase]:
+    """The schema class of ``kind``: the one its spec names (:attr:`KindSpec.case
+    <crosscheck.core.kinds.KindSpec.case>`).
+
+    >>> case_class("sphere_toi").__name__
+    'ToiCase'
+    """
+    name = spec(kind).case
+    found: type[AnyCase] = next(c for c in get_args(AnyCase) if c.__name__ == name)
+    return found
 
 
 class CoverBlock(_Frozen):

@@ -31,7 +31,7 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.pytest_plugin.engines import Engine, Ran
 from crosscheck.pytest_plugin.items import EngineCollector
 from crosscheck.results.baseline import Baseline, BaselineError, judge, read_baseline
-from crosscheck.results.store import ResultsStore, StoreError, read_results
+from crosscheck.results.store import ResultsStore, StoreError
 from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.repro.writers import writer_for
 
@@ -163,12 +163,13 @@ class Suite:
                  f"engine(s) ({', '.join(e.name for e in self.engines)}) into {directory}")
         try:
             store = ResultsStore(directory)
-            launch(store, self.cases, adapters_, options,
-                   new_info(directory, command, options, adapters_, self.cases, self.files))
+            run = launch(store, self.cases, adapters_, options,
+                         new_info(directory, command, options, adapters_, self.cases,
+                                  self.files))
         except StoreError as exc:
             raise EngineCollector.CollectError(f"the crosscheck run failed: {exc}") from None
         names = [e.name for e in self.engines]
-        found = judge(read_results(directory), self.baseline, engines=names)
+        found = judge(run.results, self.baseline, engines=names)
         return Ran(directory, {name: [f for f in found if f.engine == name] for name in names})
 
     def say(self, line: str) -> None:

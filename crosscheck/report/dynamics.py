@@ -24,7 +24,6 @@ the initial energy: negative is lost, real-time factor, status) and its chart.
 from __future__ import annotations
 
 import html
-import json
 import math
 from collections.abc import Hashable, Mapping
 from types import SimpleNamespace
@@ -36,11 +35,13 @@ from crosscheck.core.model import Status
 from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.report import axes
 from crosscheck.report.frames import records
-from crosscheck.report.speed import seconds
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
+from crosscheck.report.text import seconds
 from crosscheck.results import scene_facts
+from crosscheck.results.run import DECODED
 from crosscheck.results.scene_facts import SceneFacts
 
+_VALUE, _TRUTH = DECODED["value"], DECODED["truth"]
 ALIGNED_SYMBOL = "circle-x"
 """The marker of a point whose exact run has an impact on a step boundary."""
 ALIGNED_NOTE = ("circled x: an impact of the exact run falls on a step boundary (k dt); a "
@@ -49,7 +50,8 @@ ALIGNED_NOTE = ("circled x: an impact of the exact run falls on a step boundary 
 
 def scene_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
                  facts: Mapping[str, SceneFacts] | None = None) -> pd.DataFrame:
-    """One row per scene case x engine: dt, iterations, rtf, errors and the energy change.
+    """One row per scene case x engine: dt, iterations, rtf, errors and the energy change
+    (``frame`` carries its decoded values: :func:`crosscheck.results.run.decoded`).
 
     ``facts``: what the run stored of each scene case's exact run (``scene_facts.jsonl``,
     :func:`crosscheck.results.scene_facts.read_facts`); a case without them (a run before
@@ -117,7 +119,7 @@ def _energy_change(row: Any, case: SceneCase) -> float:
     if row is None or not row.value or not row.truth:
         return math.nan
     try:
-        value, truth = float(json.loads(row.value)), float(json.loads(row.truth))
+        value, truth = float(getattr(row, _VALUE)), float(getattr(row, _TRUTH))
     except (TypeError, ValueError):
         return math.nan
     e0 = math.fsum(0.5 * b.mass * math.fsum(v * v for v in b.velocity) for b in case.bodies)

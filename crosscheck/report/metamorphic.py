@@ -40,9 +40,10 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.core.kinds import quantity_named
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.core.values import decode
 from crosscheck.results.jsonlines import each_distinct
+from crosscheck.results.run import DECODED
 
 TOLERANCE = 1e-6
 """The relative difference from the origin run beyond which a point counts as changed.
@@ -54,11 +55,10 @@ by 1e7 (its coordinates there round by 1e7 * 2**-53, about 1e-9, some 1e-8 of a 
 
 QUANTITIES = ("settle", "apex", "bounce_time", "energy_drift", "positions")
 """The quantities compared, in the order a tie names them."""
-LENGTHS = frozenset({"settle", "apex", "positions"})
-"""Quantities in metres: a scaled point's are divided by its scale."""
 WORLD = {"offset": 0.0, "scale": 1.0}
 """The sweep coordinates of a moved or resized block, at their origin point's value."""
 EXACT = "exact"
+_VALUE, _TRUTH = DECODED["value"], DECODED["truth"]
 """The engine name of the exact reference's row (read from the ``truth`` column)."""
 COLUMNS = ("block", "coords", "engine", "axis", "at", "difference", "quantity", "note",
            "beyond", "first_beyond")
@@ -82,11 +82,12 @@ def _flat(value: Any) -> list[float]:
 
 def _origin_frame(quantity: str, value: Any, axis: str, at: float) -> list[float]:
     """A point's value as the origin run would give it: the offset taken from every position
-    coordinate, lengths divided by the scale."""
+    coordinate, lengths (the quantities whose spec says their value scales with the bodies:
+    :attr:`crosscheck.core.kinds.Quantity.length`) divided by the scale."""
     flat = _flat(value)
     if axis == "offset" and quantity == "positions":
         return [x - at for x in flat]
-    if axis == "scale" and quantity in LENGTHS:
+    if axis == "scale" and quantity_named(quantity).length:
         return [x / at for x in flat]
     return flat
 
@@ -142,14 +143,15 @@ def _note(quantity: str, value: Any, origin: Any) -> str:
 
 
 def _values(frame: pd.DataFrame) -> dict[tuple[str, str], dict[str, Any]]:
-    """Each (case, engine)'s decoded values by quantity, the exact ones as engine ``exact``."""
+    """Each (case, engine)'s decoded values by quantity, the exact ones as engine ``exact``
+    (``frame`` carries them: :func:`crosscheck.results.run.decoded`)."""
     out: dict[tuple[str, str], dict[str, Any]] = {}
     for row in frame.itertuples(index=False):
         case_id, quantity = str(row.case_id), str(row.quantity)
-        out.setdefault((case_id, str(row.engine)), {})[quantity] = decode(row.value)
+        out.setdefault((case_id, str(row.engine)), {})[quantity] = getattr(row, _VALUE)
         exact = out.setdefault((case_id, EXACT), {})
         if exact.get(quantity) is None:
-            exact[quantity] = decode(row.truth)
+            exact[quantity] = getattr(row, _TRUTH)
     return out
 
 
@@ -158,7 +160,7 @@ def _swept(frame: pd.DataFrame) -> pd.DataFrame:
     JSON text, ``dt`` among them)."""
     if not {"origin", "coords", "quantity"} <= set(frame.columns):
         frame = pd.DataFrame(columns=["case_id", "engine", "quantity", "value", "truth",
-                                      "origin", "coords"])
+                                      _VALUE, _TRUTH, "origin", "coords"])
     rows = frame[frame["quantity"].isin(QUANTITIES) & frame["origin"].notna()]
     if rows.empty:
         return rows.assign(axis=[], at=[], rest=[])

@@ -13,9 +13,10 @@ The Parquet file holds the same rows with the values already typed, so
 
 A missing or undefined value is null in the typed columns; the row's
 ``status`` and ``reason`` say why.  Timing columns (``query_s`` and the rest)
-describe the case x engine, so they repeat on each of its quantity rows.
+describe the case x engine, so they repeat on each of its quantity rows.  The values come
+decoded, once per run (:attr:`crosscheck.results.run.Run.decoded`): nothing is parsed here.
 
->>> typed('[0.6, 0.8]'), typed('true'), typed('null'), typed('1e-09'), typed('"Infinity"')
+>>> typed([0.6, 0.8]), typed(True), typed(None), typed(1e-09), typed(float("inf"))
 (('vector', [0.6, 0.8]), ('bool', True), (None, None), ('float', 1e-09), ('float', inf))
 """
 
@@ -26,14 +27,13 @@ from typing import Any
 
 import pandas as pd
 
-from crosscheck.core.values import decode
+from crosscheck.results.run import DECODED
 
 KINDS = ("bool", "float", "vector")
 
 
-def typed(text: object) -> tuple[str | None, Any]:
-    """The type and value of one JSON text cell (``(None, None)``: none, or not typable)."""
-    value = decode(text)
+def typed(value: object) -> tuple[str | None, Any]:
+    """The type and value of one decoded cell (``(None, None)``: none, or not typable)."""
     if isinstance(value, bool):
         return "bool", value
     if isinstance(value, int | float):
@@ -44,37 +44,31 @@ def typed(text: object) -> tuple[str | None, Any]:
 
 
 def _columns(cells: pd.Series, prefix: str) -> dict[str, list[Any]]:
-    """The typed columns of one JSON text column; each distinct text is parsed once (a
-    results table repeats ``true``, ``false``, ``null`` and many truths thousands of times)."""
+    """The typed columns of one decoded column."""
     out: dict[str, list[Any]] = {f"{prefix}_{kind}": [] for kind in KINDS}
-    seen: dict[object, tuple[str | None, Any]] = {}
     for cell in cells:
-        found = seen.get(cell) if isinstance(cell, str) else None
-        if found is None:
-            found = typed(cell)
-            if isinstance(cell, str):
-                seen[cell] = found
-        kind, value = found
+        kind, value = typed(cell)
         for name in KINDS:
             out[f"{prefix}_{name}"].append(value if kind == name else None)
     return out
 
 
-def typed_frame(frame: pd.DataFrame) -> pd.DataFrame:
-    """The results with typed value and truth columns added beside the JSON text."""
+def typed_frame(frame: pd.DataFrame, values: pd.DataFrame) -> pd.DataFrame:
+    """The results with typed value and truth columns added beside the JSON text, from
+    ``values``: the decoded columns (:func:`crosscheck.results.run.decoded`) of ``frame``."""
     out = frame.copy()
     for prefix in ("value", "truth"):
-        columns = _columns(frame[prefix], prefix)
+        columns = _columns(values[DECODED[prefix]], prefix)
         out[f"{prefix}_bool"] = pd.Series(columns[f"{prefix}_bool"], dtype="boolean")
         out[f"{prefix}_float"] = pd.Series(columns[f"{prefix}_float"], dtype="Float64")
         out[f"{prefix}_vector"] = columns[f"{prefix}_vector"]
     return out
 
 
-def write_parquet(frame: pd.DataFrame, directory: Path) -> Path:
-    """Write ``results.parquet`` (pyarrow) from a results DataFrame."""
+def write_parquet(frame: pd.DataFrame, values: pd.DataFrame, directory: Path) -> Path:
+    """Write ``results.parquet`` (pyarrow) from a results DataFrame and its decoded values."""
     path = directory / "results.parquet"
-    typed_frame(frame).to_parquet(path, index=False, engine="pyarrow")
+    typed_frame(frame, values).to_parquet(path, index=False, engine="pyarrow")
     return path
 
 

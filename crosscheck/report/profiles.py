@@ -16,13 +16,15 @@ separation query is never asked a separated pair's distance.  So each profile he
    what it lacks.
 3. **The common ground**: the rows that every ranked engine answers.  Each engine's score
    is agree / judged over those rows, so no engine gains by skipping; its coverage (rows
-   it answers / the profile's rows) is shown beside the score.
+   it answers / the profile's rows) is shown beside the score.  Its top failure modes leave
+   out the cases with a zero-size body (:mod:`crosscheck.report.aside`; their rows still
+   count in the score), and say how many rows those hold.
 
 Ranked engines are ordered by score, then by coverage, then by cost (cheapest first): of
 two engines as right on the common ground, the one that answers more of the profile comes
 first.  The cost is the median instructions per query over the profile's counted cases
 when every ranked engine of the profile was counted (``crosscheck run --timer
-instructions``; :mod:`crosscheck.report.query_cost`), else the median wall-clock query time
+instructions``; :mod:`crosscheck.report.cost`), else the median wall-clock query time
 over its timed cases, as before counts existed.
 
 >>> rows = pd.DataFrame([
@@ -41,15 +43,13 @@ from collections.abc import Collection
 from dataclasses import dataclass, field
 from typing import Any
 
-import numpy as np
 import pandas as pd
 
 from crosscheck.core.model import Status
-from crosscheck.core.schema import BAD_INPUT_TAG
-from crosscheck.report import query_cost
-from crosscheck.report.query_cost import Cost
-from crosscheck.report.speed import instructions_iqr, with_iqr
-from crosscheck.report.verdict import Cell, Mode, failure_modes, share_text
+from crosscheck.report.aside import bad_input
+from crosscheck.report.cost import UNMEASURED, Cost, cost_of, rank
+from crosscheck.report.text import instructions_iqr, with_iqr
+from crosscheck.report.verdict import Cell, Mode, failure_modes, headline, share_text
 from crosscheck.results.timings import Spread
 
 BASELINES = ("reference", "reference-f32")
@@ -110,7 +110,16 @@ class EngineScore:
 
     @property
     def top(self) -> list[Mode]:
-        return self.modes[:SHOWN]
+        return headline(self.modes)[:SHOWN]
+
+    @property
+    def headline_modes(self) -> int:
+        return len(headline(self.modes))
+
+    @property
+    def set_aside(self) -> int:
+        """Its breaking rows on zero-size bodies (left out of :attr:`top`)."""
+        return sum(m.count for m in self.modes if m.aside)
 
     @property
     def cost_text(self) -> str:
@@ -129,9 +138,8 @@ class EngineScore:
 
     @property
     def both(self) -> Cost:
-        """Its cost both ways (:class:`~crosscheck.report.query_cost.Cost`)."""
-        unmeasured = query_cost.UNMEASURED
-        return Cost(self.cost or unmeasured, self.counted or unmeasured, 0.0)
+        """Its cost both ways (:class:`~crosscheck.report.cost.Cost`)."""
+        return Cost(self.cost or UNMEASURED, self.counted or UNMEASURED, 0.0)
 
 
 @dataclass(frozen=True)
@@ -172,16 +180,6 @@ def _slots(rows: pd.DataFrame) -> list[str]:
     return [f"{k} {d}-D" for k, d in sorted(set(zip(rows["kind"], rows["dim"], strict=True)))]
 
 
-def bad_input(frame: pd.DataFrame) -> pd.Series:
-    """Which rows are of bad-input cases: tagged ``bad-input``, as
-    :attr:`~crosscheck.core.schema.AabbCase.bad_input` says of a case (rows carry the
-    case's tags, space-separated)."""
-    tags = frame["tags"].fillna("").astype(str)
-    codes, texts = pd.factorize(tags)  # each distinct tag list split once, not every row
-    flags = np.array([BAD_INPUT_TAG in str(text).split() for text in texts], dtype=bool)
-    return pd.Series(flags[codes], index=frame.index, dtype=bool)
-
-
 def profile_rows(frame: pd.DataFrame, wanted: Profile) -> pd.DataFrame:
     """The rows of ``wanted``'s kinds and dimensions, bad-input cases left out."""
     inside = frame["kind"].isin(wanted.kinds)
@@ -192,15 +190,15 @@ def profile_rows(frame: pd.DataFrame, wanted: Profile) -> pd.DataFrame:
 
 
 def _score(engine: str, mine: pd.DataFrame, common: pd.Index, total: int,
-           repros: Collection[str]) -> EngineScore:
+           repros: Collection[str], zero_sized: Collection[str]) -> EngineScore:
     """``engine`` on the profile, from its rows of it (``mine``)."""
     on_ground = mine[_keys(mine).isin(common)]
     judged = on_ground[on_ground["status"].isin(Status.members("judged"))]
-    cost = query_cost.cost_of(mine)
+    cost = cost_of(mine)
     return EngineScore(
         engine, Cell(int((judged["status"] == Status.AGREE).sum()), len(judged)),
         len(_answered(mine)), total, cost.wall if cost.timed else None,
-        failure_modes(on_ground, repros), cost.counted if cost.is_counted else None)
+        failure_modes(on_ground, repros, zero_sized), cost.counted if cost.is_counted else None)
 
 
 def _keys(rows: pd.DataFrame) -> pd.Index:
@@ -212,9 +210,10 @@ def _by_engine(rows: pd.DataFrame) -> dict[str, pd.DataFrame]:
     return {str(engine): group for engine, group in rows.groupby("engine", sort=False)}
 
 
-def profile(frame: pd.DataFrame, wanted: Profile,
-            repros: Collection[str] = ()) -> ProfileVerdict:
-    """``wanted`` judged on common ground (see the module docstring)."""
+def profile(frame: pd.DataFrame, wanted: Profile, repros: Collection[str] = (),
+            zero_sized: Collection[str] = ()) -> ProfileVerdict:
+    """``wanted`` judged on common ground (see the module docstring); ``zero_sized``: the
+    cases with a zero-size body (:func:`crosscheck.report.aside.zero_size`)."""
     rows = profile_rows(frame, wanted)
     slots = set(_slots(rows))
     engines = [str(e) for e in rows["engine"].unique()]
@@ -232,23 +231,23 @@ def profile(frame: pd.DataFrame, wanted: Profile,
     per_engine = [set(_keys(answered_of.get(e, none))) for e in ranked]
     common = pd.Index(sorted(set.intersection(*per_engine))) if per_engine else pd.Index([])
     total = len(rows.drop_duplicates(["case_id", "quantity"]))
-    scores = [_score(e, rows_of[e], common, total, repros) for e in ranked]
-    counts = query_cost.by_counts(s.both for s in scores)
-    scores.sort(key=lambda s: (s.score.share is None, -(s.score.share or 0.0), -s.coverage,
-                               *s.both.key(counts)))
-    baselines = [_score(e, rows_of[e], common, total, repros) for e in engines
+    scores = rank([_score(e, rows_of[e], common, total, repros, zero_sized) for e in ranked],
+                  lambda s: s.both,
+                  lambda s: (s.score.share is None, -(s.score.share or 0.0), -s.coverage))
+    baselines = [_score(e, rows_of[e], common, total, repros, zero_sized) for e in engines
                  if e in BASELINES and len(answered_of.get(e, none))]
     cases = len({str(key).split("\x00")[0] for key in common})
-    return ProfileVerdict(wanted, total, len(common), cases, scores, baselines, not_ranked,
-                          counts)
+    return ProfileVerdict(wanted, total, len(common), cases, scores.items, baselines,
+                          not_ranked, scores.by_counts)
 
 
-def profiles(frame: pd.DataFrame, repros: Collection[str] = ()) -> list[ProfileVerdict]:
+def profiles(frame: pd.DataFrame, repros: Collection[str] = (),
+             zero_sized: Collection[str] = ()) -> list[ProfileVerdict]:
     """The standard profiles that have rows in ``frame``."""
     needed = {"dim", "tags"}
     if not needed <= set(frame.columns):
         return []
-    made = [profile(frame, p, repros) for p in PROFILES]
+    made = [profile(frame, p, repros, zero_sized) for p in PROFILES]
     return [v for v in made if v.total]
 
 
@@ -288,8 +287,10 @@ def robustness(frame: pd.DataFrame) -> list[Robustness]:
     return out
 
 
-def context(frame: pd.DataFrame, repros: Collection[str] = ()) -> dict[str, Any]:
-    """The profile part of the verdict section's context."""
-    made = profiles(frame, repros)
+def context(frame: pd.DataFrame, repros: Collection[str] = (),
+            zero_sized: Collection[str] = ()) -> dict[str, Any]:
+    """The profile part of the verdict section's context (``zero_sized``: the cases with a
+    zero-size body, left out of the top failure modes)."""
+    made = profiles(frame, repros, zero_sized)
     return {"profiles": made, "robustness": robustness(frame), "profile_shown": SHOWN,
             "profiles_counted": any(p.by_counts for p in made)}

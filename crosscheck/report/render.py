@@ -1,6 +1,7 @@
 """Report rendering: a stored run -> CSV files and one self-contained HTML page.
 
-Reporting reads only the run directory (through :func:`crosscheck.results.store.read_run`);
+Reporting reads only the run directory (through :func:`crosscheck.results.run.read_run`,
+or the :class:`~crosscheck.results.run.Run` the process that ran it already holds);
 it never runs an engine, so ``crosscheck report DIR`` can re-render any stored
 run.  The page is the list of :data:`crosscheck.report.sections.SECTIONS`,
 each rendered from the run in its order.
@@ -16,7 +17,8 @@ from crosscheck.report.parquet import write_parquet
 from crosscheck.report.sections import SECTIONS, RunView
 from crosscheck.report.style import packed_plotly_js, templates
 from crosscheck.report.summary_tables import markdown_summary
-from crosscheck.results.store import read_run, write_csv
+from crosscheck.results.run import Run, read_run
+from crosscheck.results.store import write_csv
 
 __all__ = ["markdown_summary", "render", "render_html"]
 
@@ -35,12 +37,13 @@ def render_html(view: RunView) -> str:
         plotly_js=packed_plotly_js() if plots else None)
 
 
-def render(directory: Path) -> dict[str, Path]:
+def render(run: Run | Path) -> dict[str, Path]:
     """Write results (CSV and typed Parquet), summary, disagreements, asymmetries and
-    metamorphic CSV files and report.html."""
-    view = RunView(read_run(directory))
+    metamorphic CSV files and report.html into the run's folder (a folder: read first)."""
+    view = RunView(run if isinstance(run, Run) else read_run(run))
+    directory = view.stored.directory
     paths = {"results": write_csv(view.stored.results, directory),
-             "parquet": write_parquet(view.stored.results, directory)}
+             "parquet": write_parquet(view.stored.results, view.stored.decoded, directory)}
     for name, table in (("summary", view.summary), ("disagreements", view.disagreements),
                         ("asymmetries", view.asymmetries),
                         ("metamorphic", view.metamorphic)):

@@ -37,7 +37,7 @@ def command(run_dir: str | Path, case_id: str, engine: str) -> str:
 
 def link(case_id: str, engine: str, written: Collection[str]) -> str:
     """``repro/<name>.py``, relative to the report, when that script is among ``written``
-    (file names: :attr:`crosscheck.results.store.StoredRun.repros`), else ``""`` (a run folder
+    (file names: :attr:`crosscheck.results.run.Run.repros`), else ``""`` (a run folder
     without scripts, the usual case, names none: no name is built)."""
     if not written:
         return ""

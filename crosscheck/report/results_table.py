@@ -9,8 +9,12 @@ statuses and categories equal its original's, quantity by quantity (and that is
 nondeterministic only if its original is), is folded under the original (still in the data,
 for its details; not a row of its own); one that differs keeps its own row.
 
-The JSON is packed (gzip + base64, :func:`crosscheck.report.style.packed`): the page unpacks
-it with the browser's ``DecompressionStream`` and shows it with DataTables (from ``itables``).
+Every number is written here (:mod:`crosscheck.report.text`: errors and tolerances to three
+significant digits, a pair's query time as its median ± IQR) and every judgement made here
+(a row's worst status, whether it breaks, a case with a breaking row): the page only shows
+them.  The JSON is packed (gzip + base64, :func:`crosscheck.report.style.packed`): the page
+unpacks it with the browser's ``DecompressionStream`` and shows it with DataTables (from
+``itables``).
 
 >>> frame = pd.DataFrame([
 ...     {"case_id": "c", "engine": "e", "quantity": "hit", "value": "true", "truth": "true",
@@ -34,8 +38,8 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
-from crosscheck.core.schema import AnyCase
-from crosscheck.report import repro_links
+from crosscheck.core.schema import BAD_INPUT_TAG, AnyCase
+from crosscheck.report import repro_links, text
 from crosscheck.report.style import datatables, packed
 from crosscheck.report.summary_tables import case_group
 
@@ -59,25 +63,25 @@ def _case(case_id: str, case: AnyCase | None, first: Mapping[str, Any]) -> dict[
             "source": case.source if case else str(first.get("source", "")),
             "group": case_group(case.source if case else str(first.get("source", ""))),
             "inputs": json.dumps(case.model_dump(include=INPUTS)) if case else "{}",
-            "twin_of": str(first.get("twin_of", "") or "")}
+            "twin_of": str(first.get("twin_of", "") or ""), "breaking": False}
 
 
 def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
                  repros: Collection[str], run_dir: str = "") -> dict[str, Any]:
     """The table's data: ``run`` (the run folder, ``run_dir``: the page builds each breaking
     row's repro command from it, :mod:`crosscheck.report.repro_links`), ``quantities`` (in
-    run order), ``cases`` (inputs, by index) and ``rows`` (one per case x engine: worst
-    status, largest error, repro link when its script is in the folder, query time,
-    instructions per query where counted,
-    per quantity ``[status, category, error, value, truth, tolerance, reason]``, and for a
-    nondeterministic pair its second answer, ``again``)."""
+    run order), ``severity`` (each status's rank, lower worse), ``cases`` (inputs, by index;
+    ``breaking``: some row of it breaks) and ``rows`` (one per case x engine: worst status,
+    whether it breaks, largest error, repro link when its script is in the folder, query time
+    as median ± IQR, per quantity ``[status, category, error, value, truth, tolerance,
+    reason]``, and for a nondeterministic pair its second answer, ``again``)."""
     quantities = [str(q) for q in dict.fromkeys(frame["quantity"])] if len(frame) else []
     index: dict[str, int] = {}
     case_list: list[dict[str, Any]] = []
     rows: dict[tuple[str, str], dict[str, Any]] = {}
     whole: dict[str, list[Any]] = {}  # every column, read only for a case the run lacks
     for i, (case_id, engine, quantity, status, category, error, value, truth, tolerance,
-            reason, query_s, query_iqr_s, counted, again, repeat_status, repeat_value,
+            reason, query_s, query_iqr_s, again, repeat_status, repeat_value,
             twin_of) in enumerate(zip(*(_column(frame, name) for name in _READ), strict=True)):
         case_id, engine = str(case_id), str(engine)
         if case_id not in index:
@@ -93,14 +97,12 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
             row = rows[(case_id, engine)] = {
                 "case": index[case_id], "engine": engine, "q": {},
                 "repro": repro_links.link(case_id, engine, repros),
-                "query_s": _number(query_s), "query_iqr_s": _number(query_iqr_s),
+                "time": None if _number(query_s) is None else text.median_iqr(
+                    float(query_s), _number(query_iqr_s)),
                 "folded": False, "twins": []}
-            counted = _number(counted)
-            if counted is not None:  # only where counted: a run without counts packs no key
-                row["query_instructions"] = counted
         row["q"][str(quantity)] = [
             str(status), str(category or ""), _number(error), str(value), str(truth),
-            _number(tolerance), str(reason or "")]
+            text.error(_number(tolerance)), str(reason or "")]
         if again is True:
             row.setdefault("again", {})[str(quantity)] = [str(repeat_status), str(repeat_value)]
     for row in rows.values():
@@ -108,23 +110,49 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
         errors = [q[2] for q in row["q"].values()
                   if q[2] is not None and q[0] in Status.members("scored")]
         row["status"] = min(statuses, key=lambda s: SEVERITY.get(s, 99)) if statuses else ""
-        row["error"] = max(errors) if errors else None
+        row["breaking"] = row["status"] in Status.members("breaking")
+        row["error"] = text.error(max(errors) if errors else None)
+        for q in row["q"].values():
+            q[2] = text.error(q[2])
+        if row["breaking"]:
+            case_list[row["case"]]["breaking"] = True
     for (_, engine), row in rows.items():
         original = rows.get((case_list[row["case"]]["twin_of"], engine))
         if original is not None and _verdicts(original) == _verdicts(row):
             row["folded"] = True
             original["twins"].append(row["case"])
-    return {"run": run_dir, "quantities": quantities, "cases": case_list,
-            "rows": list(rows.values())}
+    return {"run": run_dir, "quantities": quantities, "severity": SEVERITY, "cases": case_list,
+            "rows": opening_order(list(rows.values()), case_list)}
+
+
+def opening_order(rows: list[dict[str, Any]],
+                  case_list: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """``rows`` in the order the table opens on (the page keeps the data's order until a
+    header is clicked): the engines' answers, most severe status first and the largest error
+    first within one, then the rows of bad-input cases in the same order, so that the table
+    opens on what the engines get wrong, not on their crashes on NaN input (robustness)."""
+    def key(row: dict[str, Any]) -> tuple[bool, int, bool, float]:
+        error = _error_value(row["error"])
+        return (BAD_INPUT_TAG in str(case_list[row["case"]]["tags"]).split(),
+                SEVERITY.get(row["status"], 99), error is None, -(error or 0.0))
+    return sorted(rows, key=key)
+
+
+def _error_value(error: Any) -> float | None:
+    """A row's largest error as a number, written or not (None: it has none)."""
+    try:
+        value = float(error)
+    except (TypeError, ValueError):
+        return None
+    return None if math.isnan(value) else value
 
 
 _READ = ("case_id", "engine", "quantity", "status", "category", "error", "value", "truth",
-         "tolerance", "reason", "query_s", "query_iqr_s", "query_instructions",
+         "tolerance", "reason", "query_s", "query_iqr_s",
          "nondeterministic", "repeat_status", "repeat_value", "twin_of")
 """The columns the table reads, in the order its loop unpacks them."""
 _ABSENT = {"tolerance": math.nan, "query_s": math.nan, "query_iqr_s": math.nan,
-           "query_instructions": math.nan, "nondeterministic": None, "repeat_status": None,
-           "repeat_value": None, "twin_of": ""}
+           "nondeterministic": None, "repeat_status": None, "repeat_value": None, "twin_of": ""}
 """What a column the frame lacks reads as on every row."""
 
 
@@ -150,7 +178,6 @@ def results_table(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
     return {"packed": packed(json.dumps(data, separators=(",", ":"), allow_nan=False)),
             "dt_js": dt_js, "dt_css": dt_css,
             "rows": shown, "pairs": len(data["rows"]),
-            "breaking": sum(row["status"] in Status.members("breaking") and not row["folded"]
-                            for row in data["rows"]),
+            "breaking": sum(row["breaking"] and not row["folded"] for row in data["rows"]),
             "nondeterministic": sum("again" in row and not row["folded"] for row in data["rows"]),
             "quantities": data["quantities"], "cases": len(data["cases"])}

@@ -13,7 +13,6 @@ Adding a section is one builder, one template and one entry in the list.
 from __future__ import annotations
 
 import functools
-import json
 import re
 import shlex
 from collections.abc import Callable, Mapping
@@ -25,6 +24,7 @@ from markupsafe import Markup
 
 from crosscheck.core.schema import AnyCase
 from crosscheck.report import (
+    aside,
     coverage_page,
     dynamics,
     energy_chart,
@@ -35,18 +35,18 @@ from crosscheck.report import (
     speed_error,
     stability,
     symmetry,
+    text,
     verdict,
 )
 from crosscheck.report.advise import page as advise_page
 from crosscheck.report.coverage import CoverageMap, run_map
 from crosscheck.report.stability import charts as stability_charts
-from crosscheck.report.style import packed
 from crosscheck.report.summary_tables import STATUSES, disagreements, group_matrix, summary
 from crosscheck.report.symmetry import asymmetries
+from crosscheck.results.run import Run
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.scene_facts import read_facts
 from crosscheck.results.series import read_series
-from crosscheck.results.store import StoredRun
 from crosscheck.results.timings import read_timings
 
 Context = dict[str, Any]
@@ -63,11 +63,17 @@ def plain_strings(frame: pd.DataFrame) -> pd.DataFrame:
 class RunView:
     """A stored run and what several sections (and the CSV files) derive from it, once each."""
 
-    def __init__(self, stored: StoredRun) -> None:
+    def __init__(self, stored: Run) -> None:
         self.stored = stored
         self.frame: pd.DataFrame = plain_strings(stored.results)
         self.info: RunInfo = stored.info
         self.cases: Mapping[str, AnyCase] = stored.cases
+
+    @functools.cached_property
+    def rows(self) -> pd.DataFrame:
+        """:attr:`frame` with its values decoded once (:attr:`crosscheck.results.run.Run.decoded`),
+        for the sections that compare values (symmetry, moved scenes, dynamics, horizons)."""
+        return self.frame.join(self.stored.decoded)
 
     @functools.cached_property
     def missing(self) -> int:
@@ -100,7 +106,7 @@ class RunView:
 
     @functools.cached_property
     def asymmetries(self) -> pd.DataFrame:
-        return asymmetries(self.frame)
+        return asymmetries(self.rows)
 
     @functools.cached_property
     def coverage(self) -> CoverageMap:
@@ -112,7 +118,7 @@ class RunView:
     def metamorphic(self) -> pd.DataFrame:
         """Each moved or resized scene point x engine against the engine's own origin run
         (``metamorphic.csv``; empty without such sweeps)."""
-        return metamorphic.points(self.frame, self.cases)
+        return metamorphic.points(self.rows, self.cases)
 
 
 def _no_plots(context: Context) -> bool:
@@ -142,12 +148,14 @@ class Section:
 
 def _verdict(view: RunView) -> Context | None:
     """The standard profiles on common ground, then per engine and kind: agreeing shares,
-    speed ranks and failure modes (None: an empty run)."""
+    speed ranks and failure modes, those of bad input and zero-size bodies set aside
+    (None: an empty run)."""
     if view.frame.empty:
         return None
-    repros = view.stored.repros
-    return verdict.verdict(view.frame, repros, view.info.repeat_check) \
-        | profiles.context(view.frame, repros) | {"run_dir": str(view.stored.directory)}
+    repros, zero_sized = view.stored.repros, aside.zero_size(view.cases)
+    return verdict.verdict(view.frame, repros, view.info.repeat_check, zero_sized) \
+        | profiles.context(view.frame, repros, zero_sized) \
+        | {"run_dir": str(view.stored.directory)}
 
 
 def _errors(view: RunView) -> Context | None:
@@ -173,12 +181,25 @@ def _summary(view: RunView) -> Context:
 
 def _speed(view: RunView) -> Context:
     """The speed charts; ``counted``: some kind's cost is counted instructions (the section
-    then says how they were counted)."""
-    return {"speed": [{"data": chart, "html": Markup(speed_error.figure_html(chart, view.order))
+    then says how they were counted); ``off``: the section's one line when no kind has a
+    timed engine to draw (a run without its timing phase), else ``""``."""
+    return {"off": _untimed(view),
+            "speed": [{"data": chart, "html": Markup(speed_error.figure_html(chart, view.order))
                        if chart.plotted else None} for chart in view.speed_charts],
-            "seconds": speed.seconds, "with_iqr": speed.with_iqr,
+            "seconds": text.seconds, "with_iqr": text.with_iqr,
             "threshold": speed.UNSTABLE_SPREAD,
             "counted": any(chart.by_counts for chart in view.speed_charts)}
+
+
+def _untimed(view: RunView) -> str:
+    """The speed section's one line when no chart has a timed engine ('' when one has)."""
+    if any(chart.plotted for chart in view.speed_charts):
+        return ""
+    why = (speed.timing_context(view.info, view.frame, [], view.timings)["off"]
+           if view.info.timing is None else "No engine has a query time in this run.")
+    return (f"Nothing to draw. {why} The accuracy of every engine is in the verdict and the "
+            "engine \u00d7 kind table above; a run with its timing phase (without --quick) "
+            "draws each kind's cost against its error here.")
 
 
 def _timing(view: RunView) -> Context:
@@ -192,7 +213,7 @@ def _dynamics(view: RunView) -> Context | None:
     folded per scene; energy against time per scene family, from ``series.jsonl`` when the
     run stored it; moved and resized scenes against the engine's own origin run (None without
     scene runs)."""
-    built = dynamics.section(view.frame, view.cases, view.order,
+    built = dynamics.section(view.rows, view.cases, view.order,
                              read_facts(view.stored.directory))
     if not built["runs"]:
         return None
@@ -209,7 +230,7 @@ def _stability(view: RunView) -> Context | None:
     """The threshold matrix and the charts folded per family (``None`` without sweeps);
     ``charts`` lists them all (the page inlines plotly.js when a section has charts)."""
     points = stability.sweep_points(view.frame, view.cases)
-    table = stability.with_horizons(stability.thresholds(points), view.frame, view.cases)
+    table = stability.with_horizons(stability.thresholds(points), view.rows, view.cases)
     if table.empty:
         return None
     folds = stability_charts.folds(points, table)
@@ -226,20 +247,19 @@ def _disagreements(view: RunView) -> Context:
 
 
 def _advise(view: RunView) -> Context:
-    """The advise form: it works in the page, over the results table's packed data and the
-    facts of :func:`crosscheck.report.advise.page.form_data`."""
+    """The advise form, which writes the command of the profile it states, and the answers of
+    the standard profiles (:func:`crosscheck.report.advise.page.section`)."""
     kinds = [str(k) for k in dict.fromkeys(view.frame["kind"])] if len(view.frame) else []
-    data = advise_page.form_data(view.frame, view.cases, view.info.engines, view.info.options)
-    return {"kinds": kinds, "run_id": view.info.run_id,
-            "quantities": [str(q) for q in dict.fromkeys(view.frame["quantity"])]
-            if len(view.frame) else [],
-            "packed": packed(json.dumps(data, separators=(",", ":"), allow_nan=False))}
+    quantities = ([str(q) for q in dict.fromkeys(view.frame["quantity"])]
+                  if len(view.frame) else [])
+    return {"run_id": view.info.run_id,
+            **advise_page.section(view.stored, kinds, quantities)}
 
 
 def _symmetry(view: RunView) -> Context:
     """The A/B symmetry counts per engine x quantity and each engine's asymmetric answers
     (``asymmetries.csv`` is written from ``view.asymmetries``, every row kept)."""
-    return symmetry.section(view.frame, view.order)
+    return symmetry.section(view.rows, view.order)
 
 
 def _info(view: RunView) -> Context:

@@ -34,13 +34,13 @@ from typing import Any
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
+from crosscheck.core.kinds import quantity_named
 from crosscheck.report import axes, style
-from crosscheck.report.speed import UNSTABLE_SPREAD, instructions, seconds, with_iqr
+from crosscheck.report.speed import UNSTABLE_SPREAD
 from crosscheck.report.speed_points import (
     CEILING,
     FLOOR,
     MEASURES,
-    QUANTITY_LABELS,
     UNIT,
     Errors,
     Measure,
@@ -52,6 +52,7 @@ from crosscheck.report.speed_points import (
     speed_charts,
 )
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
+from crosscheck.report.text import instructions, seconds, with_iqr
 
 __all__ = ["CEILING", "FLOOR", "MEASURES", "Errors", "Measure", "Point", "SpeedChart",
            "error_stats", "figure", "figure_html", "hover", "in_tolerances", "speed_chart",
@@ -110,7 +111,7 @@ def _timing_lines(p: Point) -> list[str]:
 def _error_lines(errors: Errors, quantity: str) -> list[str]:
     ceiling = f"{CEILING:.0e}".replace("+", "")
     return [
-        f"{QUANTITY_LABELS.get(quantity, quantity)} error \u00f7 {UNIT}: median "
+        f"{quantity_named(quantity).title} error \u00f7 {UNIT}: median "
         f"{errors.median:.3g}, 95th percentile {errors.p95:.3g}, max {errors.max:.3g}",
         f"scored cases: {errors.scored} ({errors.zeros} exactly 0)",
         f"<b>{errors.off} off scale</b> (above {ceiling} bounds, infinite or NaN)"
@@ -270,7 +271,7 @@ def figure(chart: SpeedChart, order: list[str], template: bool = True,
     verdicts.  ``order`` fixes each engine's colour and symbol, the same on every chart;
     ``accuracy`` (in float64 bounds, per quantity) places the accuracy lines."""
     quantities = chart.measure.errors
-    titles = [QUANTITY_LABELS.get(q, q) for q in quantities]
+    titles = [quantity_named(q).title for q in quantities]
     fig = make_subplots(rows=1, cols=len(quantities) + 1, horizontal_spacing=0.09,
                         column_widths=[*([0.74 / len(quantities)] * len(quantities)), 0.26],
                         subplot_titles=(*titles, chart.measure.verdict_label))

@@ -1,7 +1,7 @@
 """What the speed-against-error charts plot: per kind, one point per engine and quantity.
 
 A point's x is the engine's cost per query over the cases of that kind
-(:mod:`crosscheck.report.query_cost`): its median instructions per query over the cases
+(:mod:`crosscheck.report.cost`): its median instructions per query over the cases
 it counted, when every engine of the chart was counted (``crosscheck run --timer
 instructions``), else its median wall-clock time per query over the cases it timed
 (``query_s``, one value per case x engine: the median of its samples); with the quartiles
@@ -31,12 +31,14 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
+from crosscheck.core.kinds import SPECS, SpeedPanels
 from crosscheck.core.model import Status
 from crosscheck.core.schema import AnyCase
-from crosscheck.report import query_cost
-from crosscheck.report.query_cost import UNMEASURED, Cost
+from crosscheck.report import cost as costs
+from crosscheck.report.cost import UNMEASURED, Cost
 from crosscheck.report.speed import Spread, binding, binding_note, case_times
 from crosscheck.results.runinfo import RunInfo
+from crosscheck.results.timings import quantiles
 
 FLOOR = 1e-3
 """Errors below this many tolerances (exact ones too) are drawn on the floor line."""
@@ -47,24 +49,10 @@ UNIT = "case's float64 bound"
 """What one unit of the error axis is, in words (the axis title and the page say it)."""
 
 
-@dataclass(frozen=True, slots=True)
-class Measure:
-    """What the chart of one kind plots: one panel per error quantity, and the verdicts."""
-
-    errors: tuple[str, ...]
-    verdicts: tuple[str, ...]
-    verdict_label: str
-
-
-DETECTION = Measure(("distance", "normal"), ("hit",), "wrong hit verdicts")
-MEASURES: dict[str, Measure] = {
-    "aabb": DETECTION, "sphere": DETECTION,
-    "sphere_response": Measure(("v1", "v2"), ("v1", "v2"),
-                               "cases with a velocity beyond tolerance"),
-    "sphere_toi": Measure(("toi", "normal"), ("hit",), "wrong contact verdicts")}
-QUANTITY_LABELS = {"distance": "signed distance", "normal": "normal (angle)",
-                   "toi": "time of impact",
-                   "v1": "velocity v1", "v2": "velocity v2"}
+Measure = SpeedPanels
+"""What the chart of one kind plots: one panel per error quantity, and the verdicts."""
+MEASURES: dict[str, Measure] = {str(s.kind): s.speed for s in SPECS if s.speed is not None}
+"""The kinds with a chart (those whose spec has ``speed``), in report order."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -155,7 +143,7 @@ class SpeedChart:
     @property
     def by_counts(self) -> bool:
         """Every scored engine with a cost was counted: x is instructions per query."""
-        return query_cost.by_counts(p.cost for p in self.points if p.scored)
+        return costs.by_counts(p.cost.measure for p in self.points if p.scored)
 
     @property
     def any_counted(self) -> bool:
@@ -165,7 +153,7 @@ class SpeedChart:
     @property
     def x_title(self) -> str:
         """What x is, in words: the speed axis's title."""
-        return query_cost.COUNTED_TITLE if self.by_counts else query_cost.WALL_TITLE
+        return costs.COUNTED_TITLE if self.by_counts else costs.WALL_TITLE
 
     def x(self, p: Point) -> Spread:
         """The per-case spread ``p`` is drawn at along x (counted, or wall clock)."""
@@ -235,11 +223,11 @@ def in_tolerances(rows: pd.DataFrame) -> pd.Series:
 
 def error_stats(errors: pd.Series) -> tuple[float, float, float]:
     """Median, 95th percentile (nearest rank) and max of non-negative errors (inf allowed)."""
-    values = np.sort(errors.dropna().to_numpy(dtype=float))
+    values = errors.dropna().to_numpy(dtype=float)
     if not len(values):
         return math.nan, math.nan, math.nan
-    p95 = values[math.ceil(0.95 * len(values)) - 1]
-    return float(np.median(values)), float(p95), float(values[-1])
+    (p95,) = quantiles(values.tolist(), [0.95], nearest=True)
+    return float(np.median(values)), p95, float(values.max())
 
 
 def _worst(errors: pd.Series, cases: Mapping[str, AnyCase]) -> str:
@@ -276,7 +264,7 @@ def point(rows: pd.DataFrame, measure: Measure, info: RunInfo,
     scored = rows[rows["status"].isin(Status.members("scored"))]
     verdicts = scored[scored["quantity"].isin(measure.verdicts)]
     time, unstable = case_times(rows)
-    cost = query_cost.cost_of(rows)
+    cost = costs.cost_of(rows)
     return Point(
         engine=engine, about=_about(engine, info), cases=rows["case_id"].nunique(),
         time=time, unstable=unstable, binding=binding(info, engine),

@@ -15,6 +15,7 @@ from __future__ import annotations
 import base64
 import functools
 import gzip
+import html
 import json
 from importlib import resources
 from typing import Any
@@ -23,7 +24,7 @@ import plotly.graph_objects as go
 import plotly.io as pio
 from jinja2 import Environment, PackageLoader, select_autoescape
 
-from crosscheck.report import bundle, repro_links, speed
+from crosscheck.report import bundle, repro_links, text
 
 COLOURS = ("#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f",
            "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac")
@@ -40,13 +41,13 @@ PLOT_CONFIG = {"displaylogo": False, "responsive": True}
 def templates() -> Environment:
     """The Jinja environment of every page (autoescaping on, templates in ``report/templates``;
     every template can write a time with ``seconds`` and ``median_iqr``, a count of
-    instructions with ``instructions`` and ``instructions_iqr``, and the command that prints a
-    repro script with ``repro_command``)."""
+    instructions with ``instructions`` and ``instructions_iqr``, the command that prints a
+    repro script with ``repro_command``, and inline the page's script with ``report_js``)."""
     env = Environment(loader=PackageLoader("crosscheck.report", "templates"),
                       autoescape=select_autoescape(default=True, default_for_string=True))
-    env.globals.update(seconds=speed.seconds, median_iqr=speed.median_iqr,
-                       instructions=speed.instructions,
-                       instructions_iqr=speed.instructions_iqr,
+    env.globals.update(report_js=script, seconds=text.seconds, median_iqr=text.median_iqr,
+                       instructions=text.instructions,
+                       instructions_iqr=text.instructions_iqr,
                        repro_command=repro_links.command)
     return env
 
@@ -87,12 +88,12 @@ def chart_axis() -> dict[str, Any]:
 
 
 def plot_div(figure: Any, div_id: str) -> str:
-    """A figure (a plain dict or a ``go.Figure``) as a ``<div>`` and its script, without
-    plotly.js (the page inlines it once, packed).
+    """A figure (a plain dict or a ``go.Figure``) as a ``<div>`` followed by its figure,
+    without plotly.js (the page inlines it once, packed).
 
-    The figure's JSON is packed too (:func:`packed`), and the script waits for plotly.js:
-    ``whenPlotly`` (defined in the page head) runs it once plotly.js is unpacked and loaded,
-    then it unpacks the figure and calls ``Plotly.newPlot``.  Figures are rendered without
+    The figure's JSON is packed too (:func:`packed`), in a ``<script class="plotly-figure">``
+    that runs nothing: the page's script (:func:`script`) draws it once plotly.js is unpacked
+    and loaded and the chart comes near the viewport.  Figures are rendered without
     validation: ``go.Figure`` costs ~0.2-0.5 s each.
 
     Every trace must be one the cartesian bundle draws (:data:`bundle.TRACES`).
@@ -111,11 +112,23 @@ def plot_div(figure: Any, div_id: str) -> str:
             raise ValueError(f"chart {div_id} draws {kind}, which plotly's cartesian bundle lacks")
     height = content.get("layout", {}).get("height")
     style = f"height:{height}px; width:100%;" if height else "height:100%; width:100%;"
+    config = html.escape(json.dumps(PLOT_CONFIG))
     return (f'<div id="{div_id}" class="plotly-graph-div" style="{style}"></div>'
-            f"<script>whenPlotly(function () {{ return unpackText(\"{packed(text)}\").then("
-            f"function (text) {{ var figure = JSON.parse(text); "
-            f"return Plotly.newPlot(\"{div_id}\", figure.data, figure.layout, "
-            f"{json.dumps(PLOT_CONFIG)}); }}); }});</script>")
+            f'<script type="application/octet-stream" class="plotly-figure" '
+            f'data-config="{config}">{packed(text)}</script>')
+
+
+@functools.cache
+def script() -> str:
+    """The page's one script (``static/report.js``), inlined into every page's head: it
+    unpacks the payloads, draws the charts and fills the tables from data already judged,
+    ranked and written in Python (its one global is ``window.crosscheck``).
+
+    >>> "window.crosscheck = {}" in script() and "</script" not in script()
+    True
+    """
+    return (resources.files("crosscheck.report") / "static" / "report.js").read_text(
+        encoding="utf-8")
 
 
 @functools.cache

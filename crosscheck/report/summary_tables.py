@@ -11,8 +11,9 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.core.kinds import error_columns
 from crosscheck.core.model import Category, Status
-from crosscheck.report import query_cost
+from crosscheck.report.cost import cost_of
 from crosscheck.report.frames import records
 
 STATUSES = [str(s) for s in Status]
@@ -22,38 +23,30 @@ def _times(frame: pd.DataFrame) -> pd.DataFrame:
     """Per engine x kind: the median of the per-case query times, their IQR over the timed
     cases, and how many cases were timed and how many of those timings are unstable; then
     the same of the counted instructions per query (NaN and 0 where none was counted), and
-    the median of those inside the engine's own code."""
+    the median of those inside the engine's own code (:func:`crosscheck.report.cost.cost_of`)."""
     per_case = frame.drop_duplicates(["engine", "case_id"])
-    per_case = per_case.assign(_unstable=per_case["unstable"].isin([True])
-                               & per_case["query_s"].notna(),
-                               _instructions=query_cost.column(per_case, "query_instructions"),
-                               _in_engine=query_cost.column(per_case, "engine_instructions"))
-    groups = per_case.groupby(["engine", "kind"])
-    counted = groups["_instructions"]
-    return pd.DataFrame({
-        "median_query_s": groups["query_s"].median(),
-        "iqr_query_s": groups["query_s"].quantile(0.75) - groups["query_s"].quantile(0.25),
-        "timed": groups["query_s"].count(), "unstable": groups["_unstable"].sum(),
-        "median_query_instructions": counted.median(),
-        "iqr_query_instructions": counted.quantile(0.75) - counted.quantile(0.25),
-        "counted": counted.count(),
-        "median_engine_instructions": groups["_in_engine"].median()})
-
-
-ERROR_COLUMNS = {
-    "wrong_verdicts": ("hit",), "distance_error": ("distance",), "normal_angle": ("normal",),
-    "velocity_error": ("v1", "v2"), "position_error": ("positions",)}
-"""The summary's error columns: one measure each, never mixed (hit 0/1, lengths, radians,
-velocities and mean radii do not share a scale)."""
+    rows = {}
+    for (engine, kind), group in per_case.groupby(["engine", "kind"]):
+        cost = cost_of(group)
+        rows[engine, kind] = {
+            "median_query_s": cost.wall.median, "iqr_query_s": cost.wall.iqr,
+            "timed": cost.wall.n,
+            "unstable": int((group["unstable"].isin([True]) & group["query_s"].notna()).sum()),
+            "median_query_instructions": cost.counted.median,
+            "iqr_query_instructions": cost.counted.iqr, "counted": cost.counted.n,
+            "median_engine_instructions": cost.in_engine}
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis(["engine", "kind"])
 
 
 def _errors(frame: pd.DataFrame) -> pd.DataFrame:
     """Per engine x kind: the share of wrong verdicts and the median error of each measure
-    over the scored rows (NaN, shown as "-", where nothing was measured)."""
+    over the scored rows (NaN, shown as "-", where nothing was measured).  The columns are the
+    quantities' (:func:`crosscheck.core.kinds.error_columns`): one measure each, never mixed
+    (hit 0/1, lengths, radians, velocities and mean radii do not share a scale)."""
     scored = frame[frame["status"].isin(Status.members("scored"))]
     keys = ["engine", "kind"]
     out = pd.DataFrame(index=pd.MultiIndex.from_frame(frame[keys].drop_duplicates()))
-    for column, quantities in ERROR_COLUMNS.items():
+    for column, quantities in error_columns().items():
         rows = scored[scored["quantity"].isin(quantities)]
         agg = rows.groupby(keys)["error"].mean() if column == "wrong_verdicts" else (
             rows.groupby(keys)["error"].median())

@@ -22,10 +22,12 @@ from typing import Any
 import pandas as pd
 
 from crosscheck.core.model import Status
-from crosscheck.core.values import decode, text_of
+from crosscheck.core.values import text_of
 from crosscheck.report.frames import records
+from crosscheck.results.run import DECODED
 
 _PARTNER = {"v1": "v2", "v2": "v1"}
+_VALUE = DECODED["value"]
 COLUMNS = ["case_id", "engine", "quantity", "value", "swapped_value", "expected_swapped",
            "truth_undefined"]
 """The columns of :func:`asymmetries` (and of ``asymmetries.csv``)."""
@@ -54,8 +56,9 @@ def _close(a: Any, b: Any, tolerance: float) -> bool:
 
 def compared(frame: pd.DataFrame) -> pd.DataFrame:
     """Every original x engine x quantity answered on both sides: :data:`COLUMNS` and
-    ``mirrors`` (whether the swapped answer mirrors the original's)."""
-    cols = ["case_id", "engine", "quantity", "value", "tolerance", "status"]
+    ``mirrors`` (whether the swapped answer mirrors the original's); ``frame`` carries its
+    decoded values (:func:`crosscheck.results.run.decoded`)."""
+    cols = ["case_id", "engine", "quantity", "value", _VALUE, "tolerance", "status"]
     twins = frame[frame["twin_of"].fillna("") != ""]
     twins = twins[cols].assign(case_id=twins["twin_of"])
     twins["quantity"] = twins["quantity"].map(lambda q: _PARTNER.get(q, q))
@@ -63,7 +66,7 @@ def compared(frame: pd.DataFrame) -> pd.DataFrame:
                              suffixes=("", "_swapped"))
     rows = []
     for row in records(both):
-        original, swapped = decode(row["value"]), decode(row["value_swapped"])
+        original, swapped = row[_VALUE], row[f"{_VALUE}_swapped"]
         if original is None or swapped is None:
             continue
         expected = mirror_value(str(row["quantity"]), original)

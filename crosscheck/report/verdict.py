@@ -2,13 +2,15 @@
 
 Per engine, one row: its share of agreeing rows per kind and overall, its speed
 rank per kind (by median instructions per query where every engine of the kind with a
-cost was counted, else by median wall-clock query time: :mod:`crosscheck.report.query_cost`),
+cost was counted, else by median wall-clock query time: :mod:`crosscheck.report.cost`),
 and its failure modes.  A failure mode is the (status, category,
 reason pattern) of breaking rows (disagree, error, crash, timeout), where the
 reason pattern is the reason with every number replaced by ``#``: reasons that
 differ only in their numbers are one mode.  Its example case shows the command that prints
 its repro script, and links the script when the run folder holds it
-(:mod:`crosscheck.report.repro_links`).
+(:mod:`crosscheck.report.repro_links`).  The modes of bad-input cases and of zero-size bodies
+are kept apart (:mod:`crosscheck.report.aside`): never among an engine's top modes, counted
+beside them, and labelled in the list of all modes.
 
 The share of an engine on a kind is agree / (agree + breaking rows): skip rows
 (the engine cannot do it) and undefined rows (no defined value, whatever the
@@ -28,15 +30,14 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.core.kinds import KIND_ORDER
 from crosscheck.core.model import Status
-from crosscheck.report import repro_links
+from crosscheck.report import aside, repro_links
+from crosscheck.report.cost import cost_of, rank
 from crosscheck.report.frames import records
-from crosscheck.report.query_cost import column
 from crosscheck.report.summary_tables import share_colour
 from crosscheck.results.jsonlines import each_distinct
 
-KINDS = ("aabb", "sphere", "sphere_response", "sphere_toi", "sphere_scene")
-"""The kinds in their column order; a run's other kinds follow, in run order."""
 SHOWN = 3
 """Failure modes shown per engine in the block (all of them are in the list below it)."""
 DASH = "\u2013"
@@ -118,6 +119,9 @@ class Mode:
     :func:`crosscheck.report.repro_links.command`)."""
     reason: str = ""
     """The example row's own reason, its numbers intact."""
+    aside: str = ""
+    """Why the headline leaves this mode out (:func:`crosscheck.report.aside.labels`: bad
+    input, zero size), ``""``: it is a headline mode."""
 
     @property
     def label(self) -> str:
@@ -137,17 +141,32 @@ class EngineVerdict:
 
     @property
     def top(self) -> list[Mode]:
-        return self.modes[:SHOWN]
+        return headline(self.modes)[:SHOWN]
+
+    @property
+    def headline_modes(self) -> int:
+        return len(headline(self.modes))
+
+    @property
+    def set_aside(self) -> int:
+        """Its breaking rows on bad input or zero-size bodies (left out of :attr:`top`)."""
+        return sum(m.count for m in self.modes if m.aside)
 
     @property
     def breaking(self) -> int:
         return sum(m.count for m in self.modes)
 
 
+def headline(modes: list[Mode]) -> list[Mode]:
+    """The modes a headline shows: those not set aside (bad input, zero size)."""
+    return [m for m in modes if not m.aside]
+
+
 def kinds_of(frame: pd.DataFrame) -> list[str]:
-    """The kinds of the run: those of :data:`KINDS` present, then any other, in run order."""
+    """The kinds of the run: those of :data:`~crosscheck.core.kinds.KIND_ORDER` present, then
+    any other, in run order."""
     present = [str(k) for k in dict.fromkeys(frame["kind"])]
-    return [k for k in KINDS if k in present] + [k for k in present if k not in KINDS]
+    return [k for k in KIND_ORDER if k in present] + [k for k in present if k not in KIND_ORDER]
 
 
 def agreement(frame: pd.DataFrame) -> pd.DataFrame:
@@ -163,24 +182,27 @@ def speed_ranks(frame: pd.DataFrame) -> pd.DataFrame:
     ``query_instructions`` of its counted ones, whether its kind is ranked ``by_counts``
     (every engine of the kind with a cost was counted), its rank in that measure among the
     engines of the kind measured so (1 = cheapest; ties share the better rank) and how many."""
-    per_case = frame.drop_duplicates(["engine", "kind", "case_id"])
-    costs = pd.DataFrame({"median_s": column(per_case, "query_s"),
-                          "median_instructions": column(per_case, "query_instructions")})
-    medians = costs.groupby([per_case["engine"], per_case["kind"]]).median()
-    medians = medians[medians.notna().any(axis=1)]
-    counted = medians["median_instructions"].notna()
-    by_counts = counted.groupby(level="kind").transform("all").astype(bool)
-    key = medians["median_instructions"].where(by_counts, medians["median_s"])
-    ranked = medians.assign(by_counts=by_counts)[key.notna()]
-    by_kind = key.dropna().groupby(level="kind")
-    return ranked.assign(rank=by_kind.rank(method="min"), ranked=by_kind.transform("size"))
+    rows = []
+    for kind, of_kind in frame.groupby("kind", sort=False):
+        costs = {str(e): cost_of(r) for e, r in of_kind.groupby("engine", sort=False)}
+        ranking = rank(list(costs), costs.__getitem__)
+        places = [(e, p) for e, p in zip(ranking.items, ranking.places, strict=True) if p]
+        rows += [{"engine": e, "kind": str(kind), "median_s": costs[e].wall.median,
+                  "median_instructions": costs[e].counted.median,
+                  "by_counts": ranking.by_counts, "rank": place, "ranked": len(places)}
+                 for e, place in places]
+    columns = ["engine", "kind", "median_s", "median_instructions", "by_counts", "rank", "ranked"]
+    return pd.DataFrame(rows, columns=columns).set_index(["engine", "kind"])
 
 
-def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mode]:
+def failure_modes(frame: pd.DataFrame, written: Collection[str] = (),
+                  zero_sized: Collection[str] = ()) -> list[Mode]:
     """Every failure mode of every engine, most rows first (ties: in the order first seen).
 
     The example of a mode is its first row whose repro script is in ``written``
-    (file names), else its first row.
+    (file names), else its first row.  The rows of bad-input cases and of the cases in
+    ``zero_sized`` (:func:`crosscheck.report.aside.zero_size`) are modes of their own,
+    marked :attr:`Mode.aside`.
     """
     bad = frame[frame["status"].isin(Status.members("breaking"))]
     if bad.empty:
@@ -190,8 +212,9 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
     reasons = bad["reason"].fillna("").astype(str)
     bad = bad.assign(_pattern=each_distinct(reasons, reason_pattern), _reason=reasons,
                      _category=bad["category"].fillna("").astype(str), _repro=links,
-                     _has=[bool(link) for link in links])
-    keys = ["engine", "status", "_category", "_pattern"]
+                     _has=[bool(link) for link in links],
+                     _aside=aside.labels(bad, zero_sized))
+    keys = ["engine", "status", "_category", "_pattern", "_aside"]
     counts = bad.groupby(keys, sort=False).size().rename("count")
     firsts = bad.sort_values("_has", ascending=False, kind="stable").groupby(
         keys, sort=False)[["case_id", "_repro", "_has", "_reason"]].first()
@@ -200,7 +223,7 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = ()) -> list[Mo
     return [Mode(engine=str(r["engine"]), status=str(r["status"]), category=str(r["_category"]),
                  pattern=str(r["_pattern"]), count=int(r["count"]), example=str(r["case_id"]),
                  repro=str(r["_repro"]),
-                 reason=str(r["_reason"]))
+                 reason=str(r["_reason"]), aside=str(r["_aside"]))
             for r in records(modes)]
 
 
@@ -246,9 +269,11 @@ def repeat_counts(frame: pd.DataFrame) -> tuple[int, dict[str, int]]:
     return len(asked), counts
 
 
-def verdicts(frame: pd.DataFrame, written: Collection[str] = ()) -> list[EngineVerdict]:
-    """One verdict per engine, best overall agreeing share first (nothing judged: last)."""
-    made, modes = cells(frame), failure_modes(frame, written)
+def verdicts(frame: pd.DataFrame, written: Collection[str] = (),
+             zero_sized: Collection[str] = ()) -> list[EngineVerdict]:
+    """One verdict per engine, best overall agreeing share first (nothing judged: last);
+    ``zero_sized``: the cases with a zero-size body, set aside with the bad-input ones."""
+    made, modes = cells(frame), failure_modes(frame, written, zero_sized)
     _, changed = repeat_counts(frame)
     rows = []
     for engine in (str(e) for e in dict.fromkeys(frame["engine"])):
@@ -260,11 +285,13 @@ def verdicts(frame: pd.DataFrame, written: Collection[str] = ()) -> list[EngineV
 
 
 def verdict(frame: pd.DataFrame, repros: Collection[str] = (),
-            repeat_check: dict[str, Any] | None = None) -> dict[str, Any]:
-    """The verdict section's context: ``repros`` are the file names of the run's repro
-    scripts (:attr:`crosscheck.results.store.StoredRun.repros`), ``repeat_check`` the run's
+            repeat_check: dict[str, Any] | None = None,
+            zero_sized: Collection[str] = ()) -> dict[str, Any]:
+    """The verdict section's context: ``zero_sized`` the cases with a zero-size body
+    (:func:`crosscheck.report.aside.zero_size`); ``repros`` are the file names of the run's repro
+    scripts (:attr:`crosscheck.results.run.Run.repros`), ``repeat_check`` the run's
     summary of its repeat check (None: not run)."""
-    rows = verdicts(frame, repros)
+    rows = verdicts(frame, repros, zero_sized)
     asked, changed = repeat_counts(frame)
     return {"kinds": kinds_of(frame), "rows": rows, "shown": SHOWN,
             "kinds_counted": any(c.by_counts for row in rows for c in row.cells),

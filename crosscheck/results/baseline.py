@@ -80,8 +80,8 @@ if TYPE_CHECKING:
     import pandas as pd
 
 __all__ = ["DEFAULT_MARGIN", "DEFAULT_STALE_FACTOR", "Baseline", "BaselineError", "Entry",
-           "Finding", "Verdict", "from_rows", "judge", "read_baseline", "updated",
-           "write_baseline"]
+           "Finding", "Verdict", "engines_beyond", "from_rows", "judge", "read_baseline",
+           "updated", "write_baseline"]
 
 
 class Verdict(StrEnum):
@@ -171,6 +171,24 @@ def updated(baseline: Baseline | None, frame: pd.DataFrame,
     kept = {} if baseline is None or engines is None else {
         key: entry for key, entry in baseline.entries.items() if key[1] not in engines}
     return Baseline(kept | fresh.entries, margin, factor, source)
+
+
+def engines_beyond(frame: pd.DataFrame, baseline: Baseline) -> dict[str, int]:
+    """The run's engines of which ``baseline`` holds no row, with their row counts: judged
+    against it without an ``engines`` scope, every one of their rows would be new (an empty
+    baseline: none, it holds no engine to scope to).
+
+    >>> import pandas as pd
+    >>> from crosscheck.results.baseline_file import Entry
+    >>> base = Baseline({("c", "a", "hit"): Entry("c", "a", "hit", "agree", "", 0.0)}, 0.5,
+    ...                 2.0, "run")
+    >>> engines_beyond(pd.DataFrame({"engine": ["a", "b", "b"]}), base)
+    {'b': 2}
+    """
+    if not baseline.engines:
+        return {}
+    counts = frame["engine"].astype(str).value_counts(sort=False)
+    return {str(e): int(n) for e, n in counts.items() if e not in baseline.engines}
 
 
 def judge(frame: pd.DataFrame, baseline: Baseline | None,

@@ -34,6 +34,8 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.results import jsonlines
+
 FILE = "counts.jsonl"
 COLUMNS = ["case_id", "engine", "kind", "unit", "calls", "instructions", "empty", "engine_ir",
            "query_instructions", "engine_instructions"]
@@ -78,13 +80,12 @@ def read_counts(directory: Path) -> pd.DataFrame:
     per-query figures; empty if the run counted nothing."""
     path = directory / FILE
     rows: list[dict[str, Any]] = []
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                record = CountRecord(**json.loads(line))
-            except (json.JSONDecodeError, TypeError):
-                continue  # a half-written last line of a killed run
-            rows.append({"case_id": record.case_id, "engine": record.engine,
+    for line in jsonlines.parse_lines(path):  # a half-written last line is left out
+        try:
+            record = CountRecord(**line)
+        except TypeError:
+            continue  # a line cut where it still reads as JSON
+        rows.append({"case_id": record.case_id, "engine": record.engine,
                          "kind": record.kind, "unit": record.unit, "calls": record.calls,
                          "instructions": record.instructions, "empty": record.empty,
                          "engine_ir": record.engine_ir, "query_instructions": record.per_call,

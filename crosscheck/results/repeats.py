@@ -33,6 +33,8 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.results import jsonlines
+
 FILE = "repeats.jsonl"
 
 Answer = tuple[str, str]
@@ -82,13 +84,12 @@ def read_repeats(directory: Path) -> dict[tuple[str, str], RepeatRecord]:
     run) is left out; none when the run has no ``repeats.jsonl``."""
     path = directory / FILE
     records: dict[tuple[str, str], RepeatRecord] = {}
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                record = RepeatRecord.from_json(json.loads(line))
-            except (json.JSONDecodeError, KeyError, TypeError, AttributeError):
-                continue  # a half-written last line of a killed run
-            records[(record.case_id, record.engine)] = record
+    for line in jsonlines.parse_lines(path):  # a half-written last line is left out
+        try:
+            record = RepeatRecord.from_json(line)
+        except (KeyError, TypeError, AttributeError):
+            continue  # a line cut where it still reads as JSON
+        records[(record.case_id, record.engine)] = record
     return records
 
 

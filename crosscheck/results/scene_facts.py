@@ -33,6 +33,7 @@ from typing import Any
 
 from crosscheck.core.model import Observation
 from crosscheck.core.schema import AnyCase, SceneCase
+from crosscheck.results import jsonlines
 from crosscheck.truth import scenes
 
 FILE = "scene_facts.jsonl"
@@ -85,11 +86,10 @@ def read_facts(directory: Path) -> dict[str, SceneFacts]:
     ``scene_facts.jsonl`` (a half-written last line is left out)."""
     path = directory / FILE
     found: dict[str, SceneFacts] = {}
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                facts = SceneFacts.from_json(line)
-            except (json.JSONDecodeError, KeyError, TypeError, ValueError):
-                continue  # a half-written last line of a killed run
-            found[facts.case_id] = facts
+    for line in jsonlines.parse_lines(path):  # a half-written last line is left out
+        try:
+            facts = SceneFacts.from_json(line)
+        except (KeyError, TypeError, ValueError, AttributeError):
+            continue  # a line cut where it still reads as JSON
+        found[facts.case_id] = facts
     return found

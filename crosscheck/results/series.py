@@ -39,6 +39,7 @@ from typing import Any, TypeVar
 
 from crosscheck.core.model import Trajectory
 from crosscheck.core.schema import SceneCase
+from crosscheck.results import jsonlines
 from crosscheck.truth.scene_measures import energy_scale
 
 FILE = "series.jsonl"
@@ -120,11 +121,10 @@ def read_series(directory: Path) -> list[SeriesRecord]:
     written; none when the run has no ``series.jsonl`` (a half-written last line is left out)."""
     path = directory / FILE
     found: dict[tuple[str, str], SeriesRecord] = {}
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                record = SeriesRecord.from_json(line)
-            except (json.JSONDecodeError, KeyError, TypeError, ValueError):
-                continue  # a half-written last line of a killed run
-            found[(record.case_id, record.engine)] = record
+    for line in jsonlines.parse_lines(path):  # a half-written last line is left out
+        try:
+            record = SeriesRecord.from_json(line)
+        except (KeyError, TypeError, ValueError, AttributeError):
+            continue  # a line cut where it still reads as JSON
+        found[(record.case_id, record.engine)] = record
     return list(found.values())

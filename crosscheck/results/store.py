@@ -24,8 +24,9 @@
   writes none: every script is printed on demand); :func:`written_repros` says which are
   there.
 
-Running writes these; reporting only reads them, through :func:`read_run` (a
-:class:`StoredRun` also answers the format the run was written in, and its repro scripts).
+Running writes these; reading them back is :mod:`crosscheck.results.run` (a
+:class:`~crosscheck.results.run.Run`: the folder as an object, for the report and for the
+phases after the verdicts).
 Every row of ``results.jsonl`` is written as :mod:`crosscheck.results.rows` defines it.
 
 A write that fails (a full disk: ENOSPC, a quota) raises :class:`StoreError`
@@ -34,8 +35,6 @@ is skipped by every reader and dropped by ``--resume``), and the run can be
 resumed once there is space.  ``cases.jsonl`` is written before ``run.json``,
 so a folder with a run.json always has the cases to resume.
 
-Over 400 lines: the store is the one owner of the run folder (writing, locking,
-resuming and reading back belong together), so it stays one module.
 """
 
 from __future__ import annotations
@@ -45,18 +44,16 @@ import hashlib
 import json
 import os
 from collections.abc import Iterable
-from dataclasses import dataclass
 from pathlib import Path
-from typing import IO, Any
+from typing import IO
 
 import pandas as pd
 
-from crosscheck.core.model import COLUMNS, Kind, Record, quantities_of
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase
-from crosscheck.core.values import upgrade
-from crosscheck.results import counts, jsonlines, legacy, repeats, scene_facts, series
+from crosscheck.core.model import Kind, Record, quantities_of
+from crosscheck.core.schema import AnyCase
+from crosscheck.results import counts, jsonlines, repeats, scene_facts, series
 from crosscheck.results.rows import line
-from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
+from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.timings import FILE as TIMINGS
 from crosscheck.results.timings import TimingRecord, read_timings
 
@@ -251,30 +248,13 @@ def _replace(path: Path, lines: list[str]) -> None:
 
 def _replace_if_exists(path: Path) -> None:
     if path.exists():
-        _replace(path, [text for text, _ in _lines(path)])
-
-
-def _lines(path: Path) -> list[tuple[str, dict[str, Any]]]:
-    """Every whole line of a JSON-lines file, as written and parsed (a half-written last line
-    of a killed run is left out)."""
-    out = []
-    if path.exists():
-        for text in path.read_text(encoding="utf-8").splitlines():
-            try:
-                out.append((text, json.loads(text)))
-            except json.JSONDecodeError:
-                continue  # a half-written last line of a killed run
-    return out
-
-
-def _parsed_lines(path: Path) -> list[dict[str, Any]]:
-    return jsonlines.parse_lines(path)
+        _replace(path, [text for text, _ in jsonlines.read_lines(path)])
 
 
 def _keep_finished(path: Path) -> set[tuple[str, str]]:
     """Keep only the rows of finished case x engine pairs, as they were written; return
     those pairs."""
-    lines = _lines(path)
+    lines = jsonlines.read_lines(path)
     seen: dict[tuple[str, str], set[str]] = {}
     for _, row in lines:
         seen.setdefault((row["case_id"], row["engine"]), set()).add(row["quantity"])
@@ -282,124 +262,6 @@ def _keep_finished(path: Path) -> set[tuple[str, str]]:
     done = {pair for pair, qs in seen.items() if qs == set(quantities_of(Kind(kinds[pair])))}
     _replace(path, [text for text, row in lines if (row["case_id"], row["engine"]) in done])
     return done
-
-
-def read_results(directory: Path) -> pd.DataFrame:
-    """The results of a run as a DataFrame in COLUMNS order, then the repeat columns
-    (:func:`~crosscheck.results.repeats.with_repeats`), sorted by case, engine, quantity.
-
-    The order is the suite's (``cases.jsonl``) and the run's engine list
-    (``run.json``), so it does not depend on ``--jobs`` or on resuming.
-    """
-    rows = [legacy.record_fields(row) for row in _parsed_lines(directory / "results.jsonl")]
-    frame = pd.DataFrame(jsonlines.by_column(rows, COLUMNS), columns=list(COLUMNS))
-    if not rows:
-        return repeats.with_repeats(counts.with_counts(frame, directory), directory)
-    frame = frame.astype({"dim": "int64", "loops": "int64"})
-    for column in ("value", "truth"):  # formats 1-3 wrote "", undefined and bare NaN
-        frame[column] = jsonlines.each_distinct(frame[column], upgrade)
-    case_rank = {case_id: i for i, case_id in enumerate(_case_ids(directory))}
-    engine_rank = {name: i for i, name in enumerate(_engine_names(directory))}
-    keys = pd.DataFrame({
-        "case": frame["case_id"].map(case_rank).fillna(len(case_rank)),
-        "engine": frame["engine"].map(engine_rank).fillna(len(engine_rank)),
-        "quantity": jsonlines.each_distinct(frame["kind"] + "\x00" + frame["quantity"],
-                                            _rank).to_numpy(),
-    })
-    order = keys.sort_values(["case", "engine", "quantity"], kind="stable").index
-    frame = _with_timings(frame.loc[order].reset_index(drop=True), read_timings(directory))
-    return repeats.with_repeats(counts.with_counts(frame, directory), directory)
-
-
-def _rank(kind_quantity: str) -> int:
-    """The place of a quantity among its kind's (``kind NUL quantity``)."""
-    kind, quantity = kind_quantity.split("\x00")
-    return quantities_of(Kind(kind)).index(quantity)
-
-
-def _with_timings(frame: pd.DataFrame, timings: pd.DataFrame) -> pd.DataFrame:
-    """The rows' timing columns filled from the timing phase's samples, where it timed them."""
-    if timings.empty:
-        return frame
-    timed = timings.set_index(["case_id", "engine"])
-    keys = pd.MultiIndex.from_frame(frame[["case_id", "engine"]])
-    found = keys.isin(timed.index)
-    if not found.any():
-        return frame
-    rows = timed.reindex(keys[found])
-    frame.loc[found, "query_s"] = rows["median_s"].to_numpy()
-    frame.loc[found, "query_iqr_s"] = rows["iqr_s"].to_numpy()
-    frame.loc[found, "loops"] = rows["loops"].to_numpy().astype("int64")
-    frame.loc[found, "unstable"] = rows["unstable"].to_numpy().astype(bool)
-    return frame
-
-
-def _engine_names(directory: Path) -> list[str]:
-    if not (directory / "run.json").exists():
-        return []
-    return [e["name"] for e in _run_json(directory).get("engines", [])]
-
-
-def _case_ids(directory: Path) -> list[str]:
-    return [str(case["id"]) for case in _parsed_lines(directory / "cases.jsonl")]
-
-
-def read_cases(directory: Path) -> dict[str, AnyCase]:
-    """The stored cases of a run, typed as when they ran, by id, in suite order."""
-    return {str(case["id"]): CASE_ADAPTER.validate_python(legacy.case_fields(case))
-            for case in _parsed_lines(directory / "cases.jsonl")}
-
-
-def _run_json(directory: Path) -> dict[str, Any]:
-    """``run.json`` as written (the one place that parses it)."""
-    path = directory / "run.json"
-    try:
-        data: dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise StoreError(f"{path} does not exist: not a run folder, or a run killed before "
-                         "it started") from None
-    except json.JSONDecodeError as exc:
-        raise StoreError(f"{path}: {exc}") from exc
-    return data
-
-
-def _info(directory: Path, data: dict[str, Any]) -> RunInfo:
-    try:
-        return RunInfo.from_json(data)
-    except (KeyError, TypeError, FormatError) as exc:
-        raise StoreError(f"{directory / 'run.json'}: {exc}") from exc
-
-
-def read_run_info(directory: Path) -> RunInfo:
-    """``run.json`` of a run, of any format version this harness has written."""
-    return _info(directory, _run_json(directory))
-
-
-@dataclass(frozen=True)
-class StoredRun:
-    """A run read back: its info, its results table and its typed cases (by id, suite order),
-    the format version its run.json was written in (``info`` is migrated to the current one),
-    and the repro scripts it holds."""
-
-    directory: Path
-    info: RunInfo
-    results: pd.DataFrame
-    cases: dict[str, AnyCase]
-    format_version: int = FORMAT_VERSION
-    """The format of ``run.json`` as written (:mod:`crosscheck.results.runinfo`'s history)."""
-
-    @property
-    def repros(self) -> set[str]:
-        """The file names of the repro scripts in the run folder (:func:`written_repros`)."""
-        return written_repros(self.directory)
-
-
-def read_run(directory: Path) -> StoredRun:
-    """Everything a report, compare, stability study or resume needs from a run folder."""
-    data = _run_json(directory)
-    info = _info(directory, data)
-    return StoredRun(directory, info, read_results(directory), read_cases(directory),
-                     int(data["format_version"]))  # an int: else RunInfo refused it
 
 
 REPRO_DIR = "repro"

@@ -34,10 +34,12 @@ import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import pandas as pd
+
+from crosscheck.results import jsonlines
 
 UNSTABLE_SPREAD = 0.10
 """A measurement whose interquartile range exceeds this share of its median is unstable."""
@@ -65,12 +67,28 @@ class Spread:
         return not self.median > 0 or self.iqr > UNSTABLE_SPREAD * self.median
 
 
-def spread(values: Sequence[float]) -> Spread:
-    """The median and quartiles (numpy's linear interpolation) of ``values``; NaN if none."""
+def quantiles(values: Sequence[float], at: Sequence[float],
+              nearest: bool = False) -> list[float]:
+    """The quantiles ``at`` (shares, 0 to 1) of ``values``: numpy's linear interpolation, or
+    with ``nearest`` the nearest rank (the smallest value with at least that share of the
+    values at or below it); NaN each if none.  The one quantile rule of the harness: the
+    report's spreads and cost ranks, ``compare``, the bench and the tools all read it.
+
+    >>> quantiles([1.0, 2.0, 3.0, 4.0], [0.25, 0.5]), quantiles([1.0, 2.0], [0.95], nearest=True)
+    ([1.75, 2.5], [2.0])
+    >>> quantiles([], [0.5])
+    [nan]
+    """
     if not len(values):
-        return Spread(math.nan, math.nan, math.nan, 0)
-    q1, median, q3 = (float(x) for x in np.percentile(np.asarray(values, dtype=float),
-                                                      [25, 50, 75]))
+        return [math.nan] * len(at)
+    method: Literal["inverted_cdf", "linear"] = "inverted_cdf" if nearest else "linear"
+    return [float(x) for x in np.quantile(np.asarray(values, dtype=float), list(at),
+                                          method=method)]
+
+
+def spread(values: Sequence[float]) -> Spread:
+    """The median and quartiles (:func:`quantiles`) of ``values``; NaN if none."""
+    q1, median, q3 = quantiles(values, (0.25, 0.5, 0.75))
     return Spread(median, q1, q3, len(values))
 
 
@@ -170,17 +188,13 @@ def read_timings(directory: Path) -> pd.DataFrame:
 
 def _read_timings(path: Path) -> pd.DataFrame:
     rows: list[dict[str, Any]] = []
-    if path.exists():
-        for line in path.read_text(encoding="utf-8").splitlines():
-            try:
-                data = _upgraded(json.loads(line))
-            except json.JSONDecodeError:
-                continue  # a half-written last line of a killed run
-            s = spread(data["values"])
-            rows.append(data | {"n": s.n, "median_s": s.median, "q1_s": s.q1, "q3_s": s.q3,
-                                "iqr_s": s.iqr, "unstable": s.unstable,
-                                "normalised_median": spread(normalised(
-                                    data["values"], data["yardstick"])).median})
+    for line in jsonlines.parse_lines(path):  # a half-written last line is left out
+        data = _upgraded(line)
+        s = spread(data["values"])
+        rows.append(data | {"n": s.n, "median_s": s.median, "q1_s": s.q1, "q3_s": s.q3,
+                            "iqr_s": s.iqr, "unstable": s.unstable,
+                            "normalised_median": spread(normalised(
+                                data["values"], data["yardstick"])).median})
     frame = pd.DataFrame(rows, columns=COLUMNS)
     return frame.drop_duplicates(["case_id", "engine"], keep="last").reset_index(drop=True)
 

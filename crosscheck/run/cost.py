@@ -39,7 +39,8 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.results.counts import CountRecord
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import Run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run import callgrind
 from crosscheck.run.execute import case_options
 from crosscheck.run.pinned import environment
@@ -207,16 +208,16 @@ def by_library(pairs: Sequence[Pair]) -> list[list[Pair]]:
     return list(groups.values())
 
 
-def cost_phase(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
-               options: RunOptions, start: Callable[[int], Tick] | None = None) -> dict[str, Any]:
-    """Count the sample into ``store`` (skipping pairs already counted); the ``cost`` part of
-    run.json's timing section.  ``start(total)`` returns the function to call as each pair
-    finishes (a progress bar)."""
+def cost_phase(store: ResultsStore, run: Run, engines: Sequence[Adapter], options: RunOptions,
+               start: Callable[[int], Tick] | None = None) -> dict[str, Any]:
+    """Count the sample of ``run``'s rows into ``store`` (skipping pairs already counted);
+    the ``cost`` part of run.json's timing section.  ``start(total)`` returns the function to
+    call as each pair finishes (a progress bar)."""
     began = time.monotonic()
     why = callgrind.missing()
     if why:
         return {"timer": "instructions", "none": why}
-    sample = cost_sample(cases, engines, read_results(store.directory), options)
+    sample = cost_sample(list(run.cases.values()), engines, run.results, options)
     todo = [(c, a) for c, a in sample if (c.id, a.name) not in store.counted]
     tick = start(len(todo)) if start else None
     lock, stopping = threading.Lock(), threading.Event()

@@ -9,19 +9,27 @@ store, ask the disagreeing pairs again with ``repeat_check``
 Rendering a report is a separate step (``crosscheck.report``), in the manner of asv's run
 and publish.
 
+:func:`launch` returns the folder as a :class:`~crosscheck.results.run.Run`, built once:
+its rows are read after the verdict pass (``results.jsonl`` parsed once), and the same
+object goes to the repeat check, the timing and cost phases and back to the caller (the
+report, the summary, the baseline check), joined again to what each phase appended
+(:meth:`~crosscheck.results.run.Run.refresh`).  It equals :func:`~crosscheck.results.run.read_run`
+of the folder.
+
 >>> import tempfile
 >>> from pathlib import Path
 >>> from crosscheck.core.schema import CASE_ADAPTER
->>> from crosscheck.results.store import ResultsStore, read_run
+>>> from crosscheck.results.run import read_run
+>>> from crosscheck.results.store import ResultsStore
 >>> from crosscheck.testing.fakes import AlwaysRight
 >>> case = CASE_ADAPTER.validate_python({"id": "s", "description": "d", "kind": "sphere",
 ...     "dim": 2, "a": {"center": [0, 0], "radius": 0.5}, "b": {"center": [2, 0], "radius": 0.5}})
 >>> folder = Path(tempfile.mkdtemp()) / "run"
 >>> options = RunOptions(quick=True, isolate=False)
->>> info = launch(ResultsStore(folder), [case], [AlwaysRight()], options,
-...               new_info(folder, "doctest", options, [AlwaysRight()], [case]))
->>> info.finished is not None, len(read_run(folder).results)
-(True, 3)
+>>> run = launch(ResultsStore(folder), [case], [AlwaysRight()], options,
+...              new_info(folder, "doctest", options, [AlwaysRight()], [case]))
+>>> run.info.finished is not None, len(run.results), len(read_run(folder).results)
+(True, 3, 3)
 """
 
 from __future__ import annotations
@@ -33,6 +41,7 @@ from pathlib import Path
 from crosscheck.core.contract import Adapter, engine_info
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
+from crosscheck.results.run import Run
 from crosscheck.results.runinfo import RunInfo, now
 from crosscheck.results.store import ResultsStore
 from crosscheck.run import environment
@@ -67,8 +76,9 @@ the function to call with the number of items each time some finish (a progress 
 
 def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
            options: RunOptions, info: RunInfo, progress: Progress | None = None,
-           phases: Phases | None = None) -> RunInfo:
-    """Write ``info`` as run.json, run what is left, time the sample, then mark it finished.
+           phases: Phases | None = None) -> Run:
+    """Write ``info`` as run.json, run what is left, time the sample, then mark it finished;
+    the run folder as a :class:`~crosscheck.results.run.Run`.
 
     The verdict pass runs every case x engine pair not yet done (``progress``, or
     the ``"verdicts"`` phase, counts them); with ``options.repeat_check``, the repeat check
@@ -83,6 +93,7 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     ``crosscheck run --resume`` completes it.
     """
     preload(engines)
+    run = Run(store.directory, info, {case.id: case for case in cases})
     try:
         store.add_cases(cases)  # before run.json: a folder with a run.json can be resumed
         store.write_run_info(info)
@@ -91,20 +102,23 @@ def launch(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
         run_pending(cases, engines, store, options, progress)
         if options.repeat_check:
             again = (lambda total: phases("repeat check", total)) if phases else None
-            info = replace(info, repeat_check=repeat_check(store, cases, engines, options,
+            info = replace(info, repeat_check=repeat_check(store, run, engines, options,
                                                            again, info.repeat_check))
             store.write_run_info(info)  # kept if the timing phase is interrupted
+            run.refresh()
         if not options.quick and options.timing_cases > 0:
             start = (lambda total: phases("timing", total)) if phases else None
-            timing = time_phase(store, cases, engines, options, start)
+            timing = time_phase(store, run, engines, options, start)
             info = replace(info, timing=timing)
             if options.timer == "instructions":
                 store.write_run_info(info)  # the wall-clock samples are kept if interrupted
+                run.refresh()  # the cost sample reads the timed scenes' medians
                 count = (lambda total: phases("counting", total)) if phases else None
-                timing = timing | {"cost": cost_phase(store, cases, engines, options, count)}
+                timing = timing | {"cost": cost_phase(store, run, engines, options, count)}
                 info = replace(info, timing=timing)
         info = info.finish()
         store.write_run_info(info)
     finally:
         store.close()
-    return info
+    run.refresh()
+    return run

@@ -23,7 +23,6 @@ resumed run asks only the pairs not in that file yet.
 
 from __future__ import annotations
 
-import json
 import time
 from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
@@ -35,6 +34,7 @@ from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.repeats import Answer, RepeatRecord, changed, read_repeats
+from crosscheck.results.run import Run
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.casework import execute_case
 from crosscheck.run.distributed import DaskLanes
@@ -51,23 +51,20 @@ Pair = tuple[str, str]
 Answers = dict[str, Answer]
 
 
-def first_answers(directory: Path, engines: Collection[str],
+def first_answers(run: Run, engines: Collection[str],
                   skip: Collection[Pair] = ()) -> dict[Pair, Answers]:
     """The stored answers (quantity -> value text and status) of every pair of ``engines`` to
-    ask again, from ``results.jsonl``; the pairs in ``skip`` (already asked) left out."""
+    ask again, from the run's rows; the pairs in ``skip`` (already asked) left out."""
     answers: dict[Pair, Answers] = {}
     statuses: dict[Pair, set[str]] = {}
-    with (directory / "results.jsonl").open(encoding="utf-8") as handle:
-        for text in handle:
-            try:
-                row = json.loads(text)
-            except json.JSONDecodeError:
-                continue  # a half-written last line (the resume drops it)
-            pair = (str(row["case_id"]), str(row["engine"]))
-            if pair[1] in engines and pair not in skip:
-                answers.setdefault(pair, {})[str(row["quantity"])] = (
-                    str(row["value"]), str(row["status"]))
-                statuses.setdefault(pair, set()).add(str(row["status"]))
+    rows = run.results
+    for case_id, engine, quantity, value, status in zip(
+            rows["case_id"], rows["engine"], rows["quantity"], rows["value"], rows["status"],
+            strict=True):
+        pair = (str(case_id), str(engine))
+        if pair[1] in engines and pair not in skip:
+            answers.setdefault(pair, {})[str(quantity)] = (str(value), str(status))
+            statuses.setdefault(pair, set()).add(str(status))
     return {pair: answers[pair] for pair, seen in statuses.items()
             if seen & REASKED and not seen & NOT_REASKED}
 
@@ -104,25 +101,28 @@ def _repeat_job(classes: Sequence[type[Adapter]], options: RunOptions) -> Repeat
     return RepeatJob(tuple(cls() for cls in classes), options)
 
 
-def pending_repeats(store: ResultsStore, engines: Sequence[Adapter]) -> dict[Pair, Answers]:
-    """The first answers of the pairs the repeat check has still to ask in ``store``."""
-    return first_answers(store.directory, {a.name for a in engines}, store.repeated)
+def pending_repeats(store: ResultsStore, run: Run,
+                    engines: Sequence[Adapter]) -> dict[Pair, Answers]:
+    """The first answers of the pairs of ``run`` the repeat check has still to ask in
+    ``store``."""
+    return first_answers(run, {a.name for a in engines}, store.repeated)
 
 
-def repeat_check(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
-                 options: RunOptions, start: Callable[[int], Callable[[int], None]] | None = None,
+def repeat_check(store: ResultsStore, run: Run, engines: Sequence[Adapter], options: RunOptions,
+                 start: Callable[[int], Callable[[int], None]] | None = None,
                  previous: dict[str, Any] | None = None) -> dict[str, Any]:
-    """Ask every pending pair again (``start(total)`` returns the progress function), append
-    each record as it comes, and return the check's summary for run.json: ``pairs`` asked
-    and ``nondeterministic`` ones in the whole run, ``seconds`` (with ``previous``, the
-    summary of a part of the run that finished the check before it was interrupted, added;
-    the time of a part interrupted during the check is not counted)."""
+    """Ask every pending pair of ``run`` again (``start(total)`` returns the progress
+    function), append each record as it comes, and return the check's summary for run.json:
+    ``pairs`` asked and ``nondeterministic`` ones in the whole run, ``seconds`` (with
+    ``previous``, the summary of a part of the run that finished the check before it was
+    interrupted, added; the time of a part interrupted during the check is not counted)."""
     began = time.monotonic()
-    firsts = pending_repeats(store, engines)
+    firsts = pending_repeats(store, run, engines)
     by_case: dict[str, set[str]] = {}
     for case_id, engine in firsts:
         by_case.setdefault(case_id, set()).add(engine)
-    items = [(case, frozenset(by_case[case.id])) for case in cases if case.id in by_case]
+    items = [(case, frozenset(by_case[case.id])) for case in run.cases.values()
+             if case.id in by_case]
     progress = start(len(firsts)) if start else None
     lanes: Lanes = DaskLanes(options) if options.scheduler else LocalLanes(options)
     with lanes:

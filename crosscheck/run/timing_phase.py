@@ -35,7 +35,8 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import Run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.execute import Outcome, Step, Yardstick, case_options, probe_binding, time_step
 from crosscheck.run.rounds import Pair, Sampler, Tick, run_rounds, steps
 from crosscheck.run.timing import Timing
@@ -152,17 +153,18 @@ SamplerFactory = Callable[[RunOptions, int | None], Sampler]
 """Makes the phase's sampler from the options and the engines' CPU (None: not pinned)."""
 
 
-def time_phase(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adapter],
+def time_phase(store: ResultsStore, run: Run, engines: Sequence[Adapter],
                options: RunOptions, start: Callable[[int], Tick] | None = None, *,
                sampler: SamplerFactory = Measurer) -> dict[str, Any]:
-    """Measure the sample into ``store`` (skipping pairs already timed); the run.json section.
+    """Measure the sample of ``run``'s rows into ``store`` (skipping pairs already timed); the
+    run.json section.
 
     ``start(total)`` is told how many steps are to be taken (per pair: its calibration
     and each of its samples, :func:`crosscheck.run.rounds.steps`) and returns the
     function to call as they are taken (a progress bar).  ``sampler`` measures: the
     engines' workers, or injected times in tests.
     """
-    sample = timing_sample(cases, engines, read_results(store.directory), options)
+    sample = timing_sample(list(run.cases.values()), engines, run.results, options)
     todo = [(c, a) for c, a in sample if (c.id, a.name) not in store.timed]
     tick = start(steps(todo, options)) if start else None
     with _pinned(options) as (cpu, pinned):

@@ -13,21 +13,12 @@ from dataclasses import fields, replace
 from typing import TypeGuard
 
 from crosscheck.core.contract import Adapter
+from crosscheck.core.kinds import spec
 from crosscheck.core.model import Kind, Observation, Undefined, quantities_of
 from crosscheck.testing import samples
 from crosscheck.testing.samples import Sample
 from crosscheck.truth.bounds import UNIT_LENGTH
 
-REQUIRED: dict[Kind, tuple[str, ...]] = {
-    Kind.AABB: ("hit",), Kind.SPHERE: ("hit",), Kind.SPHERE_RESPONSE: ("v1", "v2"),
-    Kind.SPHERE_SCENE: ("positions", "velocities"), Kind.SPHERE_TOI: ("hit",)}
-"""The quantities an observation of each kind always carries."""
-EXTRAS: dict[Kind, frozenset[str]] = {
-    Kind.AABB: frozenset(), Kind.SPHERE: frozenset(),
-    Kind.SPHERE_RESPONSE: frozenset({"resolved_at"}),
-    Kind.SPHERE_SCENE: frozenset({"wall_s", "impacts", "trajectory"}),
-    Kind.SPHERE_TOI: frozenset()}
-"""Observation fields besides the kind's quantities that an adapter may set."""
 UNIT_TOLERANCE = UNIT_LENGTH
 """How far from 1 a normal's length may be (the scoring's own test of a unit vector)."""
 
@@ -77,21 +68,22 @@ class Answers:
 
     def observe(self, sample: Sample) -> Observation | None:
         """``observe()`` of the sample, if it is an Observation with only its kind's
-        quantities and the required ones (else None, failures recorded)."""
+        quantities and the required ones (else None, failures recorded): the kind's spec says
+        which (:class:`crosscheck.core.kinds.KindSpec`)."""
         observation = self.adapter.observe(sample.case)
         if not isinstance(observation, Observation):
             self.fail("observe", sample.label, "an Observation", repr(observation))
             return None
-        kind = sample.case.kind_enum
-        allowed = set(quantities_of(kind)) | EXTRAS[kind]
+        kind = spec(sample.case.kind_enum)
+        allowed = set(kind.names) | kind.extras
         extra = [f.name for f in fields(Observation)
                  if f.name not in allowed and getattr(observation, f.name) is not None]
-        missing = [q for q in REQUIRED[kind] if observation.get(q) is None]
+        missing = [q for q in kind.required if observation.get(q) is None]
         if extra:
-            self.fail("observe", sample.label, f"only quantities of {kind} "
-                      f"({', '.join(quantities_of(kind))})", f"also {', '.join(extra)}")
+            self.fail("observe", sample.label, f"only quantities of {kind.kind} "
+                      f"({', '.join(kind.names)})", f"also {', '.join(extra)}")
         if missing:
-            self.fail("observe", sample.label, f"{', '.join(REQUIRED[kind])} given",
+            self.fail("observe", sample.label, f"{', '.join(kind.required)} given",
                       f"no {', '.join(missing)}")
         return None if missing else observation
 

@@ -31,6 +31,7 @@ from typing import cast
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.kinds import quantity_named
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth import motion_rules
@@ -108,7 +109,7 @@ def judge(case: SceneCase, conventions: Conventions, quantity: str, value: Value
     why = coarse(case, conventions)
     if why:
         return (Status.DISAGREE, err, tol, Category.TOLERANCE,
-                f"{quantity} off by {err:.3g} {sm.UNITS[quantity]}: {why}")
+                f"{quantity} off by {err:.3g} {quantity_named(quantity).words}: {why}")
     rules: dict[str, Rule] = {"settle": _settle, "jitter": _jitter,
                               "energy_drift": functools.partial(_energy_drift, tol=tol),
                               "apex": motion_rules.apex,

@@ -22,6 +22,7 @@ from typing import cast
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, approach_speed, norm
+from crosscheck.core.kinds import quantity_named
 from crosscheck.core.model import Category, Observation, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth import drop_rules, scene_runs
@@ -82,7 +83,7 @@ def _only_lost(value: Value, want: Value, tol: float) -> bool:
 def energy_drift(case: SceneCase, conventions: Conventions, quantity: str, value: Value,
                  want: Value, err: float, truth: Observation, observed: Observation,
                  tol: float = 0.0) -> tuple[str, str]:
-    what = f"energy_drift off by {err:.3g} {sm.UNITS[quantity]}"
+    what = f"energy_drift off by {err:.3g} {quantity_named(quantity).words}"
     drop = drop_rules.sequence(case, conventions, observed, truth)
     if drop is not None:
         return drop.category, f"{what}: the run's bounces decide it: {drop.why}"

@@ -29,8 +29,8 @@ import numpy as np
 from crosscheck.core.contract import Conventions
 from crosscheck.core.model import Observation, Undefined, Value
 from crosscheck.core.schema import PairCase, ToiCase
-from crosscheck.truth import oracle
 from crosscheck.truth.bounds import SENTINEL, failed
+from crosscheck.truth.textbook import Precision, textbook
 
 __all__ = ["RULES", "SENTINEL", "declared", "failed", "failure"]
 
@@ -77,16 +77,16 @@ Rule = Callable[[PairCase | ToiCase, str, Observation], str]
 rule does not say so)."""
 
 
-def _textbook(precision: oracle.Precision) -> Rule:
+def _textbook(precision: Precision) -> Rule:
     """The textbook formula's own rule, in ``precision``: no normal where its centres
     coincide or its box axes tie, no response where its centres coincide, as its float
     numbers give them (``reference_impl.formulas``); for a time of impact, its discrete test
-    at the interval's two ends (:func:`crosscheck.truth.oracle.sampled_impact`): no normal
+    at the interval's two ends (:func:`crosscheck.truth.textbook.sampled_impact`): no normal
     where the centres coincide at the sample that finds the contact."""
     name = {"f32": "float32", "f64": "float64"}[precision]
 
     def rule(case: PairCase | ToiCase, quantity: str, observation: Observation) -> str:
-        there = oracle.textbook(case, precision).get(quantity)
+        there = textbook(case, precision).get(quantity)
         if not isinstance(there, Undefined):
             return ""
         return (f"the textbook formula in {name} defines no {quantity} for this case "
@@ -94,12 +94,12 @@ def _textbook(precision: oracle.Precision) -> Rule:
     return rule
 
 
-def _centre_line(precision: oracle.Precision) -> Rule:
+def _centre_line(precision: Precision) -> Rule:
     """A time of impact's normal taken as the direction from A's centre to B's at the time
     the engine reports (the engine gives none, or the adapter computes it so: FCL's binding,
     Box2D's ``b2Distance`` witness points of two circles), with the centres at that time in
     ``precision``: none where they coincide there.  In float64 the difference of the centres
-    is ``(cb - ca) + (vb - va) t`` (:func:`adapters.sphere_toi.centre_normal`); in float32
+    is ``(cb - ca) + (vb - va) t`` (:func:`adapters.shared.centre_normal`); in float32
     each centre is interpolated between its float32 start and end, ``(1 - s) c0 + s c1`` at
     ``s = t / duration`` (Box2D's ``b2Sweep::GetTransform``)."""
     name = {"f32": "float32", "f64": "float64"}[precision]
@@ -117,7 +117,7 @@ def _centre_line(precision: oracle.Precision) -> Rule:
     return rule
 
 
-def _centres_at(case: ToiCase, t: float, precision: oracle.Precision
+def _centres_at(case: ToiCase, t: float, precision: Precision
                 ) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """A's and B's centres at ``t`` as :func:`_centre_line` computes them (float64: A's at
     the origin, B's at the difference)."""

@@ -36,8 +36,6 @@ from crosscheck.core.model import Trajectory, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 
 MEASURES = ("settle", "jitter", "energy_drift", "apex", "bounce_time", "divergence")
-UNITS = {"settle": "m", "jitter": "m/s", "energy_drift": "of the energy scale per s",
-         "apex": "(relative)", "bounce_time": "s", "divergence": "of the run"}
 MAX_SAMPLES = 20_000
 """Recorded body states per scene at most (bodies x samples): the stride grows past it."""
 MIN_FLIGHT_STEPS = 4

@@ -33,6 +33,7 @@ from typing import Any, cast
 from crosscheck.core import disk_cache
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec, norm
+from crosscheck.core.kinds import quantity_named
 from crosscheck.core.model import Observation, Trajectory, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.truth import scene_measures as sm
@@ -192,15 +193,14 @@ def _scales(case: SceneCase) -> dict[str, float]:
     }
 
 
-ABSOLUTE = {"positions": "m", "velocities": "m/s", "momentum": "kg m/s", "energy": "J"}
-"""The units of a final-state error whose scale is 0 (every body at rest at the start and
-no fall to speed it): the error is then absolute."""
-
-
 def units(case: SceneCase, quantity: str) -> str:
-    """The units of ``quantity``'s error in this scene: :data:`UNITS`, or :data:`ABSOLUTE`
-    where the scale is 0."""
-    return UNITS[quantity] if _scales(case)[quantity] > 0 else ABSOLUTE[quantity]
+    """The units of ``quantity``'s error in this scene, as its spec words them
+    (:attr:`Quantity.words <crosscheck.core.kinds.Quantity.words>`; with gravity or walls the
+    scales are the top speed, sum m x it and the energy scale: see :func:`_scales`), or its
+    absolute unit where the scale is 0 (:attr:`Quantity.absolute
+    <crosscheck.core.kinds.Quantity.absolute>`)."""
+    named = quantity_named(quantity)
+    return named.words if _scales(case)[quantity] > 0 else named.absolute
 
 
 def gravity_step(case: SceneCase, quantity: str) -> float:
@@ -246,10 +246,6 @@ def tolerance(case: SceneCase, quantity: str, default: float) -> float:
     return chosen if chosen is not None else default
 
 
-UNITS = {"positions": "mean radii", "velocities": "of the largest initial speed",
-          "momentum": "of sum m|v|", "energy": "of the initial kinetic energy"}
-"""Units of the final-state errors (with gravity or walls the scales are the top speed, sum m
-x it and the energy scale: see :func:`_scales`)."""
 
 
 def damping_bound(case: SceneCase, conventions: Conventions) -> float:

@@ -24,13 +24,15 @@ error at the centres where it first reported the contact is kept beside it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import cast
 
 from crosscheck.core.contract import Conventions
 from crosscheck.core.geometry import Vec
+from crosscheck.core.kinds import spec
 from crosscheck.core.model import Category, Observation, Status, Undefined, Value
-from crosscheck.core.schema import AnyCase, SceneCase, ToiCase
+from crosscheck.core.schema import AnyCase, PairCase, SceneCase, ToiCase
 from crosscheck.truth import scene_rules, toi
 from crosscheck.truth.bounds import (
     bound,
@@ -70,7 +72,8 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
     """Judge one quantity of an engine's ``observation`` against the truth of the case as declared.
 
     ``value`` is ``observation.get(quantity)``; a quantity with no defined truth
-    for the case as declared is ``undefined``, whatever the engine did.
+    for the case as declared is ``undefined``, whatever the engine did.  A defined one is
+    judged by the judge its kind's spec names (:data:`JUDGES`).
     """
     want = truth.get(quantity)
     if value is None:
@@ -78,15 +81,28 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
     if isinstance(want, Undefined) or want is None:
         why = want.reason if isinstance(want, Undefined) else "no truth"
         return Verdict(Status.UNDEFINED, reason=f"no defined value: {why}")
-    if isinstance(case, SceneCase):
-        status, err, tol, category, reason = scene_rules.judge(
-            case, conventions, quantity, value, want, truth,
-            observation or Observation(), DEFAULT_RTOL)
-        return Verdict(status, err, tol, category, reason)
-    if isinstance(case, ToiCase):
-        status, err, tol, category, reason = toi.judge(case, conventions, quantity, value, truth,
-                                                       observation or Observation())
-        return Verdict(status, err, tol, category, reason)
+    return JUDGES[spec(case.kind_enum).judge](case, conventions, quantity, value, want, truth,
+                                              observation or Observation())
+
+
+def _scene(case: SceneCase, conventions: Conventions, quantity: str, value: Value, want: Value,
+           truth: Observation, observation: Observation) -> Verdict:
+    status, err, tol, category, reason = scene_rules.judge(
+        case, conventions, quantity, value, want, truth, observation, DEFAULT_RTOL)
+    return Verdict(status, err, tol, category, reason)
+
+
+def _impact(case: ToiCase, conventions: Conventions, quantity: str, value: Value, want: Value,
+            truth: Observation, observation: Observation) -> Verdict:
+    status, err, tol, category, reason = toi.judge(case, conventions, quantity, value, truth,
+                                                   observation)
+    return Verdict(status, err, tol, category, reason)
+
+
+def _pair(case: PairCase, conventions: Conventions, quantity: str, value: Value, want: Value,
+          truth: Observation, observation: Observation) -> Verdict:
+    """A two-body kind at one instant: within the float64 bound (or the case's tolerance),
+    else categorised; a normal that is no unit vector is an error."""
     tol = bound(case, quantity, _gap(truth))
     if quantity == "normal" and isinstance(value, tuple) and not failed(value):
         vec = cast(Vec, value)
@@ -104,8 +120,13 @@ def judge(case: AnyCase, conventions: Conventions, quantity: str, value: Value |
             seen_err = error_of(quantity, seen, want)
             judged = by_direction(cast(Vec, value), unit_allowance(conventions.rtol),
                                   conventions.rtol)
-    explained = categorize(case, conventions, quantity, seen, seen_err, truth,
-                           observation or Observation(), tol)
+    explained = categorize(case, conventions, quantity, seen, seen_err, truth, observation, tol)
     return Verdict(Status.DISAGREE, err, tol, explained.category, judged + explained.reason,
                    explained.error_at_contact)
 
+
+JUDGES: dict[str, Callable[..., Verdict]] = {"pair": _pair, "time of impact": _impact,
+                                             "scene": _scene}
+"""Each kind's judge, by the name its spec gives it (:attr:`KindSpec.judge
+<crosscheck.core.kinds.KindSpec.judge>`): ``judge(case, conventions, quantity, value, want,
+truth, observation)`` with a defined ``want``."""

@@ -23,9 +23,9 @@ import pytest
 Box2D = pytest.importorskip("Box2D")
 
 import adapters  # noqa: E402
-from adapters import box2d_engine as b2e  # noqa: E402
+from adapters import box2d as b2e  # noqa: E402
 from adapters import box2d_scene  # noqa: E402
-from adapters.box2d_engine import Box2dDefault, Box2dTuned  # noqa: E402
+from adapters.box2d import Box2dDefault, Box2dTuned  # noqa: E402
 from adapters.scene import Body  # noqa: E402
 from crosscheck.core.contract import Adapter  # noqa: E402
 from crosscheck.core.geometry import Vec, norm  # noqa: E402
@@ -337,9 +337,9 @@ def test_the_default_skin_is_within_its_declared_margin() -> None:
 
 def test_variants_set_the_polygon_skin_as_declared() -> None:
     case = aabb([0.0, 0.0], [1.0, 0.5], [5.0, 0.0], [1.0, 1.0])
-    assert (TUNED.prepare(case).a.radius, TUNED.prepare(case).use_radii) == (0.0, False)
-    assert (DEFAULT.prepare(case).a.radius, DEFAULT.prepare(case).use_radii) == (
-        Box2D.b2_polygonRadius, True)
+    tuned, default = TUNED.prepare(case).built, DEFAULT.prepare(case).built
+    assert (tuned["a"].radius, tuned["use_radii"]) == (0.0, False)
+    assert (default["a"].radius, default["use_radii"]) == (Box2D.b2_polygonRadius, True)
     assert TUNED.conventions.touching_is_contact("corner") is False
     assert DEFAULT.conventions.touching_is_contact("corner") is True
 
@@ -406,14 +406,16 @@ def test_bodies_that_never_meet_are_left_alone() -> None:
 def test_variant_settings_reach_the_world() -> None:
     case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 0.0], ma=2.0, mb=3.0,
                     restitution=0.5)
-    tuned, default = TUNED.prepare(case), DEFAULT.prepare(case)
-    assert (tuned.a.mass, tuned.b.mass, default.a.mass, default.b.mass) == (2.0, 3.0, 2.0, 3.0)
-    fa, fb = tuned.a.fixtures[0], tuned.b.fixtures[0]
+    tuned, default = TUNED.prepare(case).built, DEFAULT.prepare(case).built
+    assert (tuned["a"].mass, tuned["b"].mass, default["a"].mass, default["b"].mass) == (
+        2.0, 3.0, 2.0, 3.0)
+    fa, fb = tuned["a"].fixtures[0], tuned["b"].fixtures[0]
     assert (fa.restitution, fb.restitution, fa.friction) == (0.5, 0.0, 0.0)
-    assert default.a.fixtures[0].friction == pytest.approx(0.2)  # b2FixtureDef's default
-    assert (tuned.a.fixedRotation, default.a.fixedRotation) == (True, False)
-    assert default.a.inertia == pytest.approx(0.5 * 2.0 * 0.5**2)
-    assert (tuned.world.GetAllowSleeping(), default.world.GetAllowSleeping()) == (False, True)
+    assert default["a"].fixtures[0].friction == pytest.approx(0.2)  # b2FixtureDef's default
+    assert (tuned["a"].fixedRotation, default["a"].fixedRotation) == (True, False)
+    assert default["a"].inertia == pytest.approx(0.5 * 2.0 * 0.5**2)
+    assert (tuned["world"].GetAllowSleeping(), default["world"].GetAllowSleeping()) == (
+        False, True)
     assert (TUNED.conventions.time_step, DEFAULT.conventions.time_step) == (1e-3, 1.0 / 60.0)
 
 

@@ -18,8 +18,7 @@ import pytest
 pytest.importorskip("Box2D")
 
 from adapters import box2d_scene
-from adapters.box2d_engine import RTOL, Box2dDefault, Box2dTuned
-from adapters.ccd_variants import Box2dBullet
+from adapters.box2d import RTOL, Box2dBullet, Box2dDefault, Box2dTuned
 from adapters.scene import Surroundings, Wall
 
 pytestmark = pytest.mark.engine

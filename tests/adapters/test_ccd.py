@@ -1,5 +1,6 @@
-"""The CCD variants (adapters/ccd_variants.py): each engine's continuous-collision switch on
-a fast head-on pair, judged against the exact event-driven reference.
+"""The CCD variants (pybullet-ccd, box2d-bullet, rapier-ccd, in their engines' packages): each
+engine's continuous-collision switch on a fast head-on pair, judged against the exact
+event-driven reference.
 
 The pair: two spheres r = 0.05, m = 1, e = 1, head-on at +-50 from 0.6 apart, dt 1/240:
 step travel |vb - va| dt / 2(ra + rb) = 2.08, so no step start finds them overlapping and an
@@ -15,10 +16,9 @@ from typing import Any
 
 import pytest
 
-from adapters.box2d_engine import Box2dTuned
-from adapters.ccd_variants import Box2dBullet, PyBulletCcd, RapierCcd
-from adapters.pybullet_engine import PyBulletTuned
-from adapters.rapier_engine import RapierTuned
+from adapters.box2d import Box2dBullet, Box2dTuned
+from adapters.pybullet import PyBulletCcd, PyBulletTuned
+from adapters.rapier import RapierCcd, RapierTuned
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Category, Kind, Observation, Status
 from crosscheck.core.schema import CASE_ADAPTER, SceneCase

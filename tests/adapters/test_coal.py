@@ -22,18 +22,17 @@ coal = pytest.importorskip("coal")
 import numpy as np  # noqa: E402
 
 import adapters  # noqa: E402
-from adapters.coal_engine import (  # noqa: E402
+from adapters.coal import (  # noqa: E402
     COLLISION_THRESHOLD,
     DEFAULT_TOLERANCE,
     TUNED_CAP,
     TUNED_FLOOR,
     CoalDefault,
     CoalTuned,
-    Prepared,
     magnitude,
     tuned_tolerance,
 )
-from crosscheck.core.contract import Adapter  # noqa: E402
+from crosscheck.core.contract import Adapter, Prepared  # noqa: E402
 from crosscheck.core.geometry import norm  # noqa: E402
 from crosscheck.core.model import Category, Status, Undefined  # noqa: E402
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, PairCase  # noqa: E402
@@ -312,7 +311,7 @@ def test_each_variant_sets_its_tolerance_in_both_requests(adapter: Adapter, want
     case = aabb(ORIGIN, UNIT_BOX, [1.0, 0.0, 0.0], UNIT_BOX)  # M = 3
     prepared = adapter.prepare(case)
     assert isinstance(prepared, Prepared)
-    for request in (prepared.collision_request, prepared.distance_request):
+    for request in (prepared.built["collision_request"], prepared.built["distance_request"]):
         assert request.gjk_tolerance == request.epa_tolerance == pytest.approx(want)
 
 

@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 
 import adapters
-from adapters import pybullet_engine as pbe
-from adapters.pybullet_setup import engine
+from adapters import pybullet as pbe
+from adapters.pybullet import engine
 from crosscheck.cases.load import load_paths
 from crosscheck.core.geometry import norm
 from crosscheck.core.model import Observation

@@ -17,8 +17,8 @@ import pytest
 fcl = pytest.importorskip("fcl")
 
 import adapters  # noqa: E402
-from adapters.fcl_engine import Fcl, z_half  # noqa: E402
-from adapters.fcl_toi import CONTINUOUS  # noqa: E402
+from adapters.fcl import Fcl, z_half  # noqa: E402
+from adapters.fcl.ccd import CONTINUOUS  # noqa: E402
 from crosscheck.cases.load import load_paths  # noqa: E402
 from crosscheck.core.model import Category, Observation, Status  # noqa: E402
 from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, ToiCase  # noqa: E402

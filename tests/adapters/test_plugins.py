@@ -169,7 +169,7 @@ def plugins(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
         'raise RuntimeError("libboom.so not found")\n', encoding="utf-8")
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.setattr(adapters, "REGISTRY", {
-        "reference": ("adapters.reference", "ReferenceF64"), "fcl": ("adapters.fcl_engine", "Fcl"),
+        "reference": ("adapters.reference", "ReferenceF64"), "fcl": ("adapters.fcl", "Fcl"),
         "ghost": ("adapters.ghost_engine", "Ghost")})
     return tmp_path
 
@@ -236,7 +236,7 @@ def test_run_refuses_a_broken_engine_by_name_with_the_reason(
 def test_a_plugin_never_shadows_a_built_in(plugins: Path,
                                            capsys: pytest.CaptureFixture[str]) -> None:
     (chosen,) = engine_choice.select(["fcl"])
-    assert type(chosen).__module__ == "adapters.fcl_engine"
+    assert type(chosen).__module__ == "adapters.fcl"
     note = " ".join(capsys.readouterr().err.split())
     assert "crosscheck-clash 1.0" in note and "the built-in runs" in note
 

@@ -13,8 +13,7 @@ from typing import Any
 import pytest
 
 import adapters
-from adapters.pybullet_engine import BOX_MARGIN, PyBulletTuned, box_sizes, client
-from adapters.pybullet_setup import engine
+from adapters.pybullet import BOX_MARGIN, PyBulletTuned, box_sizes, client, engine
 from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Adapter, all_capabilities
 from crosscheck.core.model import Category, Kind, Observation, Status

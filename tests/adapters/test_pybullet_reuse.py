@@ -18,10 +18,11 @@ from typing import Any
 import pytest
 
 import adapters
-from adapters import pybullet_engine as pbe
-from adapters import pybullet_setup
-from adapters.pybullet_engine import Pair, PyBulletDefault, PyBulletTuned
-from adapters.pybullet_setup import engine
+from adapters import pybullet as pbe
+from adapters.pybullet import PyBulletDefault, PyBulletTuned, engine
+from adapters.pybullet import calls as pool
+from adapters.pybullet.calls import Pair
+from adapters.shared import pybullet as shared_pybullet
 from crosscheck.core.model import Observation
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import ROOT, aabb, response, sphere
@@ -35,9 +36,10 @@ VARIANTS: dict[str, type[PyBulletTuned]] = {"pybullet": PyBulletTuned,
 
 FRESH = """
 import json, sys
-from adapters import pybullet_engine as pbe
+from adapters import pybullet as pbe
+from adapters.pybullet import calls
 from crosscheck.core.schema import CASE_ADAPTER
-pbe.IDLE_LIMIT = pbe.RESPONSE_IDLE_LIMIT = 0  # no pool: every release removes its bodies
+calls.IDLE_LIMIT = calls.RESPONSE_IDLE_LIMIT = 0  # no pool: every release removes its bodies
 variants = {"pybullet": pbe.PyBulletTuned(), "pybullet-default": pbe.PyBulletDefault()}
 out = [repr(variants[name].observe(CASE_ADAPTER.validate_json(case)))
        for name, case in json.load(sys.stdin)]
@@ -76,7 +78,7 @@ def count(w: pbe.World) -> int:
 def observe(adapter: PyBulletTuned, case: AnyCase) -> tuple[Observation, Pair]:
     prepared = adapter.prepare(case)
     try:
-        return adapter.query(prepared), prepared
+        return adapter.query(prepared), prepared.built
     finally:
         adapter.release(prepared)
 
@@ -154,8 +156,8 @@ def test_bodies_and_shapes_stay_bounded_over_many_cases() -> None:
                             [-1.0, 0.0, 0.0], ma=1.0 + i % 3)
         observe(adapter, case)
         assert w.busy == 0 and r.busy == 0
-        assert count(w) == len(w.lru) <= pbe.IDLE_LIMIT
-        assert count(r) == len(r.lru) <= pbe.RESPONSE_IDLE_LIMIT
+        assert count(w) == len(w.lru) <= pool.IDLE_LIMIT
+        assert count(r) == len(r.lru) <= pool.RESPONSE_IDLE_LIMIT
     assert sum(len(bodies) for bodies in w.idle.values()) == len(w.lru)
     assert len(w.shapes) <= len(radii) + len(halves)
     assert len(r.shapes) == 1  # radius-0.5 responses: one shape
@@ -165,11 +167,11 @@ def test_a_client_full_of_shapes_is_replaced_between_cases(
         monkeypatch: pytest.MonkeyPatch) -> None:
     adapter = own("pybullet", "recycle")
     w = world_of(adapter)
-    monkeypatch.setattr(pbe, "SHAPE_LIMIT", 8)
+    monkeypatch.setattr(pool, "SHAPE_LIMIT", 8)
     for i in range(60):
         ra, rb = 0.1 + 0.01 * i, 0.2 + 0.01 * i  # two new shapes every case
         obs, _ = observe(adapter, sphere(0.0, 1.0, ra=ra, rb=rb))
-        assert len(w.shapes) <= 8 and count(w) <= pbe.IDLE_LIMIT
+        assert len(w.shapes) <= 8 and count(w) <= pool.IDLE_LIMIT
         assert obs.distance == pytest.approx(1.0 - ra - rb, abs=1e-12)
     bt = engine()  # the old client is gone: only the current one answers
     assert bt.getNumBodies(physicsClientId=w.cid) == len(w.lru)
@@ -188,8 +190,8 @@ def test_idle_bodies_make_no_contact_with_the_pair() -> None:
         obs = adapter.query(prepared)
         # the idle bodies overlap the pair (closest points ignore the collision filter) ...
         assert any(bt.getClosestPoints(body, other, 0.0, physicsClientId=w.cid)
-                   for body in idle if body not in (prepared.a, prepared.b)
-                   for other in (prepared.a, prepared.b))
+                   for body in idle if body not in (prepared.built.a, prepared.built.b)
+                   for other in (prepared.built.a, prepared.built.b))
         # ... but make no contact with it, nor with each other
         assert obs.hit is False and obs.distance == pytest.approx(0.2, abs=1e-12)
         assert bt.getContactPoints(physicsClientId=w.cid) == ()
@@ -199,7 +201,7 @@ def test_idle_bodies_make_no_contact_with_the_pair() -> None:
     try:
         assert adapter.query(prepared).hit is True
         pairs = {(p[1], p[2]) for p in bt.getContactPoints(physicsClientId=w.cid)}
-        assert pairs == {(prepared.a, prepared.b)}
+        assert pairs == {(prepared.built.a, prepared.built.b)}
     finally:
         adapter.release(prepared)
 
@@ -215,7 +217,7 @@ def test_idle_bodies_stay_still_and_out_of_a_response() -> None:
             "b": {"center": [1.5, 0.0, 0.0], "radius": 0.7 + 0.1 * k, "mass": 1.0,
                   "velocity": [-0.5, 0.0, 0.0]}}))
     idle = list(r.lru)
-    assert len(idle) == pbe.RESPONSE_IDLE_LIMIT
+    assert len(idle) == pool.RESPONSE_IDLE_LIMIT
 
     def state(bodies: list[int]) -> list[Any]:
         return [(bt.getBasePositionAndOrientation(b, physicsClientId=r.cid),
@@ -227,7 +229,7 @@ def test_idle_bodies_stay_still_and_out_of_a_response() -> None:
     case = response([-0.5, 0.0, 0.0], [2.0, 0.0, 0.0], [0.6, 0.0, 0.0], [0.0, 0.0, 0.0])
     obs, pair = observe(adapter, case)
     still = [k for k, b in enumerate(idle) if b in r.lru and b not in (pair.a, pair.b)]
-    assert len(still) >= pbe.RESPONSE_IDLE_LIMIT - 2  # one taken, one evicted at most
+    assert len(still) >= pool.RESPONSE_IDLE_LIMIT - 2  # one taken, one evicted at most
     assert state([idle[k] for k in still]) == [before[k] for k in still]
     assert repr(obs) == fresh([("pybullet-default", case)])[0]
 
@@ -238,7 +240,7 @@ def test_a_failed_prepare_gives_back_what_it_took(monkeypatch: pytest.MonkeyPatc
     observe(adapter, sphere(0.0, 0.75))  # two radius-0.5 bodies idle
     idle, bodies = len(w.lru), count(w)
     taken: list[int] = []
-    take = pbe.take
+    take = pool.take
 
     def failing(*args: Any) -> int:
         if taken:
@@ -246,7 +248,7 @@ def test_a_failed_prepare_gives_back_what_it_took(monkeypatch: pytest.MonkeyPatc
         taken.append(take(*args))
         return taken[-1]
 
-    monkeypatch.setattr(pbe, "take", failing)
+    monkeypatch.setattr(pool, "take", failing)
     with pytest.raises(engine().error):
         adapter.prepare(sphere(0.0, 0.75))
     assert w.busy == 0 and len(w.lru) == idle and count(w) == bodies and taken[0] in w.lru
@@ -265,13 +267,13 @@ def test_cases_outside_the_pool_get_new_bodies_removed_on_release() -> None:
                  sphere(0.0, 2e12),                             # beyond COORD_LIMIT
                  aabb([0.0, 0.0], [0.0, 1.0], [0.5, 0.0], [1.0, 1.0])):  # a 0 half-width
         prepared = adapter.prepare(case)
-        assert prepared.pooled is False
+        assert prepared.built.pooled is False
         adapter.release(prepared)
         assert count(w) == bodies
     bad = response([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0],
                    restitution=-0.5)
     prepared = adapter.prepare(bad)
-    assert prepared.pooled is False
+    assert prepared.built.pooled is False
     adapter.release(prepared)
     assert count(r) == len(r.lru)
 
@@ -283,14 +285,14 @@ def test_the_pooled_path_prints_nothing_and_skips_the_redirect(
     observe(adapter, case)  # connect and make the bodies
     capfd.readouterr()
     redirects: list[int] = []
-    quiet = pbe.quiet
+    quiet = pool.quiet
 
     def counted() -> Any:
         redirects.append(1)
         return quiet()
 
-    monkeypatch.setattr(pbe, "quiet", counted)
-    monkeypatch.setattr(pybullet_setup, "quiet", counted)
+    monkeypatch.setattr(pool, "quiet", counted)
+    monkeypatch.setattr(shared_pybullet, "quiet", counted)
     for _ in range(3):
         obs, _ = observe(adapter, case)
         assert obs.hit is True and math.isclose(obs.distance or 0.0, -0.25, abs_tol=1e-12)
@@ -303,8 +305,8 @@ def test_release_returns_bodies_to_the_pool_and_variants_use_separate_clients() 
     w = world_of(tuned)
     prepared = tuned.prepare(sphere(0.0, 1.0))
     other = default.prepare(sphere(0.0, 1.0))
-    assert prepared.cid != other.cid and prepared.cid == w.cid
+    assert prepared.built.cid != other.built.cid and prepared.built.cid == w.cid
     assert count(w) == 2 and w.busy == 2 and not w.lru
     tuned.release(prepared)
     default.release(other)
-    assert count(w) == 2 and w.busy == 0 and set(w.lru) == {prepared.a, prepared.b}
+    assert count(w) == 2 and w.busy == 0 and set(w.lru) == {prepared.built.a, prepared.built.b}

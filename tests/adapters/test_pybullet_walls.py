@@ -18,7 +18,7 @@ pytest.importorskip("pybullet")
 
 import adapters
 from adapters import pybullet_scene
-from adapters.pybullet_setup import engine
+from adapters.pybullet import engine
 from adapters.scene import Body, SceneRun, Surroundings, Wall
 
 pytestmark = pytest.mark.engine

@@ -18,7 +18,7 @@ import pytest
 pymunk = pytest.importorskip("pymunk")
 
 import adapters  # noqa: E402
-from adapters.pymunk_engine import PymunkDefault, PymunkTuned  # noqa: E402
+from adapters.pymunk import PymunkDefault, PymunkTuned  # noqa: E402
 from crosscheck.cases.load import load_paths  # noqa: E402
 from crosscheck.core.contract import Adapter  # noqa: E402
 from crosscheck.core.geometry import Vec, norm  # noqa: E402
@@ -107,7 +107,7 @@ def test_separated_shapes_raise_assertion_error_natively() -> None:
     # pymunk asserts the point count while building the ContactPointSet: no contact raises.
     prepared = TUNED.prepare(sphere(0.0, 3.0, dim=2))
     with pytest.raises(AssertionError):
-        prepared.a.shapes_collide(prepared.b)
+        prepared.built[0].shapes_collide(prepared.built[1])
     assert TUNED.query(prepared) == Observation(hit=False)
 
 
@@ -132,9 +132,10 @@ def test_shapes_outside_a_space_are_stale_until_cache_bb() -> None:
 
 def test_boxes_get_full_extents_from_half_widths() -> None:
     prepared = TUNED.prepare(aabb([0.0, 0.0], [1.0, 0.5], [5.0, 0.0], [1.0, 1.0]))
-    xs = sorted({v.x for v in prepared.a.get_vertices()})
-    ys = sorted({v.y for v in prepared.a.get_vertices()})
-    assert (xs, ys, prepared.a.radius) == ([-1.0, 1.0], [-0.5, 0.5], 0.0)
+    box = prepared.built[0]
+    xs = sorted({v.x for v in box.get_vertices()})
+    ys = sorted({v.y for v in box.get_vertices()})
+    assert (xs, ys, box.radius) == ([-1.0, 1.0], [-0.5, 0.5], 0.0)
     # half-widths 1 and 1 at centres 1.5 apart overlap by 0.5 (they would not if read as full)
     assert observe(aabb([0.0, 0.0], [1.0, 1.0], [1.5, 0.0], [1.0, 1.0])).distance == -0.5
 
@@ -164,7 +165,7 @@ def test_restitution_uses_the_product_trick() -> None:
     # Munk2D: arbiter e = a.e * b.e; the adapter gives A the case's e and B 1.0.
     case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 0.0], restitution=0.5)
     prepared = TUNED.prepare(case)
-    assert [s.elasticity for s in prepared.shapes] == [0.5, 1.0]
+    assert [s.elasticity for s in prepared.built["shapes"]] == [0.5, 1.0]
     obs = TUNED.query(prepared)
     assert obs.v1 == pytest.approx((0.25, 0.0), abs=1e-15)
     assert obs.v2 == pytest.approx((0.75, 0.0), abs=1e-15)
@@ -215,7 +216,7 @@ def test_pymunk_moment_is_positive_and_independent_of_the_radius(name: str) -> N
             "b": {"center": [5.0, 0.0], "radius": 0.5, "mass": 2.0, "velocity": [0.0, 0.0]}})
         prepared = adapter.prepare(case)
         try:
-            moments |= {body.moment for body in prepared.bodies}
+            moments |= {body.moment for body in prepared.built["bodies"]}
         finally:
             adapter.release(prepared)
     assert len(moments) == 1 and moments.pop() > 0
@@ -272,7 +273,7 @@ def test_query_is_repeatable(adapter: Any, case: AnyCase) -> None:
 
 def test_variant_settings_reach_the_space() -> None:
     case = response([0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 0.0])
-    tuned, default = TUNED.prepare(case).space, DEFAULT.prepare(case).space
+    tuned, default = TUNED.prepare(case).built["space"], DEFAULT.prepare(case).built["space"]
     assert (tuned.collision_slop, tuned.collision_bias, tuned.iterations) == (0.0, 1.0, 10)
     # Munk2D's defaults are float32 literals: slop 0.1f, bias pow(1.0f - 0.1f, 60).
     assert (default.collision_slop, default.iterations) == (f32(0.1), 10)

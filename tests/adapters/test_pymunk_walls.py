@@ -15,7 +15,7 @@ import pytest
 pytest.importorskip("pymunk")
 
 from adapters import pymunk_scene
-from adapters.pymunk_engine import PymunkDefault, PymunkTuned
+from adapters.pymunk import PymunkDefault, PymunkTuned
 from adapters.scene import Surroundings, Wall
 
 pytestmark = pytest.mark.engine

@@ -19,8 +19,8 @@ import pytest
 rp = pytest.importorskip("rapier3d")
 
 import adapters  # noqa: E402
-from adapters import rapier_engine as re_  # noqa: E402
-from adapters.rapier_engine import RapierDefault, RapierTuned  # noqa: E402
+from adapters import rapier as re_  # noqa: E402
+from adapters.rapier import RapierDefault, RapierTuned  # noqa: E402
 from crosscheck.core.geometry import norm  # noqa: E402
 from crosscheck.core.model import Category, Observation, Status  # noqa: E402
 from crosscheck.core.options import RunOptions  # noqa: E402

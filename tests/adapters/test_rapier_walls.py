@@ -16,8 +16,7 @@ import pytest
 rp = pytest.importorskip("rapier3d")
 
 from adapters import rapier_scene, rapier_walls  # noqa: E402
-from adapters.ccd_variants import RapierCcd  # noqa: E402
-from adapters.rapier_engine import RapierDefault, RapierTuned  # noqa: E402
+from adapters.rapier import RapierCcd, RapierDefault, RapierTuned  # noqa: E402
 from adapters.scene import Surroundings, Wall  # noqa: E402
 
 pytestmark = pytest.mark.engine

@@ -16,8 +16,8 @@ from typing import Any
 import pytest
 
 import adapters
-from adapters import pybullet_engine as pbe
-from adapters.pybullet_setup import engine
+from adapters import pybullet as pbe
+from adapters.pybullet import engine
 from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Adapter
 from crosscheck.core.geometry import Vec, approach_speed, to3
@@ -122,12 +122,13 @@ def replay_first_contact(adapter: pbe.PyBulletTuned, case: ResponseCase) -> Any:
     after which ``getContactPoints(A, B)`` is not empty (None if the pair stops approaching,
     or MAX_STEPS pass, first)."""
     bt = engine()
-    pair = adapter.prepare(case)
+    prepared = adapter.prepare(case)
+    pair = prepared.built
     try:
         m, cid = pair.motion, pair.cid
         assert m is not None
         for body, p, v in ((pair.a, m.pa, m.va), (pair.b, m.pb, m.vb)):
-            bt.resetBasePositionAndOrientation(body, p, pbe.IDENTITY, physicsClientId=cid)
+            bt.resetBasePositionAndOrientation(body, p, (0.0, 0.0, 0.0, 1.0), physicsClientId=cid)
             bt.resetBaseVelocity(body, v, (0.0, 0.0, 0.0), physicsClientId=cid)
         found = None
         for _ in range(pbe.MAX_STEPS):
@@ -142,7 +143,7 @@ def replay_first_contact(adapter: pbe.PyBulletTuned, case: ResponseCase) -> Any:
                 break
         return found
     finally:
-        adapter.release(pair)
+        adapter.release(prepared)
 
 
 @pytest.mark.parametrize("name", PYBULLET)

@@ -20,9 +20,8 @@ pytest.importorskip("pybullet")
 pytest.importorskip("pymunk")
 
 from adapters import pybullet_scene, pymunk_scene, scene
-from adapters.pybullet_engine import PyBulletDefault, PyBulletTuned
-from adapters.pybullet_setup import TUNED_BODY, TUNED_WORLD, engine
-from adapters.pymunk_engine import PymunkDefault, PymunkTuned
+from adapters.pybullet import TUNED_BODY, TUNED_WORLD, PyBulletDefault, PyBulletTuned, engine
+from adapters.pymunk import PymunkDefault, PymunkTuned
 from adapters.scene import Body, SceneRun
 
 pytestmark = pytest.mark.engine

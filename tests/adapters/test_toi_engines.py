@@ -11,9 +11,9 @@ from dataclasses import replace
 
 import pytest
 
-from adapters.box2d_engine import Box2dDefault, Box2dTuned
-from adapters.fcl_engine import Fcl, FclCcdNaive, FclCcdPolynomial, FclCcdRayShooting
-from adapters.rapier_engine import RapierDefault, RapierTuned
+from adapters.box2d import Box2dDefault, Box2dTuned
+from adapters.fcl import Fcl, FclCcdNaive, FclCcdPolynomial, FclCcdRayShooting
+from adapters.rapier import RapierDefault, RapierTuned
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Category, Kind, Status, Undefined
 from crosscheck.core.options import RunOptions

@@ -122,13 +122,29 @@ def test_missing_and_new_rows_fail(run: Path, tmp_path: Path,
                                    capsys: pytest.CaptureFixture[str]) -> None:
     base = baseline_of(run, tmp_path, "--engine", "fake-right")
     assert check(capsys, str(run), "--baseline", str(base), "--engine", "fake-right")[0] == 0
-    code, out, _ = check(capsys, str(run), "--baseline", str(base))
-    offs = sum('"fake-off"' in line for line in (run / "results.jsonl").read_text().splitlines())
-    assert code == 1 and f"new {offs}" in out and "not in the baseline" in out
+    fewer = Path(shutil.copytree(run, tmp_path / "fewer"))
+    edit(fewer, lambda row: None if row["case_id"] == "apart" else row)
+    smaller = baseline_of(fewer, tmp_path / "smaller", "--engine", "fake-right")
+    code, out, _ = check(capsys, str(run), "--baseline", str(smaller), "--engine", "fake-right")
+    assert code == 1 and "new 3" in out and "not in the baseline" in out  # apart's 3 rows
     edit(run, lambda row: None if row["case_id"] == "overlap" else row)
     code, out, _ = check(capsys, str(run), "--baseline", str(base), "--engine", "fake-right")
     assert code == 1 and "missing 3" in out and "not in the run" in out
     assert "engines: fake-right only" in out
+
+
+def test_a_baseline_of_fewer_engines_without_engine_says_to_add_it(
+        run: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """Every row of an engine the baseline has no row of would be new: the check says so
+    before judging any row, naming the baseline's engines and --engine, and exits 2."""
+    base = baseline_of(run, tmp_path, "--engine", "fake-right")
+    offs = sum('"fake-off"' in line for line in (run / "results.jsonl").read_text().splitlines())
+    code, out, err = check(capsys, str(run), "--baseline", str(base))
+    assert code == 2 and out == "" and "new" not in out
+    assert f"{base} holds rows of fake-right only" in err
+    assert f"1 engine it has no row of (fake-off): each of their {offs} rows would be new" in err
+    assert "Check only the baseline's engines with --engine fake-right" in err
+    assert check(capsys, str(run), "--baseline", str(base), "--update")[0] == 0  # adds them
 
 
 def test_without_a_baseline_every_disagreement_fails(

@@ -18,6 +18,7 @@ from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.cli.console import COUNTS_TITLE, TIMES_TITLE, print_summary, summary_table
 from crosscheck.core.schema import ResponseCase
+from crosscheck.results.run import read_run
 from crosscheck.results.runinfo import FORMAT_VERSION
 from tests.cases.test_load import sphere_text
 from tests.conftest import ROOT, embedded
@@ -269,7 +270,7 @@ def test_the_closing_tables_give_instructions_where_counted_as_the_page_does(
     x kind before the query times, cell for cell as the page's engine x kind table; a run
     without counts prints the query times alone, as before."""
     counted = counted_run(tmp_path / "counted")
-    print_summary(counted)
+    print_summary(read_run(counted))
     printed = capsys.readouterr().out
     assert printed.index(COUNTS_TITLE) < printed.index(TIMES_TITLE)
     table = printed.split(COUNTS_TITLE + "\n")[1].split(TIMES_TITLE)[0]
@@ -282,6 +283,6 @@ def test_the_closing_tables_give_instructions_where_counted_as_the_page_does(
     on_page = {(engine, kind): text for engine, kind, text in re.findall(cell, page, re.S)}
     assert set(on_page) == set(in_terminal) == {(e, "sphere") for e in run.INSTRUCTIONS}
     assert on_page == in_terminal
-    print_summary(counted_run(tmp_path / "uncounted", {}))
+    print_summary(read_run(counted_run(tmp_path / "uncounted", {})))
     printed = capsys.readouterr().out
     assert COUNTS_TITLE not in printed and TIMES_TITLE in printed

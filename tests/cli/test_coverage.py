@@ -15,7 +15,8 @@ import pytest
 from crosscheck.cli import main
 from crosscheck.core.model import Kind, Status
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, read_results, read_run
+from crosscheck.results.run import read_results, read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.fuzz import generate
 from crosscheck.studies.fuzz.bias import bias_from

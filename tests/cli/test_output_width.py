@@ -14,10 +14,10 @@ from pathlib import Path
 
 import pytest
 
-from crosscheck.cli.advise import worst_text
 from crosscheck.cli.fuzz import GROUP_COLUMNS
 from crosscheck.report.advise.recommend import Envelope, advise
-from crosscheck.results.store import read_results, read_run
+from crosscheck.report.advise.table import worst_text
+from crosscheck.results.run import read_results, read_run
 from crosscheck.studies.fuzz import CHUNK
 from tests.conftest import ROOT
 

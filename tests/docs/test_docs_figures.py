@@ -19,7 +19,8 @@ from crosscheck.core.options import RunOptions
 from crosscheck.report import render as report
 from crosscheck.results.counts import FILE as COUNTS_FILE
 from crosscheck.results.counts import CountRecord
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.run import read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tools import docs_figures, run_figures

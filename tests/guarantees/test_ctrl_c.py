@@ -18,7 +18,7 @@ from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.results.counts import FILE as COUNTS
 from crosscheck.results.counts import read_counts
-from crosscheck.results.store import read_results
+from crosscheck.results.run import read_results
 from crosscheck.run import callgrind
 from tests.conftest import ROOT, wait_for_rows
 

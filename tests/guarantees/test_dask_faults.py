@@ -22,7 +22,7 @@ pytest.importorskip("distributed")
 import dask
 from distributed import Client, LocalCluster
 
-from crosscheck.results.store import read_results
+from crosscheck.results.run import read_results
 from tests.conftest import ROOT, wait_until
 
 TIMING = ["setup_s", "query_s", "query_iqr_s", "loops", "unstable"]

@@ -18,8 +18,9 @@ import pytest
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
+from crosscheck.results.run import read_results
 from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import ROOT, sphere, wait_until

@@ -23,7 +23,8 @@ from crosscheck.cases.load import load_paths
 from crosscheck.core.model import Status, Undefined
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.runner import run
 from crosscheck.truth import oracle
 from tests.conftest import ROOT, response, sphere

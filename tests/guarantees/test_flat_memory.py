@@ -10,7 +10,8 @@ import pytest
 import adapters
 from crosscheck.core.model import Kind
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.runner import run
 from crosscheck.studies.bench.figures import rss_mb
 from crosscheck.studies.fuzz.generator import generate

@@ -16,7 +16,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from crosscheck.results.store import read_results
+from crosscheck.results.run import read_results
 from tests.conftest import ROOT
 
 pytestmark = pytest.mark.engine

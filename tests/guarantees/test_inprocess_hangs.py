@@ -24,7 +24,8 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.lanes import LocalLanes
 from crosscheck.run.runner import run
 from tests import fakes
@@ -71,7 +72,8 @@ import json, sys
 from pathlib import Path
 import adapters
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.store import ResultsStore
+from crosscheck.results.run import read_results
 from crosscheck.run.runner import run
 from tests.conftest import sphere
 store = ResultsStore(Path(sys.argv[1]))

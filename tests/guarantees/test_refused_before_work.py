@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.results.store import read_results
+from crosscheck.results.run import read_results
 from tests.conftest import ROOT
 
 SPHERES = str(ROOT / "cases" / "sphere.toml")

@@ -12,7 +12,8 @@ import pytest
 from crosscheck.cases.load import load_paths
 from crosscheck.core.options import RunOptions
 from crosscheck.results.repeats import FILE, read_repeats
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.run import read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import ROOT
@@ -52,7 +53,7 @@ def test_an_interrupted_repeat_check_keeps_every_answer_and_resumes_the_rest(
 
     store = ResultsStore(folder, resume=True)
     assert len(store.repeated) == 2 * ASKED
-    info = launch(store, CASES, ENGINES, stopped.info.options, stopped.info.resume())
+    info = launch(store, CASES, ENGINES, stopped.info.options, stopped.info.resume()).info
     lines = (folder / FILE).read_text().splitlines(keepends=True)
     assert lines[:len(kept)] == kept  # the pairs asked before were not asked again
     assert len(lines) == len(read_repeats(folder)) == 2 * len(CASES)  # each pair once
@@ -67,9 +68,10 @@ def test_an_interrupted_repeat_check_keeps_every_answer_and_resumes_the_rest(
 def test_a_resumed_run_that_finished_its_check_asks_nothing_again(tmp_path: Path) -> None:
     folder = tmp_path / "run"
     info = launch(ResultsStore(folder), CASES, ENGINES, OPTIONS,
-                  new_info(folder, "test", OPTIONS, ENGINES, CASES))
+                  new_info(folder, "test", OPTIONS, ENGINES, CASES)).info
     before = (folder / FILE).read_text()
-    again = launch(ResultsStore(folder, resume=True), CASES, ENGINES, OPTIONS, info.resume())
+    again = launch(ResultsStore(folder, resume=True), CASES, ENGINES, OPTIONS,
+                   info.resume()).info
     assert (folder / FILE).read_text() == before
     assert again.repeat_check is not None and info.repeat_check is not None
     assert again.repeat_check["pairs"] == info.repeat_check["pairs"]

@@ -11,7 +11,7 @@ import pytest
 import crosscheck.cli.run as cli_run
 import crosscheck.report.render as report_render
 from crosscheck.cli import main
-from crosscheck.results.store import read_results
+from crosscheck.results.run import read_results
 from tests.conftest import ROOT
 
 SPHERES = str(ROOT / "cases" / "sphere.toml")

@@ -20,7 +20,8 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, StoreError, read_results, read_run_info
+from crosscheck.results.run import read_results, read_run_info
+from crosscheck.results.store import ResultsStore, StoreError
 from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import ROOT, wait_for_rows

@@ -23,7 +23,7 @@ import pytest
 
 from crosscheck.core.model import Kind, quantities_of
 from crosscheck.results.baseline import Baseline, Entry, write_baseline
-from crosscheck.results.store import read_results
+from crosscheck.results.run import read_results
 from crosscheck.testing.conformance import CHECKS
 from tests.conftest import ROOT
 

@@ -17,12 +17,13 @@ from typing import Any, ClassVar
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.cli.advise import worst_text
 from crosscheck.core.model import Observation
 from crosscheck.core.options import RunOptions
 from crosscheck.report.advise.judge import judge
 from crosscheck.report.advise.recommend import Advice, EngineAdvice, Envelope, EnvelopeError, advise
-from crosscheck.results.store import ResultsStore, StoredRun, read_run, repro_name
+from crosscheck.report.advise.table import worst_text
+from crosscheck.results.run import Run, read_run
+from crosscheck.results.store import ResultsStore, repro_name
 from crosscheck.run.launch import launch, new_info
 from crosscheck.truth import oracle
 from tests import fakes
@@ -86,7 +87,7 @@ def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.fixture(scope="module")
-def stored(run_dir: Path) -> StoredRun:
+def stored(run_dir: Path) -> Run:
     return read_run(run_dir)
 
 
@@ -99,7 +100,7 @@ def grade(advice: Advice, engine: str) -> EngineAdvice:
     return next(e for e in everyone if e.engine == engine)
 
 
-def test_the_exact_engines_pass_and_the_baseline_is_shown_apart(stored: StoredRun) -> None:
+def test_the_exact_engines_pass_and_the_baseline_is_shown_apart(stored: Run) -> None:
     advice = advise(stored, Envelope())
     assert advice.cases == 7 and advice.kinds == ("aabb", "sphere", "sphere_response")
     assert "fake-right" in names(advice.passing)
@@ -114,7 +115,7 @@ def test_the_exact_engines_pass_and_the_baseline_is_shown_apart(stored: StoredRu
 
 
 def test_a_wrong_verdict_within_the_accuracy_of_the_exact_gap_is_within(
-        stored: StoredRun) -> None:
+        stored: Run) -> None:
     tight = grade(advise(stored, Envelope(tolerance=1e-9)), "fake-near")
     assert tight.tier == "fails" and tight.failing_cases == ("s3-near",)
     assert tight.worst is not None and tight.worst.quantity == "hit"
@@ -126,7 +127,7 @@ def test_a_wrong_verdict_within_the_accuracy_of_the_exact_gap_is_within(
 
 
 def test_a_declared_touching_rule_is_a_convention_unless_touching_must_count(
-        stored: StoredRun) -> None:
+        stored: Run) -> None:
     touch = grade(advise(stored, Envelope(kinds=("sphere",))), "fake-touch")
     assert touch.passes
     assert [(m.quantity, m.example, m.cases, m.largest) for m in touch.conventions] == [
@@ -152,7 +153,7 @@ def test_a_behaviour_is_always_judged_on_its_error() -> None:
 
 
 def test_an_engine_that_skips_part_of_the_envelope_never_outranks_by_skipping(
-        stored: StoredRun) -> None:
+        stored: Run) -> None:
     advice = advise(stored, Envelope())
     hit_only = grade(advice, "fake-hit-only")
     assert hit_only.tier == "partial" and hit_only.unsupported == ("sphere_response",)
@@ -167,16 +168,16 @@ def test_an_engine_that_skips_part_of_the_envelope_never_outranks_by_skipping(
     assert within == sorted(within, reverse=True) and advice.failing[-1].engine == "fake-raises"
 
 
-def test_an_engine_that_answers_nothing_is_listed_not_ranked(stored: StoredRun) -> None:
+def test_an_engine_that_answers_nothing_is_listed_not_ranked(stored: Run) -> None:
     advice = advise(stored, Envelope(kinds=("sphere_response",)))
     assert names(advice.unsupported) == ["fake-hit-only", "fake-touch"]
     assert "fake-hit-only" not in names(advice.ranking)
 
 
 def test_when_nothing_passes_the_closest_and_its_deciding_cases_are_named(
-        stored: StoredRun) -> None:
+        stored: Run) -> None:
     results = stored.results[stored.results["engine"] != "fake-right"]
-    without = dataclasses.replace(stored, results=results)
+    without = stored.with_results(results)
     advice = advise(without, Envelope(touching_contact=True))
     assert advice.passing == [] and advice.ranking
     assert advice.closest == "fake-hit-only"
@@ -185,7 +186,7 @@ def test_when_nothing_passes_the_closest_and_its_deciding_cases_are_named(
     assert far.passing and far.closest is None
 
 
-def test_bad_input_is_judged_apart_as_robustness(stored: StoredRun) -> None:
+def test_bad_input_is_judged_apart_as_robustness(stored: Run) -> None:
     advice = advise(stored, Envelope(kinds=("sphere",)))
     assert advice.cases == 4 and advice.bad_input_cases == 1
     assert grade(advice, "fake-raises").robustness == {"error": 1}
@@ -193,7 +194,7 @@ def test_bad_input_is_judged_apart_as_robustness(stored: StoredRun) -> None:
 
 
 def test_the_quantities_that_matter_and_the_envelope_filter_the_verdict(
-        stored: StoredRun) -> None:
+        stored: Run) -> None:
     pairs = ("aabb", "sphere")
     assert not grade(advise(stored, Envelope(kinds=pairs)), "fake-off").passes
     assert grade(advise(stored, Envelope(kinds=pairs, quantities=("hit",))), "fake-off").passes
@@ -204,13 +205,13 @@ def test_the_quantities_that_matter_and_the_envelope_filter_the_verdict(
     assert grade(advise(stored, Envelope(kinds=pairs, tolerance=2.0)), "fake-off").passes
 
 
-def test_responses_are_filtered_by_speed_and_mass_ratio(stored: StoredRun) -> None:
+def test_responses_are_filtered_by_speed_and_mass_ratio(stored: Run) -> None:
     assert advise(stored, Envelope(kinds=("sphere_response",), speed=1.0)).cases == 1
     assert advise(stored, Envelope(kinds=("sphere_response",), speed=0.5)).cases == 0
     assert advise(stored, Envelope(kinds=("sphere_response",), mass_ratio=1.0)).cases == 1
 
 
-def test_a_float32_engine_ranks_only_when_float32_is_acceptable(stored: StoredRun) -> None:
+def test_a_float32_engine_ranks_only_when_float32_is_acceptable(stored: Run) -> None:
     engines = tuple({**e, "settings": "float32 throughout"} if e["name"] == "fake-far" else e
                     for e in stored.info.engines)
     f32 = dataclasses.replace(stored, info=dataclasses.replace(stored.info, engines=engines))
@@ -219,14 +220,14 @@ def test_a_float32_engine_ranks_only_when_float32_is_acceptable(stored: StoredRu
     assert names(refused.excluded) == ["fake-far"] and "fake-far" not in names(refused.ranking)
 
 
-def test_the_cheapest_passing_engine_comes_first_with_its_spread(stored: StoredRun) -> None:
+def test_the_cheapest_passing_engine_comes_first_with_its_spread(stored: Run) -> None:
     results = stored.results.copy()
     speeds = {"fake-right": 3e-6, "fake-far": 1e-6, "fake-touch": 2e-6}
     results["query_s"] = results["engine"].map(speeds)
     # one slow case does not move a median: fake-far stays the cheapest
     slow = (results["engine"] == "fake-far") & (results["case_id"] == "s3-apart")
     results.loc[slow, "query_s"] = 1.0
-    timed = dataclasses.replace(stored, results=results)
+    timed = stored.with_results(results)
     advice = advise(timed, Envelope(kinds=("sphere",)))
     assert names(advice.passing)[:3] == ["fake-far", "fake-touch", "fake-right"]
     assert advice.passing[0].median_query_s == 1e-6
@@ -252,7 +253,7 @@ def test_the_worst_answer_gives_its_repro_command_and_the_script_once_written(
     assert again.repro_command == worst.repro_command
 
 
-def test_impossible_envelopes_name_the_option(stored: StoredRun) -> None:
+def test_impossible_envelopes_name_the_option(stored: Run) -> None:
     with pytest.raises(EnvelopeError, match="--scale"):
         advise(stored, Envelope(scale=(5.0, 1.0)))
     with pytest.raises(EnvelopeError, match="--kind"):

@@ -1,6 +1,6 @@
 """The report's advise form speaks the same space as ``crosscheck advise``: a scene's limits
 (time step, step travel, body speed), one tolerance per unit, and declared behaviours judged
-on their error, filled as a reader fills them and ranked as ``advise --json`` ranks.
+on their error, filled as a reader fills them, write the command whose answer ranks them.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 
 from crosscheck.cli import main
 from crosscheck.testing import fakes
-from tests.report.advise_form import form_and_cli
+from tests.report.advise_form import cli_rows, form_and_cli
 from tests.report.browser import needs_chromium
 from tests.report.test_advise_space import PAIRS, SCENES, Damped, Soft, Tilted, stored
 
@@ -19,9 +19,9 @@ pytestmark = pytest.mark.browser
 
 PROFILES = [
     ({"kind": "sphere_scene", "quantities": "energy_drift", "fraction": "1e-3"},
-     ["--kind", "sphere_scene", "--quantities", "energy_drift", "--fraction-tolerance", "1e-3"]),
+     ["--kind", "sphere_scene", "--fraction-tolerance", "1e-3", "--quantities", "energy_drift"]),
     ({"kind": "sphere_scene", "dt": "1/60", "travel": "30", "speed": "300", "fraction": "1"},
-     ["--kind", "sphere_scene", "--dt", "1/60", "--step-travel", "30", "--speed", "300",
+     ["--kind", "sphere_scene", "--speed", "300", "--dt", "1/60", "--step-travel", "30",
       "--fraction-tolerance", "1"]),
     ({"kind": "sphere_scene", "travel": "1", "lasts": "2"},
      ["--kind", "sphere_scene", "--step-travel", "1", "--duration", "2"]),
@@ -43,11 +43,12 @@ def page_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder
 
 
-def test_the_form_judges_scene_limits_units_and_behaviours_as_the_cli_does(
+def test_the_form_writes_scene_limits_units_and_behaviours_as_the_cli_reads_them(
         page_run: Path, capsys: pytest.CaptureFixture[str]) -> None:
     found, expected, errors = form_and_cli(page_run, PROFILES, capsys)
     assert errors == []
     assert found == expected
-    assert any(row[1] == "fails" for row in found[0])  # the damped and the soft engine
-    assert [row[1] for row in found[3] if row[0] == "fake-tilted"] == ["fails"]
-    assert [row[1] for row in found[4] if row[0] == "fake-tilted"] == ["passes"]
+    answers = [cli_rows(page_run, options, capsys) for _, options in PROFILES]
+    assert any(row[1] == "fail" for row in answers[0])  # the damped and the soft engine
+    assert [row[1] for row in answers[3] if row[0] == "fake-tilted"] == ["fail"]
+    assert [row[1] for row in answers[4] if row[0] == "fake-tilted"] == ["pass"]

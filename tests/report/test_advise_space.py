@@ -23,7 +23,8 @@ from crosscheck.core.model import Observation
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.report.advise.recommend import Advice, EngineAdvice, Envelope, EnvelopeError, advise
-from crosscheck.results.store import ResultsStore, StoredRun, read_run
+from crosscheck.results.run import Run, read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from crosscheck.testing import fakes
 from crosscheck.truth import oracle
@@ -97,7 +98,7 @@ PAIRS = [sphere(0.0, 2.0, id="apart"), sphere(0.0, 1.0, id="touch"),
          sphere(0.0, 2.0, dim=2, id="apart-2d")]
 
 
-def stored(folder: Path, cases: list[AnyCase], engines: list[Any], quick: bool) -> StoredRun:
+def stored(folder: Path, cases: list[AnyCase], engines: list[Any], quick: bool) -> Run:
     options = RunOptions(quick=quick, isolate=False, timing_cases=0)
     launch(ResultsStore(folder), cases, engines, options,
            new_info(folder, "test", options, engines, cases))
@@ -105,13 +106,13 @@ def stored(folder: Path, cases: list[AnyCase], engines: list[Any], quick: bool) 
 
 
 @pytest.fixture(scope="module")
-def scenes(tmp_path_factory: pytest.TempPathFactory) -> StoredRun:
+def scenes(tmp_path_factory: pytest.TempPathFactory) -> Run:
     return stored(tmp_path_factory.mktemp("scenes") / "run", SCENES,
                   [fakes.AlwaysRight(), Damped(), Soft()], quick=True)
 
 
 @pytest.fixture(scope="module")
-def pairs(tmp_path_factory: pytest.TempPathFactory) -> StoredRun:
+def pairs(tmp_path_factory: pytest.TempPathFactory) -> Run:
     return stored(tmp_path_factory.mktemp("pairs") / "run", PAIRS,
                   [fakes.AlwaysRight(), Tilted(), fakes.TouchingIsContact()], quick=True)
 
@@ -172,7 +173,7 @@ def test_scene_and_time_of_impact_limits_place_cases_by_their_own_inputs() -> No
     assert Envelope(interval=(0.0, 1e-9)).holds(slow)
 
 
-def test_a_tolerance_judges_only_the_quantities_of_its_unit(pairs: StoredRun) -> None:
+def test_a_tolerance_judges_only_the_quantities_of_its_unit(pairs: Run) -> None:
     metres = advise(pairs, Envelope(kinds=("sphere",), tolerance=1e-3))
     tilted = grade(metres, "fake-tilted")  # no angle tolerance: normals must agree
     assert not tilted.passes and tilted.worst is not None
@@ -186,7 +187,7 @@ def test_a_tolerance_judges_only_the_quantities_of_its_unit(pairs: StoredRun) ->
     assert grade(lengths, "fake-tilted").passes
 
 
-def test_a_declared_behaviour_never_excuses_the_energy_it_loses(scenes: StoredRun) -> None:
+def test_a_declared_behaviour_never_excuses_the_energy_it_loses(scenes: Run) -> None:
     """A 60-s-style energy profile: the damped and the soft engine lose energy by their
     declared behaviours; their rows are conventions in the report, failures here."""
     need = Envelope(kinds=("sphere_scene",), quantities=("energy_drift",),
@@ -203,7 +204,7 @@ def test_a_declared_behaviour_never_excuses_the_energy_it_loses(scenes: StoredRu
     assert {e.engine for e in roomy.passing} == {"fake-right", "fake-damped", "fake-soft"}
 
 
-def test_a_declared_definition_still_excuses_its_row(pairs: StoredRun) -> None:
+def test_a_declared_definition_still_excuses_its_row(pairs: Run) -> None:
     touch = grade(advise(pairs, Envelope(kinds=("sphere",))), "fake-touch")
     assert touch.passes
     assert [(m.quantity, m.example, m.nature) for m in touch.conventions] == [
@@ -211,7 +212,7 @@ def test_a_declared_definition_still_excuses_its_row(pairs: StoredRun) -> None:
 
 
 def test_a_quick_run_says_which_cases_it_did_not_ask(
-        scenes: StoredRun, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+        scenes: Run, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     quick = advise(scenes, Envelope(kinds=("sphere_scene",)))
     assert quick.quick and quick.not_asked == 1 and quick.cases == 2
     assert grade(quick, "fake-right").passes  # the long scene is not held against anyone
@@ -225,7 +226,7 @@ def test_a_quick_run_says_which_cases_it_did_not_ask(
 
 
 def test_the_answer_says_how_many_cases_it_rests_on(
-        scenes: StoredRun, capsys: pytest.CaptureFixture[str]) -> None:
+        scenes: Run, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["advise", str(scenes.directory), "--kind", "sphere_scene", "--step-travel",
                  "1", "--fraction-tolerance", "1e-3", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
@@ -244,7 +245,7 @@ def test_the_answer_says_how_many_cases_it_rests_on(
     assert accuracy.startswith("accuracy: shares of their scale 0.001, lengths: agree only")
 
 
-def test_the_answer_says_which_cells_of_the_space_it_rests_on(pairs: StoredRun) -> None:
+def test_the_answer_says_which_cells_of_the_space_it_rests_on(pairs: Run) -> None:
     asked = advise(pairs, Envelope())
     inside = [pairs.cases[i] for i in pairs.results["case_id"].unique()
               if not pairs.cases[i].bad_input]

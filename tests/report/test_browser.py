@@ -14,7 +14,7 @@ from crosscheck.report.render import render
 from crosscheck.results.store import repro_name
 from tests.conftest import ROOT
 from tests.report import counted as run
-from tests.report.advise_form import REAL_PROFILES, errors, form_and_cli, submit
+from tests.report.advise_form import REAL_PROFILES, errors, form_and_cli
 from tests.report.browser import needs_chromium, opened
 from tests.report.counted import counted_run
 
@@ -40,7 +40,7 @@ def test_report_renders_without_console_errors(run_dir: Path) -> None:
     messages: list[str] = []
     with opened(run_dir / "report.html", messages) as page:
         page.wait_for_load_state("load")
-        page.evaluate("drawAllCharts()")  # charts draw lazily: near the viewport, or when idle
+        page.evaluate("crosscheck.drawAllCharts()")  # charts draw lazily (near view, or idle)
         page.screenshot(path=str(run_dir / "report.png"), full_page=True)
         tables = page.locator("table").count()
         charts = page.locator(".js-plotly-plot").count()
@@ -71,7 +71,7 @@ def test_speed_points_show_their_timing_whiskers(timed_dir: Path) -> None:
     messages: list[str] = []
     with opened(timed_dir / "report.html", messages) as page:
         page.wait_for_load_state("load")
-        page.evaluate("drawAllCharts()")  # charts draw lazily: near the viewport, or when idle
+        page.evaluate("crosscheck.drawAllCharts()")  # charts draw lazily (near view, or idle)
         page.screenshot(path=str(timed_dir / "report.png"), full_page=True)
         bars = page.locator("#speed-sphere g.errorbar").count()
         across = page.locator("#speed-sphere g.errorbar path.xerror").count()
@@ -147,7 +147,7 @@ def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
     messages: list[str] = []
     with opened(page_file, messages) as page:
         page.wait_for_selector("#results-table[data-ready]")
-        page.evaluate("drawAllCharts()")
+        page.evaluate("crosscheck.drawAllCharts()")
         charts = page.locator(".js-plotly-plot").count()
         info = page.locator("#results-table_wrapper .dt-info, .dt-info").first
         page.locator("#results-breaking").uncheck()
@@ -172,25 +172,27 @@ def test_suite_sized_report_fits_its_budget_filters_by_column_and_opens_a_case(
     assert case_rows == 7 * 3 and in_view  # every engine's hit, distance and normal
 
 
-def test_the_advise_form_grades_and_ranks_the_engines(fakes_dir: Path) -> None:
+def test_the_advise_form_writes_the_command_and_the_page_answers_the_standard_profiles(
+        fakes_dir: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """The form judges nothing: it writes the ``crosscheck advise`` command of its fields; the
+    standard profiles are answered in Python, as the command answers them, a refused or empty
+    one with the reason."""
+    profiles = [({"tolerance": "0.5"}, ["--tolerance", "0.5"]),
+                ({"rtol": "2", "strict": "on", "nof32": "on"},
+                 ["--rtol", "2", "--strict-conventions", "--no-float32"]),
+                *(p for p in REAL_PROFILES if p[0].get("kind", "sphere") == "sphere")]
+    found, expected, console = form_and_cli(fakes_dir, profiles, capsys)
     messages: list[str] = []
     with opened(fakes_dir / "report.html", messages) as page:
-        tight = submit(page, {"tolerance": "0.5"})
-        tight_text = page.locator("#advise-out").inner_text()
-        loose = submit(page, {"tolerance": "2"})
-        relative = submit(page, {"rtol": "2"})  # 2 x the radius 0.5 forgives 1.0 on a distance
-        submit(page, {"tolerance": "-1"})
-        refused = page.locator("#advise-out .advise-message").inner_text()
-        submit(page, {"offset": "0.5"})
-        empty = page.locator("#advise-out .advise-message").inner_text()
-    assert errors(messages) == []
-    assert [row[:4] for row in tight] == [("fake-right", "passes", "100%", "100%"),
-                                          ("fake-off", "fails", "100%", "0%")]
-    assert "Passing (cheapest first): fake-right" in tight_text and "4 cases" in tight_text
-    assert [row[1] for row in loose] == ["passes", "passes"]
-    assert [row[1] for row in relative] == ["passes", "passes"]
-    assert "tolerance: must be a finite number >= 0" in refused
-    assert "No case of this run lies inside this envelope" in empty
+        exact = page.locator("#advise-out details.advise-profile").first.inner_text()
+        refused = page.locator("#advise-out .advise-message").all_text_contents()
+    assert console == [] and errors(messages) == []
+    assert found == expected
+    assert [row[:3] for row in found[len(profiles)]] == [("fake-right", "pass", "4"),
+                                                         ("fake-off", "fail", "4")]
+    assert "Passing (none timed: in run order): fake-right" in exact  # a --quick run
+    assert "4 cases" in exact
+    assert "No answer from this run: --kind: the run holds no aabb cases" in " ".join(refused)
 
 
 ROW_REPROS = """rows => rows.map(r => {
@@ -227,8 +229,7 @@ def test_breaking_rows_fold_their_repro_command_and_a_written_script_is_linked(
         hidden = page.locator("#results-table details.repro-command code").first.is_visible()
         summary.click()
         shown = page.locator("#results-table details.repro-command code").first.is_visible()
-        quoted = page.evaluate("words => window.reproCommand(...words)", tricky)
-        submit(page, {"tolerance": "0.5"})
+        quoted = page.evaluate("words => crosscheck.reproCommand(...words)", tricky)
         worst = page.eval_on_selector("#advise-out tr[data-engine='fake-off'] code",
                                       "code => code.textContent")
     assert errors(messages) == []
@@ -285,8 +286,9 @@ def test_the_advise_form_on_a_counted_run_ranks_as_the_cli_does(
     assert found == expected
     cheapest = ["fake-right", "fake-twin"] if counted is run.INSTRUCTIONS else [
         "fake-twin", "fake-right"]
-    assert [row[0] for row in found[0][:2]] == cheapest
-    assert all(len(row) == 6 for rows in found for row in rows)  # instructions and wall clock
+    exact = found[len(COUNTED_PROFILES)]  # the first standard profile: no options
+    assert [row[0] for row in exact[:2]] == cheapest
+    assert all(len(row) == 6 for row in exact)  # instructions and wall clock
 
 
 @pytest.mark.engine
@@ -295,8 +297,9 @@ def test_the_advise_form_on_a_real_run_ranks_as_the_cli_does(
     found, expected, console = form_and_cli(real_dir, REAL_PROFILES, capsys)
     assert console == []
     assert found == expected
-    assert found[0][0][0] == "pybullet" and "pymunk" not in [row[0] for row in found[0]]
-    assert any(row[4] != "-" for rows in found for row in rows)  # the times are compared too
+    answers = found[len(REAL_PROFILES):]  # the standard profiles; the second: 3-D spheres
+    assert answers[1][0][0] == "pybullet" and "pymunk" not in [row[0] for row in answers[1]]
+    assert any(row[4] != "-" for rows in answers for row in rows)  # the times are compared
 
 
 @pytest.mark.engine

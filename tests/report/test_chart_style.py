@@ -16,6 +16,7 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
 from crosscheck.report import axes, dynamics, speed_error, stability, style
 from crosscheck.report.stability import charts as stability_charts
+from crosscheck.results.run import decoded
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.truth import scenes
 
@@ -203,7 +204,8 @@ def scene_run() -> tuple[pd.DataFrame, dict[str, AnyCase]]:
     records = [r for case in made for engine, (per_step, errors) in SCENE_RUNS.items()
                for r in scene_rows(case, engine, errors[case.dt or 0.0],
                                    per_step * case.step_count)]
-    return pd.DataFrame([r.row() for r in records]), {c.id: c for c in made}
+    frame = pd.DataFrame([r.row() for r in records])
+    return frame.join(decoded(frame)), {c.id: c for c in made}
 
 
 @pytest.fixture(scope="module")

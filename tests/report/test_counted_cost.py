@@ -18,8 +18,8 @@ from crosscheck.cli import main
 from crosscheck.report import profiles, speed_error
 from crosscheck.report.advise.recommend import INSTRUCTIONS, WALL, Envelope, advise
 from crosscheck.report.sections import RunView
-from crosscheck.report.speed import instructions, instructions_iqr, median_iqr, seconds
-from crosscheck.results.store import read_run
+from crosscheck.report.text import instructions, instructions_iqr, median_iqr, seconds
+from crosscheck.results.run import read_run
 from tests.report import counted as run
 from tests.report.counted import counted_run
 

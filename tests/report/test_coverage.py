@@ -34,7 +34,8 @@ from crosscheck.report.coverage import (
     space_cells,
 )
 from crosscheck.report.render import render
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.run import read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests.conftest import aabb, embedded, sphere
 from tests.fakes import AlwaysRight, OffByOne
@@ -330,7 +331,7 @@ def test_the_coverage_page_is_the_section_open_in_a_page_of_its_own() -> None:
                                    "Fuzz campaign X: 1 case.", "campaign")
     assert '<details class="fold" id="coverage" open>' in html
     assert "<h1>Collision Crosscheck: coverage of X</h1>" in html
-    assert "Each case of the campaign" in html and "window.unpack = function" in html
+    assert "Each case of the campaign" in html and "cc.unpack = function" in html
     assert embedded(html, "coverage-data")["engines"] == ["e"]
     bad = along_y(id="bad", tags=["bad-input"])
     nothing = coverage_page.page_html(campaign_map([bad], rows_of([]), ["e"]), ["e"], "c", "t",

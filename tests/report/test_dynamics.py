@@ -16,7 +16,8 @@ from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
 from crosscheck.report import dynamics, style
-from crosscheck.results.store import ResultsStore, read_cases, read_results
+from crosscheck.results.run import decoded, read_cases, read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.casework import QUICK_SCENE_STEPS
 from crosscheck.run.runner import run
 from crosscheck.truth import scenes
@@ -48,7 +49,8 @@ def run_scenes(tmp_path: Path, cases: list[AnyCase], engines: list[str],
     store = ResultsStore(tmp_path / "run")
     run(cases, [adapters.get(e) for e in engines], store, RunOptions(quick=quick))
     store.close()
-    return read_results(tmp_path / "run")
+    frame = read_results(tmp_path / "run")
+    return frame.join(decoded(frame))
 
 
 def test_steps_expand_into_one_case_per_dt_and_iterations(tmp_path: Path) -> None:
@@ -146,7 +148,8 @@ def headline_run(tmp_path_factory: pytest.TempPathFactory
             for c in cases if isinstance(c, SceneCase) and c.dt
             for engine, (per_step, errors) in HEADLINE_RUNS.items()
             for q in ("positions", "velocities", "momentum", "energy")]
-    return pd.DataFrame(rows), {c.id: c for c in cases}
+    frame = pd.DataFrame(rows)
+    return frame.join(decoded(frame)), {c.id: c for c in cases}
 
 
 def test_the_dynamics_headline_names_the_most_accurate_run_from_the_rows(

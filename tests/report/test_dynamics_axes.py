@@ -10,6 +10,7 @@ import pandas as pd
 
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, SceneCase
 from crosscheck.report import stability
+from crosscheck.results.run import decoded
 
 DT = 1 / 60
 
@@ -24,6 +25,12 @@ def scene(case_id: str, duration: float, coords: dict[str, float]) -> SceneCase:
     return case.model_copy(update={"origin": origin, "coords": coords})
 
 
+def with_values(rows: list[dict[str, Any]]) -> pd.DataFrame:
+    """The rows as a results frame with its values decoded, as the report reads a run."""
+    frame = pd.DataFrame(rows)
+    return frame.join(decoded(frame))
+
+
 def row(case: SceneCase, engine: str, quantity: str, status: str, value: Any = 0.0
         ) -> dict[str, Any]:
     return {"case_id": case.id, "kind": "sphere_scene", "dim": 2, "engine": engine,
@@ -36,7 +43,7 @@ def test_a_moved_scene_breaks_at_the_first_offset_its_rows_stop_agreeing() -> No
     offsets = {0.0: "agree", 1e3: "agree", 1e5: "disagree", 1e7: "agree"}
     cases = {c.id: c for c in (scene(f"rest-moved.dt={DT:.6g}.offset={v:g}", 10.0,
                                      {"dt": DT, "offset": v}) for v in offsets)}
-    frame = pd.DataFrame([row(c, "e", "velocities", s)
+    frame = with_values([row(c, "e", "velocities", s)
                           for c, s in zip(cases.values(), offsets.values(), strict=True)])
     table = stability.thresholds(stability.sweep_points(frame, cases))
     shown = table[table["headline"].astype(bool)].to_dict("records")
@@ -55,7 +62,7 @@ def test_the_time_horizon_is_when_the_trajectory_left_the_tolerance() -> None:
     cases = long_gas()
     case = next(iter(cases.values()))
     assert isinstance(case, SceneCase)
-    frame = pd.DataFrame([row(case, "early", "divergence", "disagree", 2.5),
+    frame = with_values([row(case, "early", "divergence", "disagree", 2.5),
                           row(case, "never", "divergence", "agree", 60.0),
                           row(case, "broke", "divergence", "crash", None),
                           row(case, "early", "velocities", "disagree")])
@@ -77,5 +84,5 @@ def test_a_short_scene_has_no_time_horizon_column() -> None:
     cases = long_gas(seconds=10.0)
     case = next(iter(cases.values()))
     assert isinstance(case, SceneCase)
-    frame = pd.DataFrame([row(case, "e", "divergence", "disagree", 2.5)])
+    frame = with_values([row(case, "e", "divergence", "disagree", 2.5)])
     assert stability.horizons(frame, cases).empty

@@ -29,7 +29,7 @@ def figures(section: dict[str, object]) -> list[dict[str, object]]:
     assert isinstance(charts, list)
     out = []
     for chart in charts:
-        packed = re.search(r'unpackText\("([^"]+)"\)', chart["html"])
+        packed = re.search(r'class="plotly-figure"[^>]*>([^<]+)<', chart["html"])
         assert packed is not None
         out.append(json.loads(gzip.decompress(base64.b64decode(packed.group(1)))))
     return out

@@ -14,6 +14,7 @@ from crosscheck.core.values import text_of
 from crosscheck.report import metamorphic
 from crosscheck.report.metamorphic import EXACT, TOLERANCE
 from crosscheck.report.style import templates
+from crosscheck.results.run import decoded
 
 RADIUS = 0.125
 DURATION = 10.0
@@ -46,7 +47,9 @@ def _drop(shift: float = 0.0, times: float = 1.0, apexes: tuple[float, ...] = (1
 
 
 def _frame(*rows: list[dict[str, Any]]) -> pd.DataFrame:
-    return pd.DataFrame([r for group in rows for r in group])
+    """The rows as a results frame with its values decoded, as the report reads a run."""
+    frame = pd.DataFrame([r for group in rows for r in group])
+    return frame.join(decoded(frame))
 
 
 def _cases(frame: pd.DataFrame) -> dict[str, AnyCase]:
@@ -144,7 +147,7 @@ def test_the_exact_reference_is_checked_from_the_truth_column() -> None:
 
 def test_rows_without_a_world_sweep_are_left_out() -> None:
     plain = _rows("drop", "dt", 1 / 60, "e", _drop())
-    frame = pd.DataFrame(plain)
+    frame = _frame(plain)
     assert metamorphic.points(frame, _cases(frame)).empty
     assert list(metamorphic.points(frame, {}).columns) == list(metamorphic.COLUMNS)
 

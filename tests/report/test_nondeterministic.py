@@ -20,7 +20,8 @@ from crosscheck.core.options import RunOptions
 from crosscheck.report.advise.recommend import Envelope, advise
 from crosscheck.report.render import render
 from crosscheck.report.results_table import results_data
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.run import read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import ROOT

@@ -23,9 +23,10 @@ from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.report import render as report
-from crosscheck.report import speed, speed_error, style, summary_tables
+from crosscheck.report import speed, speed_error, style, summary_tables, text
+from crosscheck.results.run import read_results
 from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.results.timings import FILE, TimingRecord
 from crosscheck.run.launch import launch, new_info
 from crosscheck.truth.bounds import bound
@@ -277,7 +278,8 @@ def test_quick_run_draws_no_chart_and_inlines_no_plotly(tmp_path: Path) -> None:
     quick = [r for r in records() if r.engine != "fast"]
     quick = [Record(**{**r.row(), "status": r.status, "query_s": math.nan}) for r in quick]
     html = report.render(write_run(tmp_path / "q", quick))["report"].read_text()
-    assert "Plotly.newPlot" not in html and "* plotly.js" not in html
+    assert FIGURE not in html and "* plotly.js" not in html
+    assert 'id="plotly-js"' not in html
     assert "<b>Not timed</b>" in html and "exact (distance: median error\n0, max 0" in html
 
 
@@ -326,6 +328,10 @@ def packed_scripts(html: str) -> dict[str, str]:
     return {name: gzip.decompress(base64.b64decode(text)).decode() for name, text in found}
 
 
+FIGURE = '<script type="application/octet-stream" class="plotly-figure"'
+"""A chart's packed figure, drawn by the page's one script."""
+
+
 def test_report_is_self_contained_with_plotly_once(rendered: str) -> None:
     payloads = packed_scripts(rendered)
     assert payloads["plotly-js"] == style.plotly_js()  # inlined once, compressed
@@ -338,9 +344,14 @@ def test_report_is_self_contained_with_plotly_once(rendered: str) -> None:
     assert tags.fetching == []
     for kind in ("sphere", "sphere_response"):
         assert rendered.count(f'id="speed-{kind}"') == 1
-    # the charts' scripts wait for the page's loader: defined before any of them
-    assert rendered.index("window.whenPlotly =") < rendered.index("Plotly.newPlot")
-    assert rendered.count("whenPlotly(function () {") == rendered.count("Plotly.newPlot(")
+    # the charts run no script of their own: each is a div and its packed figure, drawn by
+    # the page's one script (in the head, before any of them)
+    figures = rendered.count(FIGURE)
+    assert figures >= 2 and figures == len(re.findall(r'<div id="[^"]+" class="plotly-graph-div"',
+                                                      rendered))
+    assert rendered.index("window.crosscheck = {}") < rendered.index(FIGURE)
+    assert "Plotly.newPlot" not in rendered.split("window.crosscheck = {}", 1)[1].split(
+        "</script>", 1)[1]
 
 
 def test_script_in_text_is_escaped_everywhere_including_hover(rendered: str) -> None:
@@ -482,7 +493,7 @@ def test_summary_shows_the_iqr_over_cases_beside_the_median(timed_html: str) -> 
     summary_html = part(timed_html, 'id="summary"', "</table>")
     median = table.loc[("fast", "sphere"), "median_query_s"]
     assert "median query &plusmn; IQR over cases" in summary_html
-    assert f'<td class="num time">{speed.median_iqr(median, q3 - q1)}</td>' in summary_html
+    assert f'<td class="num time">{text.median_iqr(median, q3 - q1)}</td>' in summary_html
 
 
 def test_results_table_has_one_row_per_case_and_engine_with_its_quantities(rendered: str) -> None:

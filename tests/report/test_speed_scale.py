@@ -15,9 +15,10 @@ import pytest
 
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
-from crosscheck.report import charts
+from crosscheck.report import speed_error
+from crosscheck.results.run import read_results
 from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from crosscheck.truth.bounds import bound, length_magnitude
 from tests import fakes
@@ -38,9 +39,9 @@ def info(names: list[str]) -> RunInfo:
                    engines=tuple({"name": name} for name in names))
 
 
-def chart_of(rows: list[Record], kind: str = "sphere") -> charts.SpeedChart:
+def chart_of(rows: list[Record], kind: str = "sphere") -> speed_error.SpeedChart:
     names = list(dict.fromkeys(r.engine for r in rows))
-    return charts.speed_chart(pd.DataFrame([r.row() for r in rows]), kind, info(names), {})
+    return speed_error.speed_chart(pd.DataFrame([r.row() for r in rows]), kind, info(names), {})
 
 
 def test_same_relative_error_plots_the_same_on_bodies_of_any_size() -> None:
@@ -65,7 +66,7 @@ def test_the_same_absolute_error_plots_apart_by_the_ratio_of_the_sizes(tmp_path:
     launch(ResultsStore(folder), cases, engines, options,
            new_info(folder, "test", options, engines, cases))
     frame = read_results(folder)
-    per_case = {c.id: charts.speed_chart(frame[frame["case_id"] == c.id], "sphere",
+    per_case = {c.id: speed_error.speed_chart(frame[frame["case_id"] == c.id], "sphere",
                                          info(["fake-off"]), {}).points[0]
                 for c in cases}
     unit, big = (per_case[c].errors["distance"].median for c in ("unit", "big"))
@@ -81,17 +82,18 @@ def test_an_answer_of_minus_1_8e308_is_clipped_to_the_ceiling_and_counted() -> N
     errors = chart.points[0].errors["distance"]
     assert (errors.off, errors.scored, chart.off_scale("distance")) == (2, 4, 2)
     assert chart.off_scale("normal") == 0
-    fig = charts.figure(chart, ["wild"]).to_plotly_json()
+    fig = speed_error.figure(chart, ["wild"]).to_plotly_json()
     layout = fig["layout"]
-    assert layout["yaxis"]["range"] == [math.log10(charts.FLOOR) - charts.PAD,
-                                        math.log10(charts.CEILING) + charts.PAD]
+    assert layout["yaxis"]["range"] == [math.log10(speed_error.FLOOR) - speed_error.PAD,
+                                        math.log10(speed_error.CEILING) + speed_error.PAD]
     top = fig["data"][1]  # the largest error: on the ceiling, as an arrow
-    assert list(top["y"]) == [charts.CEILING] and top["marker"]["symbol"] == charts.OFF_SYMBOL
+    assert list(top["y"]) == [speed_error.CEILING]
+    assert top["marker"]["symbol"] == speed_error.OFF_SYMBOL
     assert "2 off scale" in fig["data"][0]["hovertext"][0]
     notes = {(a["text"], a["yref"]) for a in layout["annotations"]}
-    assert (charts.off_label(2), "y") in notes and (charts.off_label(0), "y2") in notes
+    assert (speed_error.off_label(2), "y") in notes and (speed_error.off_label(0), "y2") in notes
     drawn = [y for t in fig["data"] if t["type"] == "scatter" for y in t["y"]]
-    assert all(charts.FLOOR <= y <= charts.CEILING for y in drawn)
+    assert all(speed_error.FLOOR <= y <= speed_error.CEILING for y in drawn)
 
 
 def test_one_panel_per_quantity_and_the_verdicts_apart() -> None:
@@ -102,7 +104,7 @@ def test_one_panel_per_quantity_and_the_verdicts_apart() -> None:
     for chart, titles in ((detection, ["signed distance", "normal (angle)", "wrong hit verdicts"]),
                           (response, ["velocity v1", "velocity v2",
                                       "cases with a velocity beyond tolerance"])):
-        fig = charts.figure(chart, ["e"]).to_plotly_json()
+        fig = speed_error.figure(chart, ["e"]).to_plotly_json()
         panels = {t.get("xaxis", "x") for t in fig["data"] if t["type"] == "scatter"}
         assert panels == {"x", "x2"}
         assert [a["text"] for a in fig["layout"]["annotations"][:3]] == titles
@@ -156,7 +158,7 @@ def overlap(a: tuple[float, ...], b: tuple[float, ...]) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
-def many(kind: str, quantities: tuple[str, ...]) -> charts.SpeedChart:
+def many(kind: str, quantities: tuple[str, ...]) -> speed_error.SpeedChart:
     """Fifteen engines with errors across the whole axis, off scale ones among them."""
     errors = (0.0, 1e-20, 1e-15, 1e-9, 1e-3, 1.0, 1e300, math.inf)
     return chart_of([record(f"c{i}", f"engine-{e}", q, errors[(e + i) % len(errors)], 1e-15,
@@ -170,7 +172,7 @@ def many(kind: str, quantities: tuple[str, ...]) -> charts.SpeedChart:
 def test_labels_do_not_overlap(kind: str, quantities: tuple[str, ...], width: int) -> None:
     chart = many(kind, quantities)
     assert chart.off_scale(chart.measure.errors[0]) > 0
-    layout = charts.figure(chart, []).to_plotly_json()["layout"]
+    layout = speed_error.figure(chart, []).to_plotly_json()["layout"]
     labels = [*layout["annotations"], *x_titles(layout)]
     boxes = [box(note, layout, width) for note in labels]
     assert len(boxes) == 3 + 3 * 2 + 2  # the panels' titles; floor, ceiling, accuracy per
@@ -181,7 +183,7 @@ def test_labels_do_not_overlap(kind: str, quantities: tuple[str, ...], width: in
 
 
 def test_the_overlap_check_can_fail() -> None:
-    layout = charts.figure(many("sphere", ("hit", "distance")), []).to_plotly_json()["layout"]
-    floor, *_ = (n for n in layout["annotations"] if n["text"] == charts.FLOOR_TEXT)
+    layout = speed_error.figure(many("sphere", ("hit", "distance")), []).to_plotly_json()["layout"]
+    floor, *_ = (n for n in layout["annotations"] if n["text"] == speed_error.FLOOR_TEXT)
     near = {**floor, "text": "another label", "y": floor["y"] + 0.2}
     assert overlap(box(floor, layout, 900), box(near, layout, 900))

@@ -12,6 +12,7 @@ import pandas as pd
 import pytest
 from markupsafe import Markup
 
+from crosscheck.core.kinds import spec
 from crosscheck.report import stability
 from crosscheck.report.stability import charts as stability_charts
 from crosscheck.report.style import packed_plotly_js, templates
@@ -140,8 +141,8 @@ def test_every_cell_with_a_verdict_names_its_quantity() -> None:
                                 kind="sphere_response"))
     page = Matrix(render(section(stability.sweep_points(frame, {}))))
     gap, ratio = page.cells["a"]
-    assert gap["small"][-1] == stability.HEADLINE["sphere"] and coloured(gap)
-    assert ratio["small"][-1] == stability.HEADLINE["sphere_response"]
+    assert gap["small"][-1] == spec("sphere").headline and coloured(gap)
+    assert ratio["small"][-1] == spec("sphere_response").headline
 
 
 def test_a_fallback_to_hit_is_labelled() -> None:
@@ -220,7 +221,7 @@ def test_a_chart_drawn_in_a_closed_fold_fits_its_box_once_opened(tmp_path: Path)
     messages: list[str] = []
     with opened(page_file, messages) as page:
         page.wait_for_load_state("load")
-        page.evaluate("drawAllCharts()")
+        page.evaluate("crosscheck.drawAllCharts()")
         page.locator("#stability-charts details summary").first.click()
         page.wait_for_timeout(500)
         widths = page.evaluate("""[...document.querySelectorAll(

@@ -9,9 +9,10 @@ from typing import Any
 
 import pandas as pd
 
-from crosscheck.report import mirror
+from crosscheck.report import symmetry
 from crosscheck.report.style import templates
 from crosscheck.report.symmetry import asymmetries
+from crosscheck.results.run import decoded
 
 
 def row(case_id: str, quantity: str, value: str, engine: str = "e", tolerance: float = 0.0,
@@ -22,6 +23,12 @@ def row(case_id: str, quantity: str, value: str, engine: str = "e", tolerance: f
             "tolerance": tolerance, "status": status, "twin_of": twin_of}
 
 
+def with_values(rows: list[dict[str, Any]]) -> pd.DataFrame:
+    """The rows as a results frame with its values decoded, as the report reads a run."""
+    frame = pd.DataFrame(rows)
+    return frame.join(decoded(frame))
+
+
 def test_report_lists_engine_answers_that_do_not_mirror() -> None:
     rows = [
         row("c", "normal", "[0.6, 0.8]", tolerance=1e-9),
@@ -30,13 +37,13 @@ def test_report_lists_engine_answers_that_do_not_mirror() -> None:
         row("d.swapped", "v1", "[2.0, 0.0]"), row("d.swapped", "v2", "[1.5, 0.0]"),
         row("h", "hit", "true"), row("h.swapped", "hit", "false"),
     ]
-    found = asymmetries(pd.DataFrame(rows))
+    found = asymmetries(with_values(rows))
     assert sorted(zip(found["case_id"], found["quantity"], strict=True)) == [
         ("d", "v1"), ("h", "hit")]
 
 
 def test_identical_infinite_answers_mirror() -> None:
-    rows = pd.DataFrame([
+    rows = with_values([
         row("c", "distance", "Infinity", tolerance=1e-9),
         row("c.swapped", "distance", "Infinity", tolerance=1e-9),
         row("d", "distance", "Infinity", tolerance=1e-9),
@@ -44,7 +51,7 @@ def test_identical_infinite_answers_mirror() -> None:
     assert asymmetries(rows)["case_id"].tolist() == ["d"]
 
 
-RUN = pd.DataFrame([
+RUN = with_values([
     # e: one asymmetric hit (a), one mirrored hit (b), one asymmetric normal (n)
     row("a", "hit", "true"), row("a.swapped", "hit", "false"),
     row("b", "hit", "true"), row("b.swapped", "hit", "true"),
@@ -58,7 +65,7 @@ RUN = pd.DataFrame([
 
 
 def test_summary_counts_per_engine_and_quantity_without_undefined_truths() -> None:
-    counts = mirror.summary(mirror.compared(RUN))
+    counts = symmetry.summary(symmetry.compared(RUN))
     cells = {e["engine"]: e["cells"] for e in counts["engines"]}
     assert cells == {"e": {"hit": [1, 2], "normal": [1, 1]}, "f": {"hit": [0, 1]}}
     assert (counts["asymmetric"], counts["compared"]) == (2, 4)
@@ -74,7 +81,7 @@ def test_the_csv_keeps_every_asymmetric_answer_and_marks_undefined_truths() -> N
 
 
 def test_the_section_shows_the_counts_and_folds_each_engines_cases() -> None:
-    context = mirror.section(RUN, ["f", "e"])
+    context = symmetry.section(RUN, ["f", "e"])
     page = templates().get_template("_symmetry.html.j2").render(**context)
     assert "A/B symmetry (2 asymmetric answers of 4 compared)" in page
     assert "Left out: 1 pair whose truth is undefined" in page

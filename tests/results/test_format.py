@@ -26,8 +26,9 @@ from crosscheck.core.schema import CASE_ADAPTER
 from crosscheck.core.values import decode, upgrade
 from crosscheck.report.render import render
 from crosscheck.report.stability import sweep_points
+from crosscheck.results.run import read_run
 from crosscheck.results.runinfo import FORMAT_VERSION
-from crosscheck.results.store import ResultsStore, StoreError, read_run
+from crosscheck.results.store import ResultsStore, StoreError
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import embedded, sphere

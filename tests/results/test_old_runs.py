@@ -44,7 +44,7 @@ import pytest
 from crosscheck.cli import main
 from crosscheck.compare.runs import compare
 from crosscheck.core.values import decode
-from crosscheck.results.store import read_results, read_run_info
+from crosscheck.results.run import read_results, read_run_info
 from crosscheck.results.timings import TimingRecord, read_timings
 from tests.conftest import ROOT
 

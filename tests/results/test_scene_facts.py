@@ -7,6 +7,7 @@ import json
 import shutil
 from pathlib import Path
 
+import pandas as pd
 import pytest
 
 from crosscheck.cases.load import load_paths
@@ -15,8 +16,9 @@ from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, SceneCase
 from crosscheck.report import dynamics
 from crosscheck.report.render import render
+from crosscheck.results.run import decoded, read_cases, read_results, read_run
 from crosscheck.results.scene_facts import FILE, SceneFacts, facts_of, read_facts
-from crosscheck.results.store import ResultsStore, read_cases, read_results, read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from crosscheck.run.runner import run_pending
 from crosscheck.truth import scenes
@@ -26,6 +28,11 @@ from tests.conftest import ROOT, sphere
 SUITE = {"scenes.toml": "scene-2d-cradle-5-iterations.dt=0.00416667,iterations=4",
          "gravity.toml": "drop-2d-e0.5.dt=0.0166667"}
 """Two short scenes of the suite: a cradle in open space, a ball bouncing on a ground."""
+
+
+def with_values(frame: pd.DataFrame) -> pd.DataFrame:
+    """A results frame with its values decoded, as the report reads a run."""
+    return frame.join(decoded(frame))
 
 
 def on_a_step() -> SceneCase:
@@ -78,7 +85,7 @@ def test_a_run_stores_the_facts_the_report_computed_from_the_exact_run(scene_run
 
 def test_the_report_reads_the_stored_facts_instead_of_running_the_reference(
         scene_run: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    frame, cases = read_results(scene_run), read_cases(scene_run)
+    frame, cases = with_values(read_results(scene_run)), read_cases(scene_run)
     expected = {c.id: as_the_report_computed(c).aligned for c in scene_cases()}
 
     def no_reference(case: SceneCase) -> Observation:
@@ -93,7 +100,7 @@ def test_a_run_without_the_file_shows_the_same_flags_and_the_same_page(
         scene_run: Path, tmp_path: Path) -> None:
     old = tmp_path / "run"  # the same path: the page names its run folder
     shutil.copytree(scene_run, old)
-    frame, cases = read_results(old), read_cases(old)
+    frame, cases = with_values(read_results(old)), read_cases(old)
     stored = dynamics.scene_points(frame, cases, read_facts(old))
     with_facts = render(old)["report"].read_bytes()
     (old / FILE).unlink()

@@ -18,7 +18,8 @@ from crosscheck.compare.runs import compare
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.results.counts import FILE, CountRecord, read_counts, with_counts
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.run import Run, read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run import callgrind, cost
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
@@ -137,11 +138,11 @@ def test_a_run_without_counts_is_never_compared_with_one_that_has_them(tmp_path:
     b = tmp_path / "b"
     b.mkdir()
 
-    class Run:
+    class Folder:
         def __init__(self, directory: Path) -> None:
             self.directory = directory
 
-    ra, rb = run_counts(Run(a)), run_counts(Run(b))  # type: ignore[arg-type]
+    ra, rb = run_counts(Folder(a)), run_counts(Folder(b))  # type: ignore[arg-type]
     changes = cost_changes(ra, rb, {"s0"}, {"e"})
     assert list(changes["verdict"]) == ["unknown"]
     assert "B: no instructions counted" in changes["reason"].iloc[0]
@@ -159,9 +160,11 @@ def test_without_valgrind_the_timer_says_so_and_counts_nothing(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(callgrind, "valgrind", lambda: None)
     assert "valgrind is not installed" in str(callgrind.missing())
-    store = ResultsStore(tmp_path / "run")
+    store, engines = ResultsStore(tmp_path / "run"), [fakes.BusyLoop()]
+    info = new_info(store.directory, "test", OPTIONS, engines, CASES)
     try:
-        section = cost.cost_phase(store, CASES, [fakes.BusyLoop()], OPTIONS)
+        section = cost.cost_phase(store, Run(store.directory, info, {c.id: c for c in CASES}),
+                                  engines, OPTIONS)
     finally:
         store.close()
     assert section["none"].startswith("valgrind is not installed")
@@ -198,7 +201,8 @@ def counted(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
                                 None, threading.Event())  # 0.05 s x SLOWDOWN: 5 s
     boom = sphere(0.0, 2.0, id="boom")
     with ThreadPoolExecutor(max_workers=5) as pool:
-        sections = {name: pool.submit(cost.cost_phase, store, CASES, [RUNS[name]], OPTIONS)
+        sections = {name: pool.submit(cost.cost_phase, store, read_run(store.directory),
+                                      [RUNS[name]], OPTIONS)
                     for name, store in stores.items()}
         died = pool.submit(library.count, [(boom, fakes.CrashesOnSpheresAt()),
                                            (CASES[0], fakes.BusyLoop())])

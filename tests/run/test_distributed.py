@@ -23,7 +23,8 @@ from crosscheck.cli import main
 from crosscheck.core.contract import Adapter
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.casework import ITEM_CASES
 from crosscheck.run.runner import run
 from tests import fakes

@@ -13,7 +13,8 @@ import pandas as pd
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
 from crosscheck.core.model import quantities_of
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.runner import run
 from tests import fakes
 from tests.conftest import response, sphere

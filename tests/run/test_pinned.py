@@ -21,7 +21,8 @@ import pytest
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.run import read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run import envs, pinned
 from crosscheck.run.launch import launch, new_info
 from tests.run.versioned_fake import MODULE, PACKAGE, VersionedFake

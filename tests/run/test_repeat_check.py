@@ -24,8 +24,9 @@ from crosscheck.core.model import Observation, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.repeats import FILE, NOT_CHECKED
+from crosscheck.results.run import read_run
 from crosscheck.results.runinfo import RunInfo
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from crosscheck.run.repeat import RepeatJob
 from crosscheck.testing.samples import sphere_pair
@@ -43,7 +44,7 @@ def run_with(folder: Path, engines: list[Adapter], cases: list[AnyCase] | None =
     cases = CASES if cases is None else cases
     chosen = replace(RunOptions(quick=True, repeat_check=True), **options)
     info = launch(ResultsStore(folder), cases, engines, chosen,
-                  new_info(folder, "test", chosen, engines, cases))
+                  new_info(folder, "test", chosen, engines, cases)).info
     return info, read_run(folder).results
 
 

@@ -11,7 +11,8 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Category, Observation, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
-from crosscheck.results.store import ResultsStore, read_cases, read_results
+from crosscheck.results.run import read_cases, read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.execute import Outcome
 from crosscheck.run.launch import launch, new_info
 from crosscheck.run.runner import score_case

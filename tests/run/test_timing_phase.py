@@ -22,7 +22,8 @@ from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.results.store import ResultsStore, read_run
+from crosscheck.results.run import read_run
+from crosscheck.results.store import ResultsStore
 from crosscheck.results.timings import read_timings
 from crosscheck.run.execute import Outcome
 from crosscheck.run.launch import launch, new_info
@@ -179,7 +180,8 @@ def injected_run(folder: Path, machine: Machine, engines: Sequence[Adapter] = EN
     launch(ResultsStore(folder), CASES, engines, replace(OPTIONS, quick=True), info)
     store = ResultsStore(folder, resume=True)
     try:
-        timing = time_phase(store, CASES, engines, OPTIONS, sampler=lambda *_: machine)
+        timing = time_phase(store, read_run(folder), engines, OPTIONS,
+                            sampler=lambda *_: machine)
         store.write_run_info(replace(info, timing=timing).finish())
     finally:
         store.close()

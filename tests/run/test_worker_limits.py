@@ -17,7 +17,8 @@ from pathlib import Path
 import pandas as pd
 
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.run import read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run.runner import run
 from crosscheck.run.worker import WorkerPool
 from tests import fakes

@@ -18,6 +18,7 @@ from crosscheck.cases.load import load_paths, semantic_problems
 from crosscheck.cases.writer import case_block
 from crosscheck.cli import fuzz as fuzz_command
 from crosscheck.cli import main
+from crosscheck.core.kinds import spec
 from crosscheck.core.model import PAIR_KINDS, Kind, Status
 from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase, ResponseCase
 from crosscheck.studies.fuzz import generator as fuzzgen
@@ -57,7 +58,7 @@ def test_generated_cases_are_valid_with_stable_ids_and_families(kind: Kind) -> N
         assert g.case.tags == ("fuzz", *g.parts) and g.parts[0] == g.family
         assert g.case.description.startswith(f"fuzz {g.family}")
         assert g.driver == fuzzgen.DRIVER[g.family]
-    assert {g.family for g in gens} == {"space", *fuzzgen.PARTS[kind]}
+    assert {g.family for g in gens} == {"space", *spec(kind).fuzz}
     assert {g.case.dim for g in gens} == {2, 3}
     words = " ".join(g.case.description for g in gens)
     assert "ulps per coordinate" in words and "B moved by relative gap" in words

@@ -23,7 +23,8 @@ import pytest
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import SceneCase
-from crosscheck.results.store import REPRO_DIR, ResultsStore, read_run, repro_name
+from crosscheck.results.run import read_run
+from crosscheck.results.store import REPRO_DIR, ResultsStore, repro_name
 from crosscheck.run.launch import launch, new_info
 from crosscheck.studies.repro.script import RunRows, breaking_pairs, scripts
 from tests import fakes

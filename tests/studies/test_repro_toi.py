@@ -9,16 +9,15 @@ from pathlib import Path
 
 import pytest
 
-from adapters.box2d_engine import Box2dTuned
-from adapters.fcl_engine import Fcl, FclCcdNaive, FclCcdRayShooting
-from adapters.rapier_engine import RapierDefault
+from adapters.box2d import Box2dTuned
+from adapters.fcl import Fcl, FclCcdNaive, FclCcdRayShooting
+from adapters.rapier import RapierDefault
 from adapters.reference import ReferenceF32, ReferenceF64
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Kind, Observation, Undefined, quantities_of
 from crosscheck.core.schema import ToiCase
 from crosscheck.core.values import encode
-from crosscheck.studies.repro.script import script_text
-from crosscheck.studies.repro.writers import writer_for
+from crosscheck.studies.repro.script import engine_part, script_text
 
 C = 1.0123456789
 
@@ -36,10 +35,8 @@ MISS = {"b": {"center": [1.0, 0.5], "radius": 0.05, "velocity": [-1.0, 0.0]},
 
 
 def run(adapter: Adapter, c: ToiCase, tmp_path: Path) -> subprocess.CompletedProcess[str]:
-    writer = writer_for(adapter)
-    assert writer is not None
     info = {"name": adapter.name, "engine": adapter.engine, "settings": adapter.settings}
-    text = script_text(c, writer(adapter, c, frozenset()), info, [], [], "test")
+    text = script_text(c, engine_part(adapter, c), info, [], [], "test")
     path = tmp_path / "repro.py"
     path.write_text(text, encoding="utf-8")
     return subprocess.run([sys.executable, str(path)], capture_output=True, text=True,
@@ -82,4 +79,4 @@ def test_script_prints_the_adapters_answer(adapter: Adapter, c: ToiCase, tmp_pat
 def test_script_of_a_solver_that_does_not_compute_says_so(tmp_path: Path) -> None:
     done = run(FclCcdRayShooting(), case(3), tmp_path)
     assert done.returncode == 0, done.stderr
-    assert "returned -1.0" in done.stdout
+    assert "continuousCollide returned -1" in done.stdout

@@ -25,9 +25,10 @@ import pandas as pd
 from crosscheck.core.model import Status
 from crosscheck.report import repro_links
 from crosscheck.report.advise.judge import CONVENTION, FAILED, SKIP, WRONG
+from crosscheck.report.cost import Measure, cost_of
 from crosscheck.report.profiles import BASELINES, worst_statuses
-from crosscheck.report.query_cost import column
-from crosscheck.results.store import StoredRun, repro_name, repro_path
+from crosscheck.results.run import Run
+from crosscheck.results.store import repro_name, repro_path
 
 PASSES, PARTIAL, FAILS, UNSUPPORTED = "passes", "partial", "fails", "unsupported"
 """The tiers: meets the accuracy on the whole envelope; on the part it answers; not on
@@ -124,8 +125,16 @@ class EngineAdvice:
     def passes(self) -> bool:
         return self.tier == PASSES
 
+    @property
+    def measure(self) -> Measure:
+        """Its medians both ways (NaN: not measured so), as
+        :func:`crosscheck.report.cost.rank` reads them."""
+        return (math.nan if self.median_query_s is None else self.median_query_s,
+                math.nan if self.median_query_instructions is None
+                else self.median_query_instructions)
 
-def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
+
+def grade(run: Run, engine: str, rows: pd.DataFrame, cases: int,
           bad: pd.DataFrame) -> EngineAdvice:
     """The grade of ``engine`` from its judged in-envelope ``rows`` and its ``bad`` rows."""
     info = next(e for e in run.info.engines if e["name"] == engine)
@@ -137,44 +146,22 @@ def grade(run: StoredRun, engine: str, rows: pd.DataFrame, cases: int,
     parts = _parts(rows)
     unsupported = _unsupported(parts)
     float32 = is_float32(info)
-    per_case = answered_rows.drop_duplicates("case_id")
-    times = column(per_case, "query_s").dropna()
-    counts = column(per_case, "query_instructions").dropna()
+    cost = cost_of(answered_rows)
     return EngineAdvice(
         engine=engine, tier=_tier(len(answered), within, cases),
         baseline=engine in BASELINES, float32=float32, cases=cases,
         answered=len(answered), within=within,
         coverage=len(answered) / cases if cases else 0.0,
         share_within=within / len(answered) if answered else None,
-        median_query_s=float(times.median()) if len(times) else None,
-        query_iqr_s=_iqr(times),
-        median_query_instructions=float(counts.median()) if len(counts) else None,
-        query_instructions_iqr=_iqr(counts),
+        median_query_s=cost.wall.median if cost.timed else None,
+        query_iqr_s=cost.wall.iqr if cost.timed else None,
+        median_query_instructions=cost.counted.median if cost.is_counted else None,
+        query_instructions_iqr=cost.counted.iqr if cost.is_counted else None,
         worst=_worst(run, engine, failing), failure_modes=_modes(failing),
         conventions=_modes(_worst_first(answered_rows[answered_rows["judgment"] == CONVENTION])),
         parts=parts, unsupported=unsupported,
         failing_cases=tuple(dict.fromkeys(failing["case_id"])), robustness=worst_statuses(bad),
         **_repeats(rows))
-
-
-def _iqr(values: pd.Series) -> float | None:
-    """The interquartile range of ``values`` (None: none)."""
-    return float(values.quantile(0.75) - values.quantile(0.25)) if len(values) else None
-
-
-def by_counts(grades: list[EngineAdvice]) -> bool:
-    """Whether a tier is ordered by instructions per query: every engine of it with a cost
-    was counted (and one was), as :func:`crosscheck.report.query_cost.by_counts` says of
-    any group; else by the wall clock."""
-    measured = [g for g in grades
-                if g.median_query_s is not None or g.median_query_instructions is not None]
-    return bool(measured) and all(g.median_query_instructions is not None for g in measured)
-
-
-def cost_key(grade: EngineAdvice, counts: bool) -> tuple[bool, float]:
-    """Cheapest first in the tier's measure (``counts``: instructions), unmeasured last."""
-    value = grade.median_query_instructions if counts else grade.median_query_s
-    return value is None, value or 0.0
 
 
 def _repeats(rows: pd.DataFrame) -> dict[str, int]:
@@ -228,7 +215,7 @@ def _finite(value: object) -> float | None:
     return number if math.isfinite(number) else None
 
 
-def _worst(run: StoredRun, engine: str, failing: pd.DataFrame) -> Worst | None:
+def _worst(run: Run, engine: str, failing: pd.DataFrame) -> Worst | None:
     if failing.empty:
         return None
     row = failing.iloc[0]

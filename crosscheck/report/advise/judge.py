@@ -47,8 +47,8 @@ import pandas as pd
 from crosscheck.core.conventions import Conventions, Nature
 from crosscheck.core.model import Category, Status
 from crosscheck.core.schema import AnyCase
-from crosscheck.core.values import decode
 from crosscheck.report.advise.profile import Envelope, smallest_size
+from crosscheck.results.run import DECODED
 from crosscheck.truth import convention_fields
 from crosscheck.truth.bounds import failed
 
@@ -79,14 +79,13 @@ def engine_conventions(engines: Sequence[Mapping[str, Any]]) -> dict[str, Conven
             for e in engines}
 
 
-def no_value(text: object) -> bool:
-    """Whether a stored answer (``value`` text) has no finite value: none at all, a number
-    that is not finite or the largest double (what a declared no-value rule speaks for).
+def no_value(value: Any) -> bool:
+    """Whether a stored answer (its decoded ``value``) has no finite value: none at all, a
+    number that is not finite or the largest double (what a declared no-value rule speaks for).
 
-    >>> no_value("null"), no_value('[1.0, "NaN"]'), no_value("[1.0, 0.0]"), no_value("true")
+    >>> no_value(None), no_value([1.0, math.nan]), no_value([1.0, 0.0]), no_value(True)
     (True, True, False, False)
     """
-    value = decode(text)
     if value is None:
         return True
     return failed(tuple(value) if isinstance(value, list) else value)
@@ -95,10 +94,12 @@ def no_value(text: object) -> bool:
 def natures(rows: pd.DataFrame, cases: Mapping[str, AnyCase],
             conventions: Mapping[str, Conventions]) -> list[str]:
     """Per row, what a ``convention`` row rests on (:data:`DEFINITION` or :data:`BEHAVIOUR`;
-    '' for any other row)."""
+    '' for any other row); ``rows`` carry their decoded values
+    (:func:`crosscheck.results.run.decoded`)."""
     out = []
     for case_id, engine, category, value in zip(rows["case_id"], rows["engine"],
-                                                rows["category"], rows["value"], strict=True):
+                                                rows["category"], rows[DECODED["value"]],
+                                                strict=True):
         if category != Category.CONVENTION:
             out.append("")
             continue
@@ -134,8 +135,9 @@ def _number(value: object) -> float:
 
 def judged(rows: pd.DataFrame, cases: Mapping[str, AnyCase], profile: Envelope,
            conventions: Mapping[str, Conventions]) -> pd.DataFrame:
-    """``rows`` (of the quantities that matter) with ``gap``, ``allowed``, ``measure``,
-    ``nature`` and ``judgment`` columns; ``conventions``: each engine's declared ones."""
+    """``rows`` (of the quantities that matter, with their decoded values) with ``gap``,
+    ``allowed``, ``measure``, ``nature`` and ``judgment`` columns; ``conventions``: each
+    engine's declared ones."""
     if profile.quantities:
         rows = rows[rows["quantity"].isin(profile.quantities)]
     rows = rows.copy()

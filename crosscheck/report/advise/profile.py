@@ -23,16 +23,11 @@ from dataclasses import dataclass
 from typing import Any
 
 from crosscheck.core.geometry import norm
-from crosscheck.core.model import PAIR_KINDS
+from crosscheck.core.kinds import ANGLE, FRACTION, LENGTH, PAIR_KINDS, TIME, VELOCITY
 from crosscheck.core.schema import DEFAULT_DT, AabbCase, AnyCase, ResponseCase, SceneCase, ToiCase
 from crosscheck.report.advise.units import (
-    ANGLE,
-    FRACTION,
-    LENGTH,
-    TIME,
     TOLERANCE_OPTIONS,
     UNITS,
-    VELOCITY,
     kind_quantities,
     refused_limit,
     refused_tolerance,

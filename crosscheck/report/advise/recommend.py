@@ -51,13 +51,12 @@ from crosscheck.report.advise.grade import (
     Mode,
     Part,
     Worst,
-    by_counts,
-    cost_key,
     grade,
 )
 from crosscheck.report.advise.judge import engine_conventions, judged
 from crosscheck.report.advise.profile import Envelope, EnvelopeError
-from crosscheck.results.store import StoredRun
+from crosscheck.report.cost import by_counts, rank
+from crosscheck.results.run import Run
 
 __all__ = ["INSTRUCTIONS", "WALL", "Advice", "EngineAdvice", "Envelope", "EnvelopeError", "Mode",
            "Part", "Worst", "advise"]
@@ -108,6 +107,17 @@ class Advice:
     (:mod:`crosscheck.cases.space`) the answer's cases cover, of all its cells."""
 
     @property
+    def passing_order(self) -> str:
+        """How :attr:`passing` is listed, in words: cheapest first (by instructions per query
+        when :attr:`cost_by` says so) when one of them has a cost, else in run order (none
+        was timed: a ``--quick`` run, or none in the timing sample)."""
+        if all(e.median_query_s is None and e.median_query_instructions is None
+               for e in self.passing):
+            return "none timed: in run order"
+        return "cheapest first" + (" by instructions per query"
+                                   if self.cost_by == INSTRUCTIONS else "")
+
+    @property
     def ranking(self) -> list[EngineAdvice]:
         """The contenders, best first: passing, then partial, then failing."""
         return self.passing + self.partial + self.failing
@@ -129,7 +139,7 @@ def _json_safe(value: Any) -> Any:
     return value
 
 
-def requested_kinds(run: StoredRun, envelope: Envelope) -> tuple[str, ...]:
+def requested_kinds(run: Run, envelope: Envelope) -> tuple[str, ...]:
     """The envelope's kinds, or every pair kind the run holds; EnvelopeError if one is absent."""
     present = [str(k) for k in run.results["kind"].unique()]
     for kind in envelope.kinds:
@@ -139,7 +149,7 @@ def requested_kinds(run: StoredRun, envelope: Envelope) -> tuple[str, ...]:
     return envelope.kinds or tuple(k for k in PAIR_KINDS if k in present)
 
 
-def envelope_rows(run: StoredRun, envelope: Envelope
+def envelope_rows(run: Run, envelope: Envelope
                   ) -> tuple[pd.DataFrame, pd.DataFrame, int]:
     """The judged rows of the in-envelope cases of the requested kinds, the rows of the
     bad-input cases of those kinds and dimensions, and how many in-envelope cases the run
@@ -157,12 +167,12 @@ def envelope_rows(run: StoredRun, envelope: Envelope
                  and run.info.options.skips(case.step_count)}
     bad = {i for i, c in mine.items() if c.bad_input}
     results = run.results
-    rows = judged(results[results["case_id"].isin(inside - not_asked)], run.cases, envelope,
-                  engine_conventions(run.info.engines))
+    rows = judged(results[results["case_id"].isin(inside - not_asked)].join(run.decoded),
+                  run.cases, envelope, engine_conventions(run.info.engines))
     return rows, results[results["case_id"].isin(bad)], len(not_asked)
 
 
-def advise(run: StoredRun, envelope: Envelope) -> Advice:
+def advise(run: Run, envelope: Envelope) -> Advice:
     """The graded, ranked answer of ``run`` for the scene ``envelope`` describes."""
     envelope.check()
     rows, bad, not_asked = envelope_rows(run, envelope)
@@ -171,15 +181,14 @@ def advise(run: StoredRun, envelope: Envelope) -> Advice:
     cases = int(rows["case_id"].nunique())
     grades = [grade(run, name, rows[rows["engine"] == name], cases, bad[bad["engine"] == name])
               for name in run.info.engine_names]
-    order = {name: i for i, name in enumerate(run.info.engine_names)}
     contenders = [g for g in grades if not g.baseline and g.tier != UNSUPPORTED
                   and (envelope.float32 or not g.float32)]
 
     def tier(name: str, first: Callable[[EngineAdvice], int]) -> list[EngineAdvice]:
-        """The contenders of a tier, by ``first`` then cost (in the tier's measure)."""
-        engines = [g for g in contenders if g.tier == name]
-        counts = by_counts(engines)
-        return sorted(engines, key=lambda g: (first(g), *cost_key(g, counts), order[g.engine]))
+        """The contenders of a tier (in run order), by ``first`` then cost (in the tier's
+        measure)."""
+        return rank([g for g in contenders if g.tier == name], lambda g: g.measure,
+                    first).items
 
     passing = tier(PASSES, lambda g: 0)
     partial = tier(PARTIAL, lambda g: -g.answered)
@@ -195,7 +204,7 @@ def advise(run: StoredRun, envelope: Envelope) -> Advice:
         closest=None if closest is None else closest.engine,
         deciding=() if closest is None else _deciding(closest),
         repeat_checked=run.info.repeat_check is not None,
-        cost_by=INSTRUCTIONS if by_counts(passing) else WALL,
+        cost_by=INSTRUCTIONS if by_counts(g.measure for g in passing) else WALL,
         quick=run.info.options.quick, not_asked=not_asked,
         rests_on={g.engine: g.answered for g in grades},
         cells=cells_of([run.cases[i] for i in rows["case_id"].unique()]))

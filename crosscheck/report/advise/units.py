@@ -21,23 +21,16 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from crosscheck.core.model import Kind, quantities_of
-
-LENGTH, ANGLE, VELOCITY, TIME, FRACTION = "m", "rad", "m/s", "s", "fraction"
-"""The units of the quantities: ``fraction`` is a share of the quantity's own scale (a scene's
-positions in mean radii, its velocities of the largest initial speed, its energy drift of the
-energy scale per second: :data:`crosscheck.truth.scenes.UNITS`)."""
-
-UNITS: dict[str, str] = {
-    "hit": LENGTH, "distance": LENGTH, "settle": LENGTH,
-    "normal": ANGLE,
-    "v1": VELOCITY, "v2": VELOCITY, "jitter": VELOCITY,
-    "toi": TIME, "bounce_time": TIME,
-    "positions": FRACTION, "velocities": FRACTION, "momentum": FRACTION, "energy": FRACTION,
-    "energy_drift": FRACTION, "apex": FRACTION, "divergence": FRACTION,
-}
-"""Each quantity's unit: what its error is measured in (a ``hit`` verdict is judged by the
-pair's exact |gap|, a length)."""
+from crosscheck.core.kinds import (
+    ANGLE,
+    FRACTION,
+    LENGTH,
+    SPECS,
+    TIME,
+    VELOCITY,
+    every_quantity,
+    quantities_of,
+)
 
 TOLERANCE_OPTIONS: dict[str, str] = {
     LENGTH: "--tolerance", ANGLE: "--angle-tolerance", VELOCITY: "--velocity-tolerance",
@@ -45,23 +38,33 @@ TOLERANCE_OPTIONS: dict[str, str] = {
 """The option that states the tolerance of each unit (``--rtol`` adds one relative to the
 body size, on lengths)."""
 
-SCENES, TOIS = ("sphere_scene",), ("sphere_toi",)
-KIND_OPTIONS: dict[str, tuple[tuple[str, ...], str]] = {
-    "--speed": (("sphere_response", "sphere_toi", "sphere_scene"), "the speed |v| of every body"),
-    "--mass-ratio": (("sphere_response", "sphere_scene"), "the mass ratio max(m)/min(m)"),
-    "--duration": (SCENES, "the simulated time"),
-    "--dt": (SCENES, "the time step"),
-    "--step-travel": (SCENES, "the per-step travel |vb - va| dt / 2(ra + rb) of the fastest "
-                              "pair"),
-    "--interval": (TOIS, "the interval's length"),
-    "--touching-contact": (("aabb", "sphere"), "whether exact touching counts as contact"),
+UNITS: dict[str, str] = {q.name: q.unit for unit in TOLERANCE_OPTIONS for q in every_quantity()
+                         if q.unit == unit}
+"""Each quantity's unit: what its error is measured in (its spec's, :mod:`crosscheck.core.kinds`;
+a ``hit`` verdict is judged by the pair's exact |gap|, a length), by unit in the order of
+:data:`TOLERANCE_OPTIONS`."""
+
+LIMITS: dict[str, str] = {
+    "speed": "the speed |v| of every body",
+    "mass_ratio": "the mass ratio max(m)/min(m)",
+    "duration": "the simulated time",
+    "dt": "the time step",
+    "step_travel": "the per-step travel |vb - va| dt / 2(ra + rb) of the fastest pair",
+    "interval": "the interval's length",
+    "touching_contact": "whether exact touching counts as contact",
 }
-"""The options that apply to some kinds only: the kinds, and what the option bounds there."""
+"""The dimensions of the envelope that some kinds only have (:attr:`KindSpec.limits
+<crosscheck.core.kinds.KindSpec.limits>`), and what a limit bounds there."""
+KIND_OPTIONS: dict[str, tuple[tuple[str, ...], str]] = {
+    f"--{limit.replace('_', '-')}": (tuple(str(s.kind) for s in SPECS if limit in s.limits), what)
+    for limit, what in LIMITS.items()}
+"""The options that apply to some kinds only: the kinds (in report order), and what the option
+bounds there."""
 
 
 def kind_quantities(kinds: Iterable[str]) -> tuple[str, ...]:
     """Every quantity of ``kinds``, in report order."""
-    return tuple(dict.fromkeys(q for kind in kinds for q in quantities_of(Kind(kind))))
+    return tuple(dict.fromkeys(q for kind in kinds for q in quantities_of(kind)))
 
 
 def refused_limit(option: str, kinds: tuple[str, ...]) -> str | None:

@@ -42,7 +42,6 @@ from __future__ import annotations
 from crosscheck.report.stability.points import (
     AXES,
     DIRECTIONS,
-    HEADLINE,
     POINT_COLUMNS,
     TABLE_COLUMNS,
     relative_error,
@@ -61,7 +60,7 @@ from crosscheck.report.stability.study import (
     write,
 )
 
-__all__ = ["AXES", "DIRECTIONS", "HEADLINE", "LONG_SCENE_S", "POINT_COLUMNS", "TABLE_COLUMNS",
+__all__ = ["AXES", "DIRECTIONS", "LONG_SCENE_S", "POINT_COLUMNS", "TABLE_COLUMNS",
            "analyse", "horizons", "matrix", "quantity_label", "relative_error", "save",
            "short_name", "sweep_points", "thresholds", "walk", "with_category", "with_horizons",
            "write"]

@@ -6,8 +6,9 @@ radians (see :func:`crosscheck.report.stability.points.relative_error`).  Lower 
 difficulty, harder to the right (each axis title says so).  Exact answers sit on a labelled
 floor, failures and infinite errors on a labelled ceiling, and engines with the same answer at
 a point are drawn side by side (:mod:`crosscheck.report.axes`).  There is one chart per axis
-x kind x charted quantity (:func:`charts`), one panel per sweep (a 2-D twin is a panel of its
-own), one line per engine.
+x kind x charted quantity (:func:`charts`; the kind's ``charted`` quantities and their axis
+labels are its spec's, :mod:`crosscheck.core.kinds`), one panel per sweep (a 2-D twin is a
+panel of its own), one line per engine.
 
 The report folds the charts of one axis x kind into one ``<details>`` (:func:`folds`); its
 summary is the family's headline (:func:`headline`), computed from the threshold table.
@@ -25,26 +26,19 @@ from typing import Any
 import pandas as pd
 from markupsafe import Markup
 
+from crosscheck.core.kinds import quantity_named, spec
 from crosscheck.core.model import Status
 from crosscheck.report import axes
 from crosscheck.report.frames import records
-from crosscheck.report.stability.points import DIRECTIONS, HEADLINE
+from crosscheck.report.stability.points import DIRECTIONS
 from crosscheck.report.stability.study import with_category
 from crosscheck.report.style import COLOURS, SYMBOLS, plot_div, plotly_template
 
-CHARTED = {"aabb": ("distance", "normal"), "sphere": ("distance", "normal"),
-           "sphere_response": ("v2",), "sphere_toi": ("toi", "normal"),
-           "sphere_scene": ("velocities",)}
-"""The quantities charted for each kind, the headline one first."""
 DASHES = ("solid", "dot", "dash", "longdash", "dashdot")
 X_LABEL = {"offset": "offset added to every coordinate", "scale": "factor on every length",
            "gap": "gap / touching distance", "overlap": "overlap / touching distance",
            "mass_ratio": "mass ratio m_B / m_A", "speed": "factor on both velocities",
            "step_travel": "per-step travel |vb - va| dt / 2(ra + rb)"}
-Y_LABEL = {"distance": "|distance error| / length scale", "normal": "normal error (radians)",
-           "v1": "|v1 error| / velocity scale", "v2": "|v2 error| / velocity scale",
-           "toi": "|time of impact error| (s)",
-           "velocities": "velocity error / largest initial speed"}
 NAMED = 3
 """A headline names at most this many engines, then says how many more."""
 
@@ -100,8 +94,8 @@ def _y_axis(quantity: str, values: list[float], floor: float | None,
     low, high = axes.error_range(values, floor, ceiling)
     notes = ([f"0 drawn at {floor:.0e}"] if floor else []) + (
         [f"failures at {ceiling:.0e}"] if ceiling else [])
-    title = f"{Y_LABEL[quantity]}, lower is better" + (f"<br>({', '.join(notes)})" if notes
-                                                        else "")
+    label = quantity_named(quantity).relative_label
+    title = f"{label}, lower is better" + (f"<br>({', '.join(notes)})" if notes else "")
     return axes.log_axis(title, low, high, floor, ceiling)
 
 
@@ -190,7 +184,7 @@ def _chart(rows: pd.DataFrame, axis: str, kind: str, quantity: str,
            order: list[str]) -> dict[str, Any]:
     slug = re.sub(r"[^a-z0-9]+", "-", f"{axis}-{kind}-{quantity}")
     text = plot_div(figure(rows, quantity, order), f"stability-{slug}")
-    extra = "" if quantity == HEADLINE[kind] else f" ({quantity})"
+    extra = "" if quantity == spec(kind).headline else f" ({quantity})"
     return {"title": f"{axis} \u2014 {kind}{extra}", "axis": axis, "kind": kind,
             "quantity": quantity, "html": Markup(text)}
 
@@ -204,7 +198,7 @@ def charts(points: pd.DataFrame) -> list[dict[str, Any]]:
     order = [str(e) for e in dict.fromkeys(points["engine"])]
     return [_chart(rows, str(axis), str(kind), quantity, order)
             for (axis, kind), on in points.groupby(["axis", "kind"], sort=False)
-            for quantity in CHARTED[str(kind)]
+            for quantity in spec(str(kind)).charted
             if not (rows := on[on["quantity"] == quantity]).empty]
 
 
@@ -233,7 +227,7 @@ def headline(table: pd.DataFrame, axis: str, kind: str) -> str:
     """What one chart family shows, from the thresholds: how many engines break on its
     sweeps (in the kind's headline quantity) and which break first, and where; then the
     count for each other charted quantity."""
-    quantity = HEADLINE[kind]
+    quantity = spec(kind).headline
     broken, judged = _count(table, axis, kind, quantity)
     text = f"{axis}, {kind}: "
     if not judged:
@@ -254,7 +248,7 @@ def headline(table: pd.DataFrame, axis: str, kind: str) -> str:
                           & (broken["threshold"] == first["threshold"])]
             text += (f", first at {first['param']} {first['threshold']:.3g}"
                      f" ({_names(same['engine'])})")
-    for other in CHARTED[kind][1:]:
+    for other in spec(kind).charted[1:]:
         broken, judged = _count(table, axis, kind, other)
         if judged:
             text += f"; {other}: {broken['engine'].nunique()} of {judged} break"

@@ -1,6 +1,7 @@
 """The stability study's points: each stored row of a sweep as a point of its axis of
-difficulty (the sweep's parameter, its value, its walk), with the headline quantity of each
-kind and the relative error the walks compare."""
+difficulty (the sweep's parameter, its value, its walk), with the relative error the walks compare
+(each kind's headline quantity, and the scale each error is divided by, are its spec's:
+:mod:`crosscheck.core.kinds`)."""
 
 import json
 import math
@@ -9,6 +10,7 @@ from dataclasses import dataclass
 
 import pandas as pd
 
+from crosscheck.core.kinds import is_kind, quantity_named
 from crosscheck.core.schema import (
     AabbCase,
     AnyCase,
@@ -26,11 +28,6 @@ AXES: dict[str, str] = {"offset": "distance from origin", "scale": "body scale",
 HORIZON_AXIS = "time horizon"
 """The axis of :func:`horizons` (no sweep: parameter ``time_horizon``)."""
 
-HEADLINE = {"aabb": "distance", "sphere": "distance", "sphere_response": "v2", "sphere_toi": "toi",
-            "sphere_scene": "velocities"}
-"""The quantity the threshold table shows for each kind."""
-FALLBACK = {"aabb": "hit", "sphere": "hit"}
-"""What the table shows for an engine whose headline quantity has no verdict on a walk."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,7 +73,8 @@ def relative_error(quantity: str, error: float, scales: tuple[float, float]) -> 
     >>> relative_error("distance", 3e-9, (2.0, 0.0)), relative_error("normal", 0.5, (9, 9))
     (1.5e-09, 0.5)
     """
-    scale = {"distance": scales[0], "v1": scales[1], "v2": scales[1]}.get(quantity, 1.0)
+    to = quantity_named(quantity).relative_to
+    scale = scales[0] if to == "length" else scales[1] if to == "velocity" else 1.0
     return error / scale if scale > 0 else math.nan
 
 
@@ -156,7 +154,7 @@ def sweep_points(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFr
              else parsed.setdefault(text, _single_parameter(text))
              for coords, twin in zip(frame["coords"].tolist(), frame["twin_of"].tolist(),
                                      strict=True)]
-    keep = [f is not None and kind in HEADLINE
+    keep = [f is not None and is_kind(kind)
             for f, kind in zip(found, frame["kind"].tolist(), strict=True)]
     if not any(keep):
         return pd.DataFrame(columns=POINT_COLUMNS)

@@ -7,8 +7,9 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.core.kinds import spec
 from crosscheck.report.frames import records
-from crosscheck.report.stability.points import DIRECTIONS, HEADLINE
+from crosscheck.report.stability.points import DIRECTIONS
 from crosscheck.report.stability.study import with_category
 
 # --- the matrix -------------------------------------------------------------------------------
@@ -30,7 +31,7 @@ def quantity_label(row: Mapping[Hashable, Any]) -> str:
     >>> quantity_label({"kind": "sphere", "quantity": "hit"})
     'hit (no distance)'
     """
-    headline = HEADLINE.get(str(row["kind"]))
+    headline = spec(str(row["kind"])).headline
     quantity = str(row["quantity"])
     if row.get("param") == "time_horizon":
         return f"{quantity} (s)"

@@ -2,7 +2,6 @@
 horizon of the long scenes, and the study's files (``stability.csv``,
 ``stability_points.csv``)."""
 
-import json
 import math
 from collections.abc import Hashable, Mapping
 from pathlib import Path
@@ -10,6 +9,7 @@ from typing import Any
 
 import pandas as pd
 
+from crosscheck.core.kinds import spec
 from crosscheck.core.model import Status
 from crosscheck.core.schema import (
     DEFAULT_DT,
@@ -19,14 +19,12 @@ from crosscheck.core.schema import (
 from crosscheck.report.frames import records
 from crosscheck.report.stability.points import (
     DIRECTIONS,
-    FALLBACK,
-    HEADLINE,
     HORIZON_AXIS,
     TABLE_COLUMNS,
     Direction,
     sweep_points,
 )
-from crosscheck.results.store import read_run
+from crosscheck.results.run import DECODED, Run, read_run
 
 # --- thresholds -----------------------------------------------------------------------------
 
@@ -146,7 +144,7 @@ def _choice(walks: list[dict[Hashable, Any]], kind: str) -> int:
     def find(quantity: str | None, judged: bool) -> list[int]:
         return [i for i, w in enumerate(walks) if w["quantity"] == quantity
                 and (w["state"] != "unjudged" or not judged)]
-    headline, fallback = HEADLINE.get(kind), FALLBACK.get(kind)
+    headline, fallback = spec(kind).headline, spec(kind).fallback
     return (find(headline, True) or find(fallback, True) or find(headline, False) or [0])[0]
 
 
@@ -157,7 +155,7 @@ def cell_verdict(shown: dict[Hashable, Any]) -> str:
     >>> cell_verdict(walk), cell_verdict(walk | {"quantity": "distance"})
     ('hit: none in range (distance: no verdict)', 'none in range')
     """
-    headline = HEADLINE.get(str(shown["kind"]))
+    headline = spec(str(shown["kind"])).headline
     if shown["quantity"] == headline:
         return str(shown["verdict"])
     return f"{shown['quantity']}: {shown['verdict']} ({headline}: no verdict)"
@@ -169,18 +167,16 @@ LONG_SCENE_S = 30.0
 """A scene of at least this many simulated seconds is long: the time horizon axis shows it."""
 
 
-def _seconds(text: Any) -> float:
-    try:
-        value = json.loads(str(text))
-    except (TypeError, ValueError):
-        return math.nan
-    return float(value) if isinstance(value, int | float) else math.nan
+def _seconds(value: Any) -> float:
+    """A divergence row's seconds from its decoded value (NaN: none, or not finite)."""
+    return (float(value) if isinstance(value, int | float) and math.isfinite(value)
+            else math.nan)
 
 
 def _horizon(row: dict[Hashable, Any], duration: float) -> dict[str, Any]:
     """The cell of one divergence row: when the trajectory left the tolerance (``breaks``),
     or that it never did (``none``), or no verdict; ``reached`` the share of the run."""
-    status, seconds = str(row["status"]), _seconds(row["value"])
+    status, seconds = str(row["status"]), _seconds(row[DECODED["value"]])
     out: dict[str, Any] = {"threshold": math.nan, "status": "", "category": "",
                            "recovers": False, "recovered_at": math.nan, "checked": math.nan,
                            "easiest": 0.0, "hardest": duration, "points": 1}
@@ -199,7 +195,8 @@ def _horizon(row: dict[Hashable, Any], duration: float) -> dict[str, Any]:
 
 def horizons(frame: pd.DataFrame, cases: Mapping[str, AnyCase]) -> pd.DataFrame:
     """Threshold-table rows of the ``time horizon`` axis (see the module docstring): one per
-    long scene block x ``dt`` x engine, every one a headline row of its own column."""
+    long scene block x ``dt`` x engine, every one a headline row of its own column (``frame``
+    carries its decoded values: :func:`crosscheck.results.run.decoded`)."""
     rows = frame[(frame["kind"] == "sphere_scene") & (frame["quantity"] == "divergence")]
     out = []
     for row in records(rows):
@@ -234,11 +231,12 @@ def with_horizons(table: pd.DataFrame, frame: pd.DataFrame,
 
 # --- files ------------------------------------------------------------------------------------
 
-def analyse(directory: Path) -> tuple[pd.DataFrame, pd.DataFrame]:
-    """The sweep points and the threshold table of the run in ``directory``."""
-    stored = read_run(directory)
+def analyse(run: Run | Path) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The sweep points and the threshold table of a run (a folder: read first)."""
+    stored = run if isinstance(run, Run) else read_run(run)
     points = sweep_points(stored.results, stored.cases)
-    return points, with_horizons(thresholds(points), stored.results, stored.cases)
+    rows = stored.results.join(stored.decoded)
+    return points, with_horizons(thresholds(points), rows, stored.cases)
 
 
 def save(points: pd.DataFrame, table: pd.DataFrame, target: Path) -> dict[str, Path]:

@@ -49,10 +49,10 @@ from typing import Any
 import numpy as np
 
 import adapters
-from adapters import pybullet_engine, pybullet_setup
+from adapters import pybullet as pybullet_engine
 from crosscheck.cases.load import load_paths
 from crosscheck.core.options import RunOptions
-from crosscheck.results.store import ResultsStore, read_results
+from crosscheck.results.store import ResultsStore
 from crosscheck.run import environment
 from crosscheck.run.execute import execute
 from crosscheck.run.launch import launch, new_info
@@ -194,7 +194,7 @@ def pybullet_figures(n: int, clock: Callable[[], float] = time.perf_counter) -> 
     path_s = clock() - start
     full_s = best_of(lambda: run_slice(0, step), 1) * n / step
     cid = pybullet_engine.client(adapter.name, adapter.world)
-    bodies = pybullet_setup.engine().getNumBodies(physicsClientId=cid)
+    bodies = pybullet_engine.engine().getNumBodies(physicsClientId=cid)
     ratio = path_s / raw_s
     growth = rss[-1] - rss[min(1, len(rss) - 1)]
     us = {"raw_us": raw_s / n * 1e6, "engine_path_us": path_s / n * 1e6,
@@ -231,9 +231,9 @@ def dask_figure(quick: bool) -> Figure:
             folder = Path(tmp) / name
             info = new_info(folder, f"crosscheck bench ({name})", options, engines, cases)
             start = time.perf_counter()
-            launch(ResultsStore(folder), cases, engines, options, info)
+            run = launch(ResultsStore(folder), cases, engines, options, info)
             walls.append(time.perf_counter() - start)
-            frame = read_results(Path(tmp) / name).drop(columns=timing)
+            frame = run.results.drop(columns=timing)
             frame = frame.sort_values(["case_id", "engine", "quantity"])
             frames.append(frame.reset_index(drop=True))
     same = frames[0].equals(frames[1])

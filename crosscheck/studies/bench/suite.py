@@ -24,9 +24,8 @@ import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-import numpy as np
-
 import adapters
+from crosscheck.results import timings
 from crosscheck.studies.bench.kit import ROOT, Figure, run_measured
 
 SEVEN = ("reference", "reference-f32", "fcl", "pybullet", "pybullet-default", "pymunk",
@@ -66,10 +65,9 @@ def _engines(names: Sequence[str]) -> list[str]:
 
 def spread(values: Sequence[float]) -> dict[str, float]:
     """Median, quartiles, extremes and count of ``values``."""
-    a = np.asarray(values, dtype=float)
-    return {"median": float(np.median(a)), "q1": float(np.percentile(a, 25)),
-            "q3": float(np.percentile(a, 75)), "min": float(a.min()), "max": float(a.max()),
-            "n": float(len(a))}
+    s = timings.spread(values)
+    return {"median": s.median, "q1": s.q1, "q3": s.q3, "min": float(min(values)),
+            "max": float(max(values)), "n": float(s.n)}
 
 
 def _run(extra: Sequence[str], folder: Path) -> tuple[int, float, float, str]:

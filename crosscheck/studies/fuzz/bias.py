@@ -18,7 +18,7 @@ from typing import Any
 
 from crosscheck.core.model import Status
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
-from crosscheck.results.store import read_run
+from crosscheck.results.run import read_run
 from crosscheck.studies.fuzz.generator import Bias, failing_cells
 
 FAILING = ("error",)

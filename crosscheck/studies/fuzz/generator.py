@@ -47,6 +47,7 @@ import numpy as np
 from crosscheck.cases.load import semantic_problems
 from crosscheck.cases.realize import realize
 from crosscheck.cases.space import Cell, classify, relative_gap, space_of
+from crosscheck.core.kinds import spec
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from reference_impl import exact
@@ -54,11 +55,6 @@ from reference_impl import exact
 Rng = np.random.Generator
 Vec = list[float]
 
-PARTS: dict[Kind, tuple[str, ...]] = {
-    Kind.AABB: ("near-touching", "scaled", "offset"),
-    Kind.SPHERE: ("near-touching", "scaled", "offset"),
-    Kind.SPHERE_RESPONSE: ("mass-ratio", "near-touching", "scaled", "offset"),
-}
 CHANCE = {"mass-ratio": 0.5, "near-touching": 0.6, "scaled": 0.4, "offset": 0.4}
 DRIVER = {"mass-ratio": "mass ratio", "near-touching": "relative gap", "scaled": "scale",
           "offset": "offset", "space": "relative gap"}
@@ -130,7 +126,7 @@ def _one(rng: Rng, kind: Kind, seed: int, index: int, bias: Bias) -> Generated:
     for _ in range(1000):  # redraw the rare case out of regime (e.g. gap lost to the offset)
         cid = case_id(kind, seed, index)
         made = (_from_space(rng, kind, cid, index, bias)
-                if kind not in PARTS or rng.random() < SPACE_SHARE
+                if not spec(kind).fuzz or rng.random() < SPACE_SHARE
                 else _attempt(rng, kind, cid, index))
         if made is not None:
             return made
@@ -202,7 +198,7 @@ class _Draft:
 def _attempt(rng: Rng, kind: Kind, cid: str, index: int) -> Generated | None:
     parts: list[str] = []
     while not parts:
-        parts = [p for p in PARTS[kind] if rng.random() < CHANCE[p]]
+        parts = [p for p in spec(kind).fuzz if rng.random() < CHANCE[p]]
     dim = int(rng.integers(2, 4))
     scale = 10 ** _u(rng, -9, 9) if "scaled" in parts else 1.0
     shift, moved = _shift(rng, dim) if "offset" in parts else ([0.0] * dim, "")

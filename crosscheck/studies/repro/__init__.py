@@ -4,11 +4,11 @@
   and the scripts of a run's breaking pairs;
 - :mod:`~crosscheck.studies.repro.verdicts`: what a script says beside the engine's answer
   (the exact truth, each verdict against its float64 bound, the declared conventions);
-- :mod:`~crosscheck.studies.repro.writers`: the engine part's writer of each of the 15
-  variants; the parts are :mod:`~crosscheck.studies.repro.engines` (FCL, pymunk, the
-  textbook formula), :mod:`~crosscheck.studies.repro.pybullet`,
-  :mod:`~crosscheck.studies.repro.mujoco`, :mod:`~crosscheck.studies.repro.coal`,
-  :mod:`~crosscheck.studies.repro.box2d`, :mod:`~crosscheck.studies.repro.rapier` and
+- :mod:`~crosscheck.studies.repro.calls`: the engine part of any adapter whose engine calls
+  are a module (:class:`~crosscheck.core.contract.CallsAdapter`, built-in or a plug-in's):
+  that module's source, verbatim, and the call on the case's exact inputs;
+- :mod:`~crosscheck.studies.repro.writers`: until they are calls too, the old writers of
+  what is not (every engine's scenes, MuJoCo): :mod:`~crosscheck.studies.repro.mujoco` and
   :mod:`~crosscheck.studies.repro.scenes` (PyBullet and pymunk scenes; the other engines'
   scenes in ``scenes_box2d``, ``scenes_mujoco``, ``scenes_rapier``; their gravity, walls and
   measures in :mod:`~crosscheck.studies.repro.measures`), on the ground of

@@ -1,9 +1,8 @@
 """What every engine part of a repro script is made of: :class:`EngineCode`, exact literals, guards.
 
-An engine part (one module per engine family: :mod:`~crosscheck.studies.repro.engines`,
-:mod:`~crosscheck.studies.repro.pybullet`, :mod:`~crosscheck.studies.repro.coal`,
-:mod:`~crosscheck.studies.repro.box2d`, :mod:`~crosscheck.studies.repro.rapier`,
-:mod:`~crosscheck.studies.repro.mujoco`, :mod:`~crosscheck.studies.repro.scenes`) is the
+An engine part (an adapter's calls module with its call,
+:mod:`~crosscheck.studies.repro.calls`; or, until they are calls too,
+:mod:`~crosscheck.studies.repro.mujoco` and :mod:`~crosscheck.studies.repro.scenes`) is the
 Python text that makes the adapter's calls and leaves the engine's answer in variables named
 after the case's quantities; :mod:`~crosscheck.studies.repro.script` puts the inputs and the
 printing around it.
@@ -91,16 +90,3 @@ def undefined(reason: str, quantities: Sequence[str], engine: str, code: str) ->
     return (f"# crosscheck's adapter does not ask {engine} here: {reason}.\n# It records "
             f"every quantity as undefined (null).\n{ASK}if not ASK_ANYWAY:\n"
             f'    {names} = "undefined"\nelse:\n{textwrap.indent(code, "    ")}')
-
-
-APPROACH = """\
-def approach_speed(pa, pb, va, vb):
-    # speed at which A and B approach along their line of centres (NaN if they coincide)
-    d = tuple(y - x for x, y in zip(pa, pb, strict=True))
-    length = math.sqrt(math.fsum(x * x for x in d))
-    if not length > 0:
-        return math.nan
-    dv = tuple(y - x for x, y in zip(vb, va, strict=True))
-    return math.fsum(x * y for x, y in zip(dv, d, strict=True)) / length
-"""
-"""The harness's approach speed (``crosscheck.core.geometry.approach_speed``), as script text."""

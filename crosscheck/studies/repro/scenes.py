@@ -22,8 +22,8 @@ from string import Template
 
 from adapters import pybullet_scene, scene, stepping
 from adapters import wall_boxes as wall_boxes_of
-from adapters.pybullet_engine import PyBulletTuned
-from adapters.pymunk_engine import PymunkTuned
+from adapters.pybullet import PyBulletTuned
+from adapters.pymunk import PymunkTuned
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
 from crosscheck.studies.repro import measures
 from crosscheck.studies.repro.code import EngineCode, literal, raising, vector

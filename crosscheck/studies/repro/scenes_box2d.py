@@ -8,9 +8,8 @@ before the discs, their anchors, centres and half sizes as exact literals), step
 leave the final ``positions`` and ``velocities``, as the harness computes them the total
 ``momentum`` and kinetic ``energy`` (``STATE`` of :mod:`~crosscheck.studies.repro.scenes`),
 and the measures (:mod:`~crosscheck.studies.repro.measures`).  The script's inputs are those
-of pybullet's and pymunk's scenes.  :func:`box2d_writer` is the script writer of both Box2D
-variants: scenes here, pair cases in :mod:`~crosscheck.studies.repro.box2d`, times of impact
-in :mod:`~crosscheck.studies.repro.toi`.
+of pybullet's and pymunk's scenes.  :func:`box2d_writer` is the script writer of the Box2D
+variants' scenes (their pairs and times of impact are calls of :mod:`adapters.box2d.calls`).
 """
 
 from __future__ import annotations
@@ -20,10 +19,9 @@ from typing import Any
 
 from adapters import box2d_scene
 from adapters import wall_boxes as wall_boxes_of
-from adapters.box2d_engine import Box2dTuned
-from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase, ToiCase
+from adapters.box2d import Box2dTuned
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.studies.repro import measures
-from crosscheck.studies.repro.box2d import box2d_code
 from crosscheck.studies.repro.code import EngineCode, number, raising
 from crosscheck.studies.repro.scenes import (
     NOTE,
@@ -33,7 +31,6 @@ from crosscheck.studies.repro.scenes import (
     scene_inputs,
     wall_boxes,
 )
-from crosscheck.studies.repro.toi import box2d_toi_code
 
 BOX2D = Template("""\
 VELOCITY_ITERATIONS = ITERATIONS if ITERATIONS is not None else $velocity_iterations
@@ -107,10 +104,7 @@ def box2d_scene_code(adapter: Box2dTuned, case: SceneCase) -> EngineCode:
 
 
 def box2d_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
-    """The script writer of the Box2D variants: scenes here, pair cases in ``repro.box2d``,
-    times of impact in ``repro.toi``."""
-    if isinstance(case, SceneCase):
-        return box2d_scene_code(adapter, case)
-    if isinstance(case, ToiCase):
-        return box2d_toi_code(case)
-    return box2d_code(adapter, case)
+    """The script writer of the Box2D variants' scenes (their pairs and times of impact are
+    calls of :mod:`adapters.box2d.calls`)."""
+    assert isinstance(case, SceneCase), "box2d's pairs are calls of adapters.box2d.calls"
+    return box2d_scene_code(adapter, case)

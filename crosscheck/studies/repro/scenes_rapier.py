@@ -1,9 +1,8 @@
-"""The engine part of a repro script for Rapier (``rapier``, ``rapier-default``), scenes included.
+"""The engine part of a repro script for Rapier's scenes (``rapier``, ``rapier-default``,
+``rapier-ccd``; their pairs and times of impact are calls of :mod:`adapters.rapier.calls`).
 
-:func:`rapier_writer` is the script writer of both Rapier variants: a pair case gets the
-statements of :mod:`crosscheck.studies.repro.rapier`, a time of impact (``sphere_toi``) those of
-:mod:`crosscheck.studies.repro.toi`, a scene (``sphere_scene``) those made
-here, which build it as ``adapters/rapier_scene.py`` does: a new ``PhysicsWorld`` (gravity 0)
+:func:`rapier_writer` writes a scene's (``sphere_scene``) statements, which build it as
+``adapters/rapier_scene.py`` does: a new ``PhysicsWorld`` (gravity 0)
 with the variant's ``IntegrationParameters`` (``rapier_scene.parameters``: the scene's dt and
 iterations), one dynamic body per sphere with the variant's body and collider builder chains
 (those of the response scripts; restitution e on every collider, combined by Max in the tuned
@@ -21,22 +20,23 @@ from __future__ import annotations
 from string import Template
 from typing import Any
 
-from adapters import rapier_response, rapier_scene, rapier_walls, scene, stepping
-from adapters.rapier_engine import RapierTuned
-from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase, ToiCase
+from adapters import rapier_scene, rapier_walls, scene, stepping
+from adapters.rapier import RapierTuned
+from adapters.shared import rapier as rapier_response
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.studies.repro import measures
 from crosscheck.studies.repro.code import EngineCode, number, raising
-from crosscheck.studies.repro.rapier import (
-    DEFAULT_BODY,
-    DEFAULT_COLLIDER,
-    NOTES,
-    TUNED_BODY,
-    TUNED_COLLIDER,
-    rapier_code,
-)
 from crosscheck.studies.repro.scenes import IN_DIM, NOTE, scene_code, scene_inputs
 from crosscheck.studies.repro.scenes import refusal as scene_refusal
-from crosscheck.studies.repro.toi import rapier_toi_code
+
+TUNED_BODY = ("rp.RigidBody.dynamic().translation({c}).linvel({v}).can_sleep(False)\n"
+              "        .soft_ccd_prediction({ccd}).locked_axes(rp.LockedAxes.ROTATION_LOCKED)\n"
+              "        .linear_damping(0.0).angular_damping(0.0){z}")
+DEFAULT_BODY = "rp.RigidBody.dynamic().translation({c}).linvel({v}){z}"
+TUNED_COLLIDER = ("rp.Collider.ball({r}).mass({m}).friction(0.0).restitution({own})\n"
+                  "        .restitution_combine_rule(rp.CoefficientCombineRule.{rule})")
+DEFAULT_COLLIDER = "rp.Collider.ball({r}).mass({m}).restitution(RESTITUTION)"
+NOTES = ("rapier3d is float32 (Real = f32): every input is rounded to float32 by the binding.",)
 
 SCENE = Template("""\
 world = rp.PhysicsWorld(gravity=(0.0, 0.0, 0.0))
@@ -128,10 +128,7 @@ def rapier_scene_code(adapter: RapierTuned, case: SceneCase) -> EngineCode:
 
 
 def rapier_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
-    """The script writer of both Rapier variants: scenes here, pair cases in ``rapier``,
-    times of impact in ``toi``."""
-    if isinstance(case, SceneCase):
-        return rapier_scene_code(adapter, case)
-    if isinstance(case, ToiCase):
-        return rapier_toi_code(case)
-    return rapier_code(adapter, case)
+    """The script writer of the Rapier variants' scenes (their pairs and times of impact are
+    calls of :mod:`adapters.rapier.calls`)."""
+    assert isinstance(case, SceneCase), "rapier's pairs are calls of adapters.rapier.calls"
+    return rapier_scene_code(adapter, case)

@@ -1,11 +1,13 @@
 """Repro scripts: one standalone Python file per case x engine, to paste into a bug report.
 
 A script uses only the engine's own API (``fcl``, ``pybullet``, ``pymunk``, ``mujoco``,
-``coal``, ``Box2D``, ``rapier3d``; numpy for the textbook formula of ``reference`` and
-``reference-f32``) and none of crosscheck.  Its inputs are the stored case's exact binary64
-values (``float.fromhex`` literals; ``float("nan")``, ``float("inf")`` for bad input), its
-calls are those the engine's adapter makes (the engine parts: :mod:`crosscheck.studies.repro.
-writers`), so it reproduces the engine's answer bit for bit.  It prints first (flushed: a
+``coal``, ``Box2D``, ``rapier3d``; ``reference_impl.formulas`` for the textbook formula of
+``reference`` and ``reference-f32``) and none of crosscheck.  Its inputs are the stored
+case's exact binary64 values (``float.fromhex`` literals; ``float("nan")``, ``float("inf")``
+for bad input), its calls are those the engine's adapter makes (its calls module's source,
+verbatim: :mod:`crosscheck.studies.repro.calls`; for what is not calls yet, the old writers
+of :mod:`crosscheck.studies.repro.writers`), so it reproduces the engine's answer bit for
+bit.  It prints first (flushed: a
 crash, an exception or a hang still leaves it on screen) its inputs and what the run recorded
 beside the answer (:mod:`crosscheck.studies.repro.verdicts`): the exact answer (``expected
 <quantity> = ...``), each quantity's verdict with its error against the float64 bound, the
@@ -23,7 +25,7 @@ measures computed as the harness computes them (:mod:`crosscheck.studies.repro.m
 ``divergence`` (judged by crosscheck against the exact trajectory: the run's value); in open
 space only ``energy_drift``, the others a comment.
 
-Everything comes from the stored run (:func:`crosscheck.results.store.read_run`): the
+Everything comes from the stored run (:func:`crosscheck.results.run.read_run`): the
 cases, the rows, the engines and their conventions.  A run writes no script:
 ``crosscheck repro`` prints one on demand, and :func:`write_run_scripts` (``crosscheck repro
 RUN_DIR --all``) writes ``RUN_DIR/repro/<repro_name>.py`` for every case x engine with a
@@ -38,17 +40,20 @@ from pathlib import Path
 from typing import Any
 
 import adapters
-from crosscheck.core.contract import Adapter
+from crosscheck.core.contract import Adapter, CallsAdapter
 from crosscheck.core.model import Status, quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase
-from crosscheck.results.store import StoredRun, read_run, repro_name, repro_path
+from crosscheck.results.run import Run, read_run
+from crosscheck.results.store import repro_name, repro_path
 from crosscheck.run import envs, pinned
 from crosscheck.studies.repro import measures
+from crosscheck.studies.repro.calls import calls_code, has_call
 from crosscheck.studies.repro.code import EngineCode, literal, vector
 from crosscheck.studies.repro.verdicts import comment, conventions_line, truths, verdict_line
-from crosscheck.studies.repro.writers import NoScene, Writer, writer_for
+from crosscheck.studies.repro.writers import NoScene, writer_for
 
-__all__ = ["ReproError", "RunRows", "Script", "breaking_pairs", "build", "engines_for",
+__all__ = ["ReproError", "RunRows", "Script", "breaking_pairs", "build", "engine_part",
+           "engines_for",
            "literal", "printed", "scripts", "write_run_scripts"]
 
 ENCODE = '''\
@@ -97,7 +102,7 @@ Row = dict[str, Any]
 class RunRows:
     """A stored run's rows grouped by (case id, engine), read once."""
 
-    def __init__(self, stored: StoredRun) -> None:
+    def __init__(self, stored: Run) -> None:
         self.stored = stored
         self.pairs: dict[tuple[str, str], list[Row]] = {}
         for record in stored.results.to_dict("records"):
@@ -225,22 +230,35 @@ def script_text(case: AnyCase, engine: EngineCode, info: dict[str, Any], rows: l
     return "\n".join(parts) + "\n"
 
 
-def _case(stored: StoredRun, case_id: str) -> AnyCase:
+def _case(stored: Run, case_id: str) -> AnyCase:
     case: AnyCase | None = stored.cases.get(case_id)
     if case is None:
         raise ReproError(f"no case {case_id!r} in {stored.directory}")
     return case
 
 
-def _writer(engine: str) -> tuple[Adapter, Writer] | None:
-    """The adapter and script writer of ``engine`` (a pinned ``NAME@VERSION``: its variant's,
+def _adapter(engine: str) -> Adapter | None:
+    """The adapter of ``engine`` if it has scripts (a pinned ``NAME@VERSION``: its variant's,
     the script being the same code run by another interpreter)."""
     try:
         adapter = adapters.get(pinned.split(engine)[0])
     except adapters.UnknownEngine:
         return None
+    scripted = isinstance(adapter, CallsAdapter) or writer_for(adapter) is not None
+    return adapter if scripted else None
+
+
+def engine_part(adapter: Adapter, case: AnyCase,
+                hung: frozenset[str] = frozenset()) -> EngineCode:
+    """The engine part of ``case``'s script on ``adapter``: its calls module's
+    (:func:`~crosscheck.studies.repro.calls.calls_code`), or for a kind not yet made as
+    calls, the old writer's; :class:`NoScene` if neither."""
+    if has_call(adapter, case):
+        return calls_code(adapter, case, hung)
     writer = writer_for(adapter)
-    return None if writer is None else (adapter, writer)
+    if writer is None:
+        raise NoScene(f"{adapter.name} has no call for {case.kind}")
+    return writer(adapter, case, hung)
 
 
 def hung(rows: list[Row]) -> frozenset[str]:
@@ -263,13 +281,12 @@ def build(runs: RunRows, case_id: str, engine: str) -> Script:
         raise ReproError(f"engine {engine!r} has no rows for case {case_id!r} in this run")
     if not _ran(rows):
         raise ReproError(f"{engine} did not run {case_id}: {rows[0]['reason']}")
-    found = _writer(engine)
-    if found is None:
+    adapter = _adapter(engine)
+    if adapter is None:
         raise ReproError(f"no repro script writer for engine {engine!r} (crosscheck repro "
                          "writes scripts for the built-in engines only)")
-    adapter, writer = found
     try:
-        code = writer(adapter, case, hung(rows))
+        code = engine_part(adapter, case, hung(rows))
     except NoScene as exc:
         raise ReproError(str(exc)) from None
     textbook = runs.rows(case_id, "reference")
@@ -302,12 +319,12 @@ def engines_for(runs: RunRows, case_id: str) -> tuple[list[str], bool]:
     Only engines that ran the case and have a script writer count.
     """
     ran = [e for e in runs.stored.info.engine_names
-           if _ran(runs.rows(case_id, e)) and _writer(e) is not None]
+           if _ran(runs.rows(case_id, e)) and _adapter(e) is not None]
     bad = [e for e in ran if disagrees(runs.rows(case_id, e))]
     return (bad, True) if bad else (ran, False)
 
 
-def scripts(stored: StoredRun, case_id: str, engine: str | None = None) -> list[Script]:
+def scripts(stored: Run, case_id: str, engine: str | None = None) -> list[Script]:
     """The scripts of ``case_id``: for ``engine``, or for every engine :func:`engines_for`
     the case chooses."""
     runs = RunRows(stored)

@@ -1,0 +1,272 @@
+"""PyBullet's calls (the ``pybullet``, ``pybullet-default`` and ``pybullet-ccd`` pairs), plain
+data in and out.
+
+Everything that drives pybullet shares :mod:`adapters.shared.pybullet`: the quiet import
+(``engine()``: the import prints a banner), ``quiet()`` (C-level stdout and stderr on
+/dev/null for what prints ``b3Warning`` lines) and ``connect(settings)`` (a DIRECT client,
+gravity 0, the settings).
+
+A pair (detection or response) is two base-only multibodies on shapes cached per client,
+taken from a pool of idle bodies per world (a world: a client and its pool, by name); a
+body is new when none of its shape is idle, or when the pair is not ``pooled``.  A detection
+body gets the collision filter a dynamic base gets (a static base's filter excludes
+static-static pairs).  Detection asks ``performCollisionDetection`` then
+``getContactPoints`` (the verdict) and the deepest of ``getClosestPoints`` within ``bound``
+(``contactNormalOnB`` points from B to A: flipped).  A response sets each body's restitution
+(A = e, B = 1: pybullet multiplies them), mass when pooled and the variant's per-body
+settings; each ask resets centres and velocities and steps until the bodies no longer
+approach along the line of centres the step detected from (not above ``tol``), at most
+``max_steps``; ``resolved_at`` is the centres at the start of the first step that reported
+the contact.  A 2-D pair lies in the plane z = 0; a 2-D response that leaves it raises.
+"""
+
+import math
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from typing import Any
+
+from adapters.shared import approach_speed
+from adapters.shared.pybullet import connect, engine, quiet
+
+Answer = dict[str, Any]
+Vec3 = tuple[float, float, float]
+ShapeKey = tuple[str, tuple[float, ...]]
+
+IDENTITY = (0.0, 0.0, 0.0, 1.0)
+GROUP, MASK = 1, -1
+"""createMultiBody's collision filter for a dynamic base (DefaultFilter, AllFilter)."""
+IDLE_LIMIT = 16
+RESPONSE_IDLE_LIMIT = 4
+SHAPE_LIMIT = 2048
+COORD_LIMIT = 1e12
+"""Largest coordinate or speed of a body fit to go back to the pool."""
+
+@dataclass(eq=False)
+class World:
+    """One DIRECT client: its cached shapes and its pool of idle bodies.
+
+    ``idle`` maps a shape id to its idle bodies (most recently released last), ``lru``
+    every idle body to its shape id (least recently released first); ``busy`` counts the
+    bodies handed out and not yet released (the client is replaced only when it is 0).
+    ``static``: a detection world, whose bodies are static and pair with each other.
+    """
+
+    settings: dict[str, float]
+    limit: int
+    cid: int
+    static: bool = False
+    shapes: dict[ShapeKey, int] = field(default_factory=dict)
+    idle: dict[int, list[int]] = field(default_factory=dict)
+    lru: OrderedDict[int, int] = field(default_factory=OrderedDict)
+    busy: int = 0
+
+
+_WORLDS: dict[str, World] = {}
+
+
+def world(name: str, settings: dict[str, float], response: bool = False) -> World:
+    """The world (client and pool) called ``name``, connected once per process."""
+    if name not in _WORLDS:
+        limit = RESPONSE_IDLE_LIMIT if response else IDLE_LIMIT
+        _WORLDS[name] = World(settings, limit, connect(settings), static=not response)
+    return _WORLDS[name]
+
+
+def recycle(w: World) -> None:
+    """Replace the world's client by a new one: the only way to free shapes once used."""
+    with quiet():
+        engine().disconnect(physicsClientId=w.cid)
+    w.shapes.clear()
+    w.idle.clear()
+    w.lru.clear()
+    w.cid = connect(w.settings)
+
+
+def shape(w: World, geom: str, size: tuple[float, ...]) -> int:
+    """A cached collision shape: a sphere of radius size[0] or a box of half-widths size."""
+    key = (geom, size)
+    if key not in w.shapes:
+        bt = engine()
+        with quiet():
+            if geom == "sphere":
+                sid = bt.createCollisionShape(bt.GEOM_SPHERE, radius=size[0],
+                                              physicsClientId=w.cid)
+            else:
+                sid = bt.createCollisionShape(bt.GEOM_BOX, halfExtents=size,
+                                              physicsClientId=w.cid)
+        w.shapes[key] = sid
+    return w.shapes[key]
+
+
+def take(w: World, sid: int, mass: float, centre: Vec3, pooled: bool) -> int:
+    """A body of shape ``sid`` at ``centre``, colliding: an idle one if pooled, else new."""
+    bt = engine()
+    bodies = w.idle.get(sid) if pooled else None
+    if bodies:
+        body = bodies.pop()
+        del w.lru[body]
+        bt.resetBasePositionAndOrientation(body, centre, IDENTITY, physicsClientId=w.cid)
+        bt.setCollisionFilterGroupMask(body, -1, GROUP, MASK, physicsClientId=w.cid)
+    else:
+        with quiet():
+            body = bt.createMultiBody(baseMass=mass, baseCollisionShapeIndex=sid,
+                                      basePosition=centre, physicsClientId=w.cid)
+        if w.static:  # a static base's own filter excludes static-static pairs
+            bt.setCollisionFilterGroupMask(body, -1, GROUP, MASK, physicsClientId=w.cid)
+    w.busy += 1
+    return int(body)
+
+
+def give_back(w: World, body: int, sid: int, keep: bool) -> None:
+    """Return ``body`` to the pool, collision off, if ``keep`` (else remove it); trim the pool."""
+    bt = engine()
+    w.busy -= 1
+    if keep:
+        bt.setCollisionFilterGroupMask(body, -1, 0, 0, physicsClientId=w.cid)
+        w.idle.setdefault(sid, []).append(body)
+        w.lru[body] = sid
+        if len(w.lru) <= w.limit:
+            return
+        body, sid = w.lru.popitem(last=False)
+        w.idle[sid].remove(body)
+    with quiet():
+        bt.removeBody(body, physicsClientId=w.cid)
+
+
+def settled(cid: int, body: int) -> bool:
+    """Whether a response body ended finite and within ``COORD_LIMIT`` (fit to reuse)."""
+    bt = engine()
+    position, orientation = bt.getBasePositionAndOrientation(body, physicsClientId=cid)
+    linear, angular = bt.getBaseVelocity(body, physicsClientId=cid)
+    return (all(abs(x) <= COORD_LIMIT for x in (*position, *linear))
+            and all(math.isfinite(x) for x in (*orientation, *angular)))
+
+
+@dataclass(frozen=True, slots=True)
+class Motion:
+    """What a response ask resets (3-D centres and velocities) and its approach tolerance."""
+
+    pa: Vec3
+    pb: Vec3
+    va: Vec3
+    vb: Vec3
+    tol: float
+
+
+@dataclass(slots=True)
+class Pair:
+    """A built pair: the client, the two body ids and what the ask needs.
+
+    ``world`` and ``shapes`` say where the bodies go back; ``pooled`` False: they are
+    removed on release.
+    """
+
+    cid: int
+    dim: int
+    a: int
+    b: int
+    bound: float
+    world: World
+    shapes: tuple[int, int]
+    pooled: bool
+    motion: Motion | None = None
+    max_steps: int = 0
+
+
+def pair(world_name: str, settings: dict[str, float], response: bool,
+         a: tuple[str, tuple[float, ...], float], b: tuple[str, tuple[float, ...], float],
+         a_center: Vec3, b_center: Vec3, dim: int, pooled: bool) -> Pair:
+    """Two bodies (``(geometry, size, mass)``: a sphere's radius, a box's half-widths) at the
+    centres in the world ``world_name``; the client is replaced first when it holds too many
+    shapes and none of its bodies is out."""
+    w = world(world_name, settings, response=response)
+    (geom_a, size_a, mass_a), (geom_b, size_b, mass_b) = a, b
+    if (not w.busy and len(w.shapes) + 2 > SHAPE_LIMIT
+            and ((geom_a, size_a) not in w.shapes or (geom_b, size_b) not in w.shapes)):
+        recycle(w)
+    sa, sb = shape(w, geom_a, size_a), shape(w, geom_b, size_b)
+    taken: list[int] = []
+    try:
+        taken.append(take(w, sa, mass_a, a_center, pooled))
+        taken.append(take(w, sb, mass_b, b_center, pooled))
+        return Pair(w.cid, dim, taken[0], taken[1], 1.0 + 2.0 * math.dist(a_center, b_center),
+                    w, (sa, sb), pooled)
+    except Exception:
+        for body, sid in zip(taken, (sa, sb), strict=False):
+            give_back(w, body, sid, pooled)
+        raise
+
+
+def detect(built: Pair) -> Answer:
+    """The verdict (contact points after collision detection), the deepest closest point's
+    distance and its normal (flipped: A to B)."""
+    bt, cid = engine(), built.cid
+    bt.performCollisionDetection(physicsClientId=cid)
+    hit = len(bt.getContactPoints(built.a, built.b, physicsClientId=cid)) > 0
+    points = bt.getClosestPoints(built.a, built.b, built.bound, physicsClientId=cid)
+    if not points:
+        return {"hit": hit}
+    deepest = min(points, key=lambda point: point[8])
+    normal = tuple(-float(x) for x in deepest[7][:built.dim])
+    return {"hit": hit, "distance": float(deepest[8]), "normal": normal}
+
+
+def response_pair(world_name: str, settings: dict[str, float], body_settings: dict[str, float],
+                  a: tuple[str, tuple[float, ...], float], b: tuple[str, tuple[float, ...], float],
+                  a_center: Vec3, b_center: Vec3, a_velocity: Vec3, b_velocity: Vec3,
+                  restitution: float, dim: int, pooled: bool, tol: float,
+                  max_steps: int) -> Pair:
+    """:func:`pair` of two dynamic bodies, their dynamics set, and the motion to reset."""
+    built = pair(world_name, settings, True, a, b, a_center, b_center, dim, pooled)
+    try:
+        with quiet():
+            for body, mass, e in ((built.a, a[2], restitution), (built.b, b[2], 1.0)):
+                reused = {"mass": mass} if built.pooled else {}  # a new body has its mass
+                engine().changeDynamics(body, -1, restitution=e, **reused, **body_settings,
+                                        physicsClientId=built.cid)
+    except Exception:
+        release(built)
+        raise
+    built.motion = Motion(a_center, b_center, a_velocity, b_velocity, tol)
+    built.max_steps = max_steps
+    return built
+
+
+def respond(built: Pair) -> Answer:
+    """Reset, then step until the bodies no longer approach: their velocities and where the
+    solver first met the contact."""
+    bt, cid, m = engine(), built.cid, built.motion
+    assert m is not None, "a response pair"
+    for body, p, v in ((built.a, m.pa, m.va), (built.b, m.pb, m.vb)):
+        bt.resetBasePositionAndOrientation(body, p, (0.0, 0.0, 0.0, 1.0), physicsClientId=cid)
+        bt.resetBaseVelocity(body, v, (0.0, 0.0, 0.0), physicsClientId=cid)
+    resolved: tuple[Vec3, Vec3] | None = None
+    for _ in range(built.max_steps):
+        pa = bt.getBasePositionAndOrientation(built.a, physicsClientId=cid)[0]
+        pb = bt.getBasePositionAndOrientation(built.b, physicsClientId=cid)[0]
+        bt.stepSimulation(physicsClientId=cid)
+        if resolved is None and bt.getContactPoints(built.a, built.b, physicsClientId=cid):
+            resolved = (pa, pb)  # the first step that reported the contact started here
+        va = bt.getBaseVelocity(built.a, physicsClientId=cid)[0]
+        vb = bt.getBaseVelocity(built.b, physicsClientId=cid)[0]
+        if not approach_speed(pa, pb, va, vb) > m.tol:  # NaN (coincident): stop
+            break
+    if built.dim == 3:
+        return {"v1": tuple(va), "v2": tuple(vb), "resolved_at": resolved}
+    if abs(va[2]) > 0.0 or abs(vb[2]) > 0.0:  # NaN passes through, as the engine gave it
+        raise RuntimeError(f"2-D response left the plane z = 0: vz = {va[2]!r}, {vb[2]!r}")
+    at = None if resolved is None else (tuple(resolved[0][:2]), tuple(resolved[1][:2]))
+    return {"v1": tuple(va[:2]), "v2": tuple(vb[:2]), "resolved_at": at}
+
+
+def release(built: Pair) -> None:
+    """The bodies back to their pool (a response body only if it ended fit to reuse, at
+    rest), or removed."""
+    for body, sid in ((built.a, built.shapes[0]), (built.b, built.shapes[1])):
+        keep = built.pooled
+        if keep and built.motion is not None:
+            keep = settled(built.cid, body)
+            if keep:  # an idle body stands still through other cases' steps
+                engine().resetBaseVelocity(body, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0),
+                                           physicsClientId=built.cid)
+        give_back(built.world, body, sid, keep)

@@ -1,0 +1,267 @@
+"""Adapters for pymunk 7.3.1 (Munk2D 2.0.1, a Chipmunk2D fork): ``pymunk``, ``pymunk-default``.
+
+pymunk is a 2-D engine: every 3-D case is skipped with the reason "2-D engine".  Detection
+(``aabb``, ``sphere``): each body is a static ``pymunk.Body`` placed at the case's centre
+carrying a ``pymunk.Poly.create_box`` (full width and height, so the adapter passes
+``2 * half``; radius 0, no bevel) or a ``pymunk.Circle``.  ``prepare`` builds the shapes and calls
+``cache_bb()`` (shapes outside a Space keep stale positions until then).  ``query`` is one
+``a.shapes_collide(b)`` (the calls, plain data in and out, are :mod:`adapters.pymunk.calls`):
+- points -> ``hit`` True; ``distance`` = the smallest ``ContactPoint.distance``
+  (negative when penetrating); ``normal`` = ``ContactPointSet.normal``, which
+  points from the first shape to the second (``cpShapesCollide`` flips it when
+  the collision function swapped the pair), so it is used as is.
+- no contact: pymunk raises ``AssertionError`` (it asserts ``count in (1, 2)``
+  while building the ``ContactPointSet``).  Exactly that is caught and reported
+  as ``hit`` False with distance and normal absent: pymunk gives no separation
+  distance.  Because the signal is an assert, ``available()`` refuses ``python -O``.  pymunk 6
+  returns an empty ``ContactPointSet`` instead (measured with 6.11.1), read the same way.
+``Space.shape_query`` returns the same ``ContactPointSet`` after a bounding-box
+pre-filter, and segment/point queries do not give a pair's distance, so the
+direct pairwise call is used.
+
+Response (``sphere_response``, 2-D): two dynamic circles (mass from the case,
+moment ``MOMENT``, infinite) in a Space with gravity (0, 0) and damping 1.0 (no
+damping).  Why not ``moment_for_circle(m, 0, r)``: the moment plays no part in the
+answer (the contact normal of two circles passes through both centres and there is no
+friction, so no impulse has a torque), while the radius-based one is 0 for r = 0 (pymunk
+then refuses the body: AssertionError) and NaN for a NaN radius (Munk2D's
+``cpBodySetMoment`` assert aborts the process).  pymunk documents an infinite moment as a
+body that cannot rotate [body.py]: Munk2D's inverse moment is then exactly 0, so the
+effective mass along the normal is exactly 1/ma + 1/mb, the textbook's, with no rounding
+of a tiny r x n through the moment (measured on the suite's 77 finite 2-D responses: the
+same answers as any finite moment such as 1.0, and as the radius-based moment except for
+an ulp in 3 cases).  Restitution: Munk2D combines the shapes' elasticities as their
+product, so A gets the case's ``e`` and B gets 1.0.  ``prepare`` builds the
+Space, the bodies and the shapes.  ``query`` removes and re-adds the shapes
+(dropping the cached arbiter: no contact persistence or warm-start impulse),
+zeroes the bias velocity the last solve left in each body with
+``Body.update_position(body, 0)`` (measured: without it a second query of a
+deep overlap starts from other positions), resets centres and velocities, and
+steps with the variant's ``dt`` until the first step in which the solver handled
+the contact (seen by a ``pre_solve`` callback registered with
+``Space.on_collision(pre_solve=f)``, ``f(arbiter, space, data)``), or until the
+bodies no longer approach without having touched, or ``MAX_STEPS``.
+Munk2D integrates positions first and then collides, so the centres read in
+``pre_solve`` are where the resolving contact was computed: they are returned
+as ``resolved_at`` (the truth is computed there, not at the case's centres).  The
+first ``pre_solve`` of a query is the first step that reported the contact, and the
+stepping ends with that step: the configuration recorded is the one the solver resolved.
+
+Variants (Space settings; sources below):
+
+- ``pymunk``: dt = 1e-3 s (1 kHz: the contact is resolved closer to the touching
+  configuration), collision_slop 0, collision_bias 1.0 (no positional
+  correction; bias impulses go to separate bias velocities, and v1/v2 were
+  measured bit-identical with the default bias), iterations 10 stated
+  explicitly (measured on 162 random and suite cases: one pass leaves up to
+  8e-16 relative rounding, two or more reach the same fixed point, 4e-16 at
+  most), friction 0.
+- ``pymunk-default``: dt = 1/60 s (the usual game step); slop (0.1f, i.e.
+  0.10000000149), bias ((1 - 0.1f)^60), iterations (10) and friction (0) left
+  at their defaults.
+
+Scenes (``sphere_scene``) are stepped by :mod:`adapters.pymunk_scene` with the variant's
+``scene_tuning``: ``pymunk`` passes its slop, bias and friction as a ``pymunk_scene.Tuning``,
+``pymunk-default`` None (pymunk's defaults).  Gravity and walls (static Poly boxes on
+``space.static_body``): each variant declares ``rest_gap`` = (-collision_slop, 0), i.e.
+(-0.1f, 0) default and (0, 0) tuned, ``rest_sink_steps`` 1, no sleeping and the wall's restitution
+(sqrt(e), product e); the reasons and the measurements are in that module's docstring.
+
+collision_slop is a Space setting: it only sets how much overlap the bias term
+leaves uncorrected.  It does not apply to ``shapes_collide`` nor to the
+velocity impulse, so both variants declare margin 0.  rtol 2^-49: float64
+throughout (cpFloat is double); the worst distance error measured on 20 000
+random 2-D box and circle pairs (offsets up to 1e6) was 7.6e-16 x the size.
+
+Measured native behaviour (pinned in tests/adapters/test_pymunk.py): touching
+boxes (edge, corner, face) collide with distance 0; touching circles do not
+(``distsq < mindist^2``); coincident equal boxes and zero-size boxes report a
+contact with a zero normal (0, -0) and distance 0, even 2^-30 apart, and
+coincident crossed boxes report distance 0 instead of their overlap;
+coincident circles get normal (1, 0); ``Body(mass < 0, nan, inf)`` aborts the
+interpreter (SIGABRT, caught by the harness worker; not guarded here), a body of mass 0
+is refused at the first step (``AssertionError``: "Dynamic bodies must have a mass > 0",
+space.py), so a zero mass is not read as a static body (declared ``zero_mass=""``); the
+impulse accumulator is clamped at 0, so bodies already separating are left
+alone; there is no restitution threshold (``bounce = vrn * e``); a grazing
+approach (normal speed 2^-10 against tangential 2) is never seen overlapping at
+a step, so it is not resolved at all (at dt = 1e-3 and 1/60); a disc of NaN radius
+builds (with the infinite moment) and never collides: velocities kept, resolved_at None.
+
+Conventions (each backed by a file in ``SOURCES``, Munk2D and pymunk sources):
+box size full (``create_box``); normal from the first shape to the second,
+A to B (``cpShapesCollide`` in cpShape.c); touching boxes collide (``d <= 0`` in
+cpCollision.c), touching circles do not (strict ``<``); elasticity combines as
+the product (cpArbiter.c); no restitution threshold; collision_slop 0.1,
+collision_bias and 10 iterations by default (space.py); no contact raises
+AssertionError (contact_point_set.py).  Time step: each variant's ``dt`` (1e-3, 1/60),
+fixed, one ``Space.step(dt)`` per step; damping 0 (``Space.damping`` 1.0 keeps all velocity,
+space.py).  Negative half-widths are read as their magnitude: ``create_box`` passes the
+corners +-w/2 to ``Poly``, which builds their convex hull (shapes.py; measured here: a box
+of half-width -1 answers as one of 1), declared ``negative_extents="absolute"``.  Negative
+circle radii are not (measured here: the distance is |d| - ra - rb as given, and a
+contact is reported when |d| < |ra + rb|, ``distsq < mindist^2`` in cpCollision.c); the
+suite has no finite negative 2-D radius, and the notes say so.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from types import ModuleType
+from typing import ClassVar
+
+from adapters import pymunk_scene
+from adapters.pymunk_scene import Tuning
+from adapters.stepping import SceneSteppingAdapter
+from crosscheck.core.contract import Call, Capability, Conventions, all_capabilities
+from crosscheck.core.model import Kind
+from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
+
+MUNK2D = "https://github.com/viblo/Munk2D/blob/master/src/"
+PYMUNK = "https://github.com/viblo/pymunk/blob/master/pymunk/"
+SOURCES = (
+    MUNK2D + "cpShape.c",  # cpShapesCollide: normal flipped to a->b, distance = (p2 - p1).n
+    MUNK2D + "cpCollision.c",  # CircleToCircle strict <, PolyToPoly d <= 0, ContactPoints
+    MUNK2D + "cpArbiter.c",  # e = a->e * b->e; bounce = vrn * e; jnAcc = max(.., 0)
+    MUNK2D + "cpSpaceStep.c",  # positions, collide + pre_solve, prestep, velocities, solver
+    MUNK2D + "cpSpace.c",  # collisionSlop 0.1f, sleepTimeThreshold INFINITY (no sleeping)
+    PYMUNK + "contact_point_set.py",  # assert count in (1, 2): no contact raises
+    PYMUNK + "body.py",  # moment float('inf'): a body that cannot rotate
+    PYMUNK + "shapes.py",  # create_box(size=(width, height), radius=0), shapes_collide
+    PYMUNK + "space.py",  # collision_slop 0.1, collision_bias, iterations 10, on_collision
+)
+MAX_STEPS = 100_000
+"""Step cap of a response query (bodies still approaching without touching)."""
+MOMENT = math.inf
+"""Every response body's moment: no rotation (see the module docstring), whatever the radius."""
+
+_NOTES = ("Detection uses Shape.shapes_collide (independent of any Space: collision_slop "
+          "does not apply, so no margin); no contact raises AssertionError and is reported "
+          "as hit False with distance and normal absent.  Response: first step in which "
+          "the solver handled the contact; resolved_at = centres in pre_solve; moment "
+          "infinite (no rotation; independent of the radius).  Touching boxes collide, "
+          "touching circles do not (textbook rule of each kind).  Mass 0 is refused "
+          "(AssertionError at the first step), not static.  Negative half-widths read as "
+          "their magnitude (create_box: convex hull of +-w/2); negative circle radii do "
+          "not (distance |d| - ra - rb as given, contact when |d| < |ra + rb|; measured "
+          "here).  ")
+
+_WALL_NOTES = (
+    " Gravity and walls (scenes): each wall a static Poly box on space.static_body, 1000 x "
+    "the largest radius thick, 1e4 x the scene's extent sideways (adapters/wall_boxes.py); "
+    "a disc touching a Poly is a contact (d <= r, cpCollision.c CircleToPoly), so a disc "
+    "resting on a wall stays at gap 0; touching discs are not (strict <), so a disc on a "
+    "disc falls one step, |g| dt^2, first; overlaps within collision_slop are never "
+    "corrected (the tuned variant's bias 1.0 corrects none).  No sleeping.")
+
+
+def _conventions(settings: str, dt: float, slop: float) -> Conventions:
+    return pymunk_scene.with_walls(Conventions(
+        box_extents="full (Poly.create_box takes width and height; the adapter passes 2*half)",
+        normal="A to B (ContactPointSet.normal points from the first shape to the second); "
+               "used as is",
+        rtol=2.0**-49,
+        restitution="product of the shapes' elasticities; A = e, B = 1.0 gives e exactly",
+        restitution_threshold=0.0,
+        resolves_separating=False,
+        time_step=dt,
+        damping=0.0,
+        zero_mass="",
+        negative_extents="absolute",
+        sampled_contacts=True,
+        notes=_NOTES + settings + (
+            " No continuous collision detection: each step moves the bodies, then looks for "
+            "overlapping shapes (sampled_contacts); pymunk's Body.velocity_func docs suggest "
+            "limiting velocity 'to prevent tunneling'." + _WALL_NOTES),
+        sources=SOURCES,
+    ), slop)
+
+
+class PymunkTuned(SceneSteppingAdapter):
+    """pymunk set for accuracy: small step, no slop, no positional correction, no friction."""
+
+    name: ClassVar[str] = "pymunk"
+    light_import = True  # the engine is imported lazily (available(), prepare)
+    engine: ClassVar[str] = "pymunk"
+    package: ClassVar[str] = "pymunk"
+    settings: ClassVar[str] = ("dt 1e-3 s, collision_slop 0, collision_bias 1.0 (no positional "
+                               "correction), iterations 10, friction 0, elasticity A = e, B = 1")
+    capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
+        *(k for k in Kind if k is not Kind.SPHERE_TOI), dims=(2,))
+    slop: ClassVar[float | None] = 0.0
+    conventions: ClassVar[Conventions] = _conventions(settings, 1e-3, 0.0)
+    dt: ClassVar[float] = 1e-3
+    bias: ClassVar[float | None] = 1.0
+    iterations: ClassVar[int | None] = 10
+    friction: ClassVar[float | None] = 0.0
+    scene_tuning: ClassVar[Tuning | None] = Tuning(slop=slop, bias=bias, friction=friction)
+    """What scenes are built with (see adapters/pymunk_scene.py); None: pymunk's defaults."""
+
+    def version(self) -> str:
+        import pymunk
+
+        core = "Munk2D" if int(pymunk.version.split(".")[0]) >= 7 else "Chipmunk2D"  # 7: fork
+        return f"{pymunk.version} ({core} {pymunk.chipmunk_version.partition('-')[0]})"
+
+    def available(self) -> str | None:
+        try:
+            import pymunk  # noqa: F401
+        except ImportError as exc:
+            return str(exc)
+        if not __debug__:
+            return "pymunk signals 'no contact' with an assert, which python -O strips"
+        return None
+
+    calls: ClassVar[str] = "adapters.pymunk.calls"
+    scene_module: ClassVar[ModuleType] = pymunk_scene
+    binding_objects: ClassVar[tuple[str, ...]] = ("_chipmunk*.so",)
+    """The engine's shared objects for the instruction timer: pymunk's cffi module, Chipmunk2D
+    compiled in.
+    """
+
+    def binding_call(self) -> Callable[[], object]:
+        """``Shape.cache_bb()`` of one static circle: one call through pymunk's cffi binding."""
+        import pymunk
+
+        circle = pymunk.Circle(pymunk.Body(body_type=pymunk.Body.STATIC), 1.0)
+        return circle.cache_bb
+
+    def unsupported(self, case: AnyCase) -> str | None:
+        if case.dim != 2:
+            return f"pymunk is a 2-D engine: no {case.kind} in {case.dim}-D"
+        return super().unsupported(case)
+
+    def pair_call(self, case: AabbCase | SphereCase) -> Call:
+        if isinstance(case, AabbCase):
+            return Call("boxes", "collide", {"a_center": case.a.center, "a_half": case.a.half,
+                                             "b_center": case.b.center, "b_half": case.b.half})
+        return Call("discs", "collide", {"a_center": case.a.center, "a_radius": case.a.radius,
+                                         "b_center": case.b.center, "b_radius": case.b.radius})
+
+    def response_call(self, case: ResponseCase) -> Call:
+        a, b = case.a, case.b
+        return Call("world", "respond", {
+            "a_center": a.center, "a_radius": a.radius, "a_mass": a.mass,
+            "a_velocity": a.velocity, "b_center": b.center, "b_radius": b.radius,
+            "b_mass": b.mass, "b_velocity": b.velocity, "restitution": case.restitution,
+            "dt": self.dt, "slop": self.slop, "bias": self.bias, "iterations": self.iterations,
+            "friction": self.friction, "moment": MOMENT, "max_steps": MAX_STEPS},
+            release="release_world")
+
+
+
+class PymunkDefault(PymunkTuned):
+    """pymunk out of the box: only geometry, mass, velocity and elasticity are set."""
+
+    name: ClassVar[str] = "pymunk-default"
+    settings: ClassVar[str] = ("dt 1/60 s; collision_slop (0.1f), collision_bias ((1-0.1f)^60), "
+                               "iterations (10), friction (0) at defaults; elasticity A = e, B = 1")
+    conventions: ClassVar[Conventions] = _conventions(settings, 1.0 / 60.0,
+                                                      pymunk_scene.DEFAULT_SLOP)
+    dt: ClassVar[float] = 1.0 / 60.0
+    slop: ClassVar[float | None] = None
+    bias: ClassVar[float | None] = None
+    iterations: ClassVar[int | None] = None
+    friction: ClassVar[float | None] = None
+    scene_tuning: ClassVar[Tuning | None] = None
