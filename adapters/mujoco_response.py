@@ -1,14 +1,15 @@
-"""Sphere responses on MuJoCo: two free spheres stepped until their soft contact is over.
+"""Sphere responses on MuJoCo: how they are stepped, and the stiff contact fitted per case.
 
-What it is for: the ``sphere_response`` part of :mod:`adapters.mujoco_engine` (both variants),
-apart from the detection part.  MuJoCo has no coefficient of restitution and no impulse: a
+What it is for: the stiff contact's numbers (:func:`stiff_contact`, from the case: the
+inputs of :mod:`adapters.mujoco.calls`' responses) and, in words, what those calls do for
+``sphere_response`` (both variants).  MuJoCo has no coefficient of restitution and no impulse: a
 contact is a soft constraint whose reference acceleration ``aref = -b v - k r`` (``r`` the
 penetration minus the margin, ``v`` its rate) is set by ``solref`` and ``solimp``
 [modeling.rst, "Solver parameters"; ``mj_makeImpedance`` in engine_core_constraint.c], so a
 bounce is a spring-damper acting over many steps.
 
-``prepare`` sets sizes, masses (then ``mj_setConst``) and, for the stiff variant, the per-case
-contact and time step in a compiled pair (:mod:`adapters.mujoco_setup`).  ``respond`` resets
+The build sets sizes, masses (then ``mj_setConst``) and, for the stiff variant, the per-case
+contact and time step in a compiled pair (:mod:`adapters.shared.mujoco`).  The ask resets
 the data (``mj_resetData``: time, warm start and warnings), puts the case's centres and
 velocities in ``qpos``/``qvel`` (2-D: z = 0, vz = 0) and loops: it runs the collision pass of
 the current state (``mj_kinematics``, ``mj_collision``: the pass ``mj_step`` starts with),
@@ -61,26 +62,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
 
-import numpy as np
-
-from adapters.mujoco_setup import WARNINGS, Mass, Pair, engine, guarded, set_masses, set_sizes
-from crosscheck.core.geometry import Vec, Vec3, difference, norm, to3
-from crosscheck.core.model import Observation
+from adapters.shared.mujoco import MARGIN, MAXIMP, PLANE, TOLERANCE
+from crosscheck.core.geometry import difference, norm
 from crosscheck.core.schema import ResponseCase
+
+__all__ = ["MARGIN", "MAXIMP", "MAX_STEPS", "PLANE", "TOLERANCE", "Contact", "Stiff",
+           "damping_dashpot", "damping_ratio", "dashpot", "restitution_refusal",
+           "stiff_contact"]
 
 MAX_STEPS = 50_000
 """Step cap of one response; a contact still active then is an error."""
-MAXIMP = 0.9999
-"""mjMAXIMP, the largest impedance MuJoCo allows: the stiff contact's ``solimp`` d0 and d_width."""
-MARGIN = 2.0**-1022
-"""The stiff contact's geom margin: a touching contact (distance 0) is active."""
-TOLERANCE = 1e-15
-"""The stiff variant's solver tolerance (``opt.tolerance``; MuJoCo's default is 1e-8)."""
 U = 2.0**-52
-PLANE = 2.0**-40
-"""Largest |vz| of a 2-D response, relative to its largest speed, taken as rounding noise."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -168,126 +161,3 @@ def restitution_refusal(e: float) -> str | None:
                 "(MuJoCo has no coefficient of restitution)")
     return (f"restitution {e!r} outside (0, 1]: MuJoCo's direct solref has damping >= 0 "
             "(no energy gain) and no coefficient of restitution")
-
-
-def tune_stiff(pair: Pair) -> None:
-    """The stiff variant's model-wide settings (see the module docstring)."""
-    tune_stiff_model(pair.model)
-
-
-def tune_stiff_model(m: Any) -> None:
-    """RK4, solver tolerance 1e-15, and every geom's margin and flat solimp (also scenes')."""
-    m.opt.integrator = engine().mjtIntegrator.mjINT_RK4
-    m.opt.tolerance = TOLERANCE
-    for g in range(m.ngeom):
-        m.geom_margin[g] = MARGIN
-        m.geom_solimp[g] = (MAXIMP, MAXIMP, 0.001, 0.5, 2.0)
-
-
-@dataclass(eq=False)
-class Prepared:
-    """A response case ready to step: its pair, bodies, contact and start state."""
-
-    pair: Pair
-    case: ResponseCase
-    sizes: tuple[Vec3, Vec3]
-    masses: tuple[Mass, Mass]
-    contact: Contact | None
-    qpos: tuple[float, ...]
-    qvel: tuple[float, ...]
-
-
-def prepare(pair: Pair, case: ResponseCase, masses: tuple[Mass, Mass],
-            contact: Contact | None) -> Prepared:
-    """Set the case into ``pair`` (``contact`` None: MuJoCo's default contact and step)."""
-    identity = (1.0, 0.0, 0.0, 0.0)
-    qpos = (*to3(case.a.center), *identity, *to3(case.b.center), *identity)
-    qvel = (*to3(case.a.velocity), 0.0, 0.0, 0.0, *to3(case.b.velocity), 0.0, 0.0, 0.0)
-    sizes = ((case.a.radius, 0.0, 0.0), (case.b.radius, 0.0, 0.0))
-    prepared = Prepared(pair, case, sizes, masses, contact, qpos, qvel)
-    apply(prepared)
-    return prepared
-
-
-def apply(p: Prepared) -> None:
-    """Put the case's sizes, masses and contact into its pair's model."""
-    m = p.pair.model
-    set_sizes(p.pair, p.sizes)
-    if p.contact is not None:
-        m.opt.timestep = p.contact.timestep
-        for g in range(2):
-            m.geom_solref[g] = p.contact.solref
-    set_masses(p.pair, p.masses)
-    p.pair.owner = p
-
-
-def _active(d: Any) -> bool:
-    """Whether the last collision pass found a contact in the constraint problem."""
-    return bool(d.ncon) and bool((d.contact.exclude == 0).any())
-
-
-def _approaching(d: Any) -> bool:
-    """Whether B moves towards A along their line of centres (False for NaN)."""
-    with np.errstate(all="ignore"):  # huge or non-finite input: the answer is False
-        gap = d.qpos[7:10] - d.qpos[0:3]
-        return bool((d.qvel[6:9] - d.qvel[0:3]) @ gap < 0.0)
-
-
-def _warned(d: Any) -> str:
-    """MuJoCo's warnings of this step, in words ('' if none): the messages the handler kept,
-    and the counters (a reset clears them, so they show only what came after the last one)."""
-    mujoco = engine()
-    counts = d.warning.number
-    if not counts.any():
-        return ""
-    names = [f"{mujoco.mjtWarning(i).name} x{n}" for i, n in enumerate(counts) if n]
-    return f"{' | '.join(WARNINGS) or 'no message'} (counters: {', '.join(names)})"
-
-
-def _centres(d: Any, dim: int) -> tuple[Vec, Vec]:
-    return (tuple(float(x) for x in d.qpos[0:dim]), tuple(float(x) for x in d.qpos[7:7 + dim]))
-
-
-def respond(p: Prepared) -> Observation:
-    """Step the case from its start until its contact is over (see the module docstring)."""
-    mujoco, m, d = engine(), p.pair.model, p.pair.data
-    if p.pair.owner is not p:
-        apply(p)
-    mujoco.mj_resetData(m, d)
-    WARNINGS.clear()
-    d.qpos[:], d.qvel[:] = p.qpos, p.qvel
-    with guarded(p.pair):
-        return _step(mujoco, m, d, p.case.dim)
-
-
-def _step(mujoco: Any, m: Any, d: Any, dim: int) -> Observation:
-    """The stepping loop of :func:`respond`."""
-    resolved: tuple[Vec, Vec] | None = None
-    mujoco.mj_kinematics(m, d)
-    mujoco.mj_collision(m, d)
-    for _ in range(MAX_STEPS):
-        if resolved is None and _active(d):
-            resolved = _centres(d, dim)
-        mujoco.mj_step(m, d)
-        if warned := _warned(d):
-            raise RuntimeError(f"MuJoCo warned while stepping, and a bad value resets the "
-                               f"state: {warned}")
-        mujoco.mj_kinematics(m, d)  # the collision pass the next step starts with
-        mujoco.mj_collision(m, d)
-        if not _active(d) and not _approaching(d):
-            return _observed(d, dim, resolved)
-    raise RuntimeError(f"contact still active after {MAX_STEPS} steps of {m.opt.timestep:.3g} s")
-
-
-def _observed(d: Any, dim: int, resolved: tuple[Vec, Vec] | None) -> Observation:
-    """The velocities and where the contact began; 2-D: the motion must have stayed in z = 0.
-
-    The solver leaves rounding noise in vz (measured up to 1e-60 x the speed: it works in
-    all 12 degrees of freedom); within ``PLANE`` x the largest speed it is dropped, beyond
-    it the response left the plane and raises.
-    """
-    va = tuple(float(x) for x in d.qvel[0:3])
-    vb = tuple(float(x) for x in d.qvel[6:9])
-    if dim == 2 and not max(abs(va[2]), abs(vb[2])) <= PLANE * max(map(abs, (*va, *vb))):
-        raise RuntimeError(f"2-D response left the plane z = 0: vz = {va[2]!r}, {vb[2]!r}")
-    return Observation(v1=va[:dim], v2=vb[:dim], resolved_at=resolved)

@@ -3,12 +3,13 @@
 What it is for: the scene runners step a whole scene (N spheres, one restitution, in open
 space or under gravity between static walls) with a fixed ``dt`` and return the final state
 (and, asked, the recorded trajectory), to be scored against the exact reference;
-:mod:`adapters.mujoco_engine` answers single pair cases instead.  Types and input checks are
+:mod:`adapters.mujoco` answers single pair cases instead.  Types and input checks are
 shared with the other scene runners in :mod:`adapters.scene`.
 
 Building (``prepare_scene``, untimed): one model per scene, compiled from MJCF
-(``mujoco_setup.scene_mjcf``: the pair's world, one free body with an explicit inertial and
-one sphere geom per body, and one static ``plane`` geom per wall, :mod:`adapters.mujoco_walls`),
+(``adapters.shared.mujoco.scene_mjcf``: the pair's world, one free body with an explicit
+inertial and one sphere geom per body, and one static ``plane`` geom per wall,
+:mod:`adapters.mujoco_walls`),
 ``opt.gravity`` the scene's (open space: 0, the model unchanged), its ``MjData`` given the
 centres (2-D: z = 0) and velocities (2-D: vz = 0, no spin).  ``run_scene`` times only
 ``mj_step`` through ``adapters.scene.step_and_record``: without recording the whole run is
@@ -39,7 +40,7 @@ Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None):
   scene's e is not read: MuJoCo's default soft contact (solref 0.02 1, solimp 0.9 0.95 0.001
   0.5 2), friction 1, condim 3, Euler.
 
-Conventions, measured with this module on 4.0.0 (sources in ``mujoco_engine.SOURCES``):
+Conventions, measured with this module on 4.0.0 (sources in ``adapters.mujoco.SOURCES``):
 
 - 2-D: spheres at z = 0 with vz = 0 on free joints; contact normals between centres in the
   plane lie in it, but the solver works in all 6 N degrees of freedom and leaves rounding
@@ -88,8 +89,7 @@ from typing import Any
 
 import numpy as np
 
-from adapters.mujoco_response import PLANE, damping_dashpot, tune_stiff_model
-from adapters.mujoco_setup import WARNINGS, Mass, engine, scene_mjcf
+from adapters.mujoco_response import damping_dashpot
 from adapters.mujoco_walls import plane_of
 from adapters.scene import (
     Body,
@@ -102,6 +102,7 @@ from adapters.scene import (
     in_scene_dim,
     step_and_record,
 )
+from adapters.shared.mujoco import PLANE, WARNINGS, Mass, engine, scene_mjcf, tune_stiff_model
 
 __all__ = ["Body", "SceneRun", "Tuning", "prepare_scene", "release_scene", "run_scene"]
 

@@ -1,11 +1,11 @@
 """Gravity and static walls of MuJoCo scenes: plane geoms, and how deep a resting sphere sinks.
 
 What it is for: :mod:`adapters.mujoco_scene` builds a scene's :class:`adapters.scene.Wall`
-as MuJoCo's users model a ground, and :mod:`adapters.mujoco_engine` declares each variant's
+as MuJoCo's users model a ground, and :mod:`adapters.mujoco` declares each variant's
 resting-contact conventions from the rules written here.
 
-A wall is a ``plane`` geom of the world body (``mujoco_setup.SCENE_PLANE``): MuJoCo's plane
-is "infinite for collision detection purposes" [XMLreference, body-geom-type] and a
+A wall is a ``plane`` geom of the world body (``adapters.shared.mujoco.SCENE_PLANE``):
+MuJoCo's plane is "infinite for collision detection purposes" [XMLreference, body-geom-type] and a
 half-space: ``mjraw_PlaneSphere`` (engine_collision_primitive.c) gives a contact at
 ``dist = (c - pos) . n - r`` however deep the centre is, with ``n`` the plane's local z axis.
 So nothing tunnels and no size is chosen; MuJoCo is float64, so no box precision is lost
@@ -78,8 +78,8 @@ from dataclasses import dataclass
 from itertools import product
 
 from adapters.mujoco_response import MARGIN, MAXIMP, damping_dashpot
-from adapters.mujoco_setup import Plane
 from adapters.scene import Wall
+from adapters.shared.mujoco import Plane
 
 __all__ = ["DEFAULT_REST", "TUNED_REST", "Rest", "plane_of", "plane_quat", "soft_rest_sink",
            "stiff_sink_steps"]

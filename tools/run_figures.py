@@ -405,7 +405,7 @@ def advice(run: Run) -> str:
     from crosscheck.cli import build_parser
     from crosscheck.cli.advise import envelope_of
     from crosscheck.report.advise import table as advise_table
-    from crosscheck.report.advise.recommend import INSTRUCTIONS, EnvelopeError, advise
+    from crosscheck.report.advise.recommend import EnvelopeError, advise
 
     parts = []
     for options in ADVICE_PROFILES:
@@ -421,14 +421,13 @@ def advice(run: Run) -> str:
             continue
         head, shown = advise_table.table(answer)
         rows = [[*cells, advise_table.worst_text(e)] for cells, e in shown]
-        by = " by instructions per query" if answer.cost_by == INSTRUCTIONS else ""
         parts += [f"{answer.cases:,} cases inside the envelope "
                   f"({', '.join(answer.kinds)}; {', '.join(f'{d}-D' for d in answer.dims)}).",
                   "", table([*head, "worst answer"], rows)]
         if answer.unsupported:
             parts += [f"Answer no case (not ranked): "
                       f"{', '.join(e.engine for e in answer.unsupported)}.", ""]
-        parts += [f"Passing, cheapest first{by}: "
+        parts += [f"Passing ({answer.passing_order}): "
                   f"{', '.join(e.engine for e in answer.passing)}."
                   if answer.passing else
                   f"Nothing passes the whole envelope; closest: {answer.closest}, decided by "

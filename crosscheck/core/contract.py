@@ -227,6 +227,9 @@ class Call:
     partial: str = ""
     refusal: Exception | None = None
     undefined: str = ""
+    model: str = ""
+    """The engine's own model text among the inputs (MuJoCo's MJCF), shown apart in a bug
+    report; '' if none."""
 
 
 def refused(why: str | None) -> Exception | None:

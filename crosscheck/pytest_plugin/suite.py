@@ -33,7 +33,7 @@ from crosscheck.pytest_plugin.items import EngineCollector
 from crosscheck.results.baseline import Baseline, BaselineError, judge, read_baseline
 from crosscheck.results.store import ResultsStore, StoreError
 from crosscheck.run.launch import launch, new_info
-from crosscheck.studies.repro.writers import writer_for
+from crosscheck.studies.repro import scripted
 
 DEFAULT_CASES = Path(crosscheck.__file__).resolve().parent.parent / "cases"
 """The suite of the crosscheck checkout the package is installed from (if it is)."""
@@ -58,7 +58,7 @@ def engine(name: str) -> Engine:
         reason = f"it fails: {type(exc).__name__}: {exc}"
     if reason:
         raise _usage(option, f"{entry.describe()} {entry.verdict}: {reason}")
-    return Engine(name, adapter, entry.builtin, writer_for(adapter) is not None)
+    return Engine(name, adapter, entry.builtin, scripted(adapter))
 
 
 def case_paths(given: list[str], here: Path) -> list[Path]:

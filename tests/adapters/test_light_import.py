@@ -22,7 +22,7 @@ LIGHT = sorted({type(adapters.get(name)).__module__ for name in adapters.names()
 
 def test_every_built_in_engine_declares_a_light_import() -> None:
     assert {"adapters.reference", "adapters.fcl", "adapters.pybullet",
-            "adapters.pymunk", "adapters.mujoco_engine", "adapters.coal",
+            "adapters.pymunk", "adapters.mujoco", "adapters.coal",
             "adapters.box2d", "adapters.rapier"} <= set(LIGHT)
 
 

@@ -22,19 +22,20 @@ mujoco = pytest.importorskip("mujoco")
 
 import adapters  # noqa: E402
 from adapters import mujoco_response as response  # noqa: E402
-from adapters.mujoco_engine import (  # noqa: E402
+from adapters.mujoco import (  # noqa: E402
     STIFF_RTOL,
     MujocoDefault,
     MujocoStiff,
     sizes_of,
 )
-from adapters.mujoco_setup import compile_pair, refusal, set_sizes  # noqa: E402
+from adapters.shared.mujoco import compile_pair, refusal, set_sizes  # noqa: E402
 from crosscheck.cases.load import load_paths  # noqa: E402
 from crosscheck.core.geometry import Vec, to3  # noqa: E402
 from crosscheck.core.model import Category, Observation, Undefined  # noqa: E402
 from crosscheck.core.options import RunOptions  # noqa: E402
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase  # noqa: E402
-from crosscheck.results.store import ResultsStore, read_results  # noqa: E402
+from crosscheck.results.run import read_results  # noqa: E402
+from crosscheck.results.store import ResultsStore  # noqa: E402
 from crosscheck.run.runner import run  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
 from crosscheck.truth.bounds import bound, error_of  # noqa: E402
@@ -196,7 +197,7 @@ def test_no_log_file_is_written_and_without_the_handler_there_is_one(tmp_path: P
             "data = mujoco.MjData(model)\n"
             "data.qpos[0] = float('nan')\n"
             "mujoco.mj_step(model, data)\n")
-    with_handler = "from adapters.mujoco_setup import engine\nmujoco = engine()\n" + warn
+    with_handler = "from adapters.shared.mujoco import engine\nmujoco = engine()\n" + warn
     plain = "import mujoco\n" + warn
     for name, code in (("handled", with_handler), ("plain", plain)):
         folder = tmp_path / name

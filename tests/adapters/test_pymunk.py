@@ -25,7 +25,8 @@ from crosscheck.core.geometry import Vec, norm  # noqa: E402
 from crosscheck.core.model import Observation  # noqa: E402
 from crosscheck.core.options import RunOptions  # noqa: E402
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase  # noqa: E402
-from crosscheck.results.store import ResultsStore, read_results  # noqa: E402
+from crosscheck.results.run import read_results  # noqa: E402
+from crosscheck.results.store import ResultsStore  # noqa: E402
 from crosscheck.run.runner import run  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
 from tests.conftest import ROOT, aabb, response, sphere  # noqa: E402

@@ -25,7 +25,8 @@ from crosscheck.core.geometry import norm  # noqa: E402
 from crosscheck.core.model import Category, Observation, Status  # noqa: E402
 from crosscheck.core.options import RunOptions  # noqa: E402
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase, ResponseCase  # noqa: E402
-from crosscheck.results.store import ResultsStore, read_results  # noqa: E402
+from crosscheck.results.run import read_results  # noqa: E402
+from crosscheck.results.store import ResultsStore  # noqa: E402
 from crosscheck.run.runner import run  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
 from crosscheck.truth.bounds import error_of  # noqa: E402

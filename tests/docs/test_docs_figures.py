@@ -324,11 +324,11 @@ def test_the_headline_ranks_a_counted_profile_by_its_counts(counted_files: dict[
 def test_the_advice_gives_instructions_before_the_wall_clock(
         counted_files: dict[str, str]) -> None:
     text = counted_files["advice.md"]
-    assert ("| # | engine | tier | cases | coverage | within | instr/query ± IQR | wall ± IQR | "
-            "worst answer |") in text
-    assert "| 1 | fake-right | passes | 2 | 100% | 100% | 50 ± 0 k instr | " in text
-    assert "| 2 | fake-off | fails | 2 | 100% | 0% | 60 ± 0 k instr | " in text
-    assert "| baseline | reference | passes | 2 | 100% | 100% | 2 ± 0 k instr | " in text
+    assert ("| # | engine | tier | cases | within | instr/query ± IQR | wall ± IQR | "
+            "worst answer |") in text  # the columns of crosscheck advise (report.advise.table)
+    assert "| 1 | fake-right | pass | 2 | 100% | 50 ± 0 k instr | " in text
+    assert "| 2 | fake-off | fail | 2 | 0% | 60 ± 0 k instr | " in text
+    assert "| b | reference | pass | 2 | 100% | 2 ± 0 k instr | " in text
     assert "Passing, cheapest first by instructions per query: fake-right." in text
     assert "| median ± IQR |" not in text
 
@@ -362,7 +362,7 @@ def test_the_figures_of_a_run_without_counts_show_no_count(files: dict[str, str]
         assert "instr" not in files[name], name
     assert ("| profile (common ground) | rank | engine | score | coverage | median query ± IQR |"
             in files["headline.md"])
-    assert ("| # | engine | tier | cases | coverage | within | median ± IQR | worst answer |"
+    assert ("| # | engine | tier | cases | within | median ± IQR | worst answer |"
             in files["advice.md"])
     assert "Passing, cheapest first: fake-right." in files["advice.md"]
     tables = [line for line in files["query-times.md"].splitlines() if line.endswith(":")]

@@ -7,12 +7,11 @@
 - :mod:`~crosscheck.studies.repro.calls`: the engine part of any adapter whose engine calls
   are a module (:class:`~crosscheck.core.contract.CallsAdapter`, built-in or a plug-in's):
   that module's source, verbatim, and the call on the case's exact inputs;
-- :mod:`~crosscheck.studies.repro.writers`: until they are calls too, the old writers of
-  what is not (every engine's scenes, MuJoCo): :mod:`~crosscheck.studies.repro.mujoco` and
-  :mod:`~crosscheck.studies.repro.scenes` (PyBullet and pymunk scenes; the other engines'
-  scenes in ``scenes_box2d``, ``scenes_mujoco``, ``scenes_rapier``; their gravity, walls and
-  measures in :mod:`~crosscheck.studies.repro.measures`), on the ground of
-  :mod:`~crosscheck.studies.repro.code`;
+- :mod:`~crosscheck.studies.repro.writers`: until they are calls too, the old writers of the
+  stepping engines' scenes: :mod:`~crosscheck.studies.repro.scenes` (PyBullet and pymunk;
+  the other engines' scenes in ``scenes_box2d``, ``scenes_mujoco``, ``scenes_rapier``; their
+  gravity, walls and measures in :mod:`~crosscheck.studies.repro.measures`), on the ground
+  of :mod:`~crosscheck.studies.repro.code`;
 - :mod:`~crosscheck.studies.repro.issue`: a Markdown bug report around a script.
 """
 
@@ -22,9 +21,10 @@ from crosscheck.studies.repro.script import (
     Script,
     breaking_pairs,
     engines_for,
+    scripted,
     scripts,
     write_run_scripts,
 )
 
-__all__ = ["ReproError", "Script", "breaking_pairs", "engines_for", "issue_report", "scripts",
-           "write_run_scripts"]
+__all__ = ["ReproError", "Script", "breaking_pairs", "engines_for", "issue_report", "scripted",
+           "scripts", "write_run_scripts"]

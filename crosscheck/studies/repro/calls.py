@@ -57,7 +57,8 @@ def has_call(adapter: object, case: AnyCase) -> TypeGuard[CallsAdapter]:
 
 def source(value: Any) -> str:
     """Python source for exactly ``value``: floats as ``float.fromhex`` literals, tuples and
-    lists as tuples, anything else (int, bool, str, None) as ``repr``.
+    lists as tuples, a text of several lines (a model) triple-quoted, anything else (int,
+    bool, str, None) as ``repr``.
 
     >>> source((0.5, (1.0,))), source(None), source(10)
     ('(float.fromhex("0x1.0000000000000p-1"), (float.fromhex("0x1.0000000000000p+0"),))', \
@@ -65,6 +66,8 @@ def source(value: Any) -> str:
     """
     if isinstance(value, float):
         return literal(value)
+    if isinstance(value, str) and "\n" in value and '"""' not in value and "\\" not in value:
+        return '"""' + value + '"""'  # a model text, as it reads
     if isinstance(value, tuple | list):
         return "(" + ", ".join(source(v) for v in value) + ("," if len(value) == 1 else "") + ")"
     if isinstance(value, dict):
@@ -110,13 +113,14 @@ def calls_code(adapter: CallsAdapter, case: AnyCase,
              *(['resolved_at = answer.get("resolved_at")'] if responded else []),
              *([f"{call.release}(built)"] if call.release and not tail else [])]
     made = "\n".join(lines)
-    if call.refusal is not None:
+    if call.refusal is not None:  # prepare raises first: the other guard is moot
         made = raising(call.refusal, adapter.engine, made)
-    if call.undefined:
+    elif call.undefined:
         made = undefined(call.undefined, quantities, adapter.engine, made)
     parts = [*(f"# {m.__name__}, verbatim (shared by engines' calls).\n{_source(m)}\n\n"
                for m in helpers),
              f"# {adapter.calls}, verbatim: the calls crosscheck's adapter makes.", text, "", "",
              "# The adapter's call on the case's inputs: build (untimed), then ask (timed).",
              made]
-    return EngineCode((), "\n".join(parts), resolved_at=responded, inputs=inputs, tail=tail)
+    return EngineCode((), "\n".join(parts), resolved_at=responded, inputs=inputs, tail=tail,
+                      model=call.model)

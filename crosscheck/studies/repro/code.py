@@ -1,11 +1,10 @@
 """What every engine part of a repro script is made of: :class:`EngineCode`, exact literals, guards.
 
 An engine part (an adapter's calls module with its call,
-:mod:`~crosscheck.studies.repro.calls`; or, until they are calls too,
-:mod:`~crosscheck.studies.repro.mujoco` and :mod:`~crosscheck.studies.repro.scenes`) is the
-Python text that makes the adapter's calls and leaves the engine's answer in variables named
-after the case's quantities; :mod:`~crosscheck.studies.repro.script` puts the inputs and the
-printing around it.
+:mod:`~crosscheck.studies.repro.calls`; or, until scenes are calls too, a scene writer of
+:mod:`~crosscheck.studies.repro.scenes`) is the Python text that makes the adapter's calls
+and leaves the engine's answer in variables named after the case's quantities;
+:mod:`~crosscheck.studies.repro.script` puts the inputs and the printing around it.
 
 A *guard* is an input the adapter does not pass to the engine (a NaN the engine would take
 without a word, a size it would misread): the adapter raises, or records every quantity as

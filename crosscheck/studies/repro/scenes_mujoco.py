@@ -1,14 +1,15 @@
 """The engine part of a repro script for a scene (``sphere_scene``) on MuJoCo.
 
-The statements build the scene as ``adapters/mujoco_scene.py`` does: the model compiled from
-the very MJCF text the adapter compiles (``mujoco_setup.scene_mjcf``, embedded), the scene's
-time step and iterations, and for the tuned variant the stiff contact (RK4, solver tolerance,
-margin, flat solimp, the direct solref that gives e over one scene step, the sub-steps); the
-centres and velocities go into ``qpos`` / ``qvel``; with gravity or walls the walls are the
-MJCF's plane geoms (:mod:`adapters.mujoco_walls`), ``opt.gravity`` the scene's, and each scene
-step is one ``mj_step`` call of the variant's sub-steps with the states recorded as the adapter
-records them (:mod:`~crosscheck.studies.repro.measures`); in open space one ``mj_step`` call
-takes every step.  A 2-D scene's z noise is checked as ``mujoco_scene.read_state`` checks it.
+The statements build the scene as ``adapters/mujoco_scene.py`` does: the model compiled from the
+very MJCF text the adapter compiles (``adapters.shared.mujoco.scene_mjcf``, embedded), the
+scene's time step and iterations, and for the tuned variant the stiff contact (RK4, solver
+tolerance, margin, flat solimp, the direct solref that gives e over one scene step, the sub-
+steps); the centres and velocities go into ``qpos`` / ``qvel``; with gravity or walls the walls
+are the MJCF's plane geoms (:mod:`adapters.mujoco_walls`), ``opt.gravity`` the scene's, and each
+scene step is one ``mj_step`` call of the variant's sub-steps with the states recorded as the
+adapter records them (:mod:`~crosscheck.studies.repro.measures`); in open space one ``mj_step``
+call takes every step. A 2-D scene's z noise is checked as ``mujoco_scene.read_state`` checks
+it.
 They leave the final ``positions`` and ``velocities``, as the harness computes them
 (``STATE`` of :mod:`~crosscheck.studies.repro.scenes`) the total ``momentum`` and kinetic
 ``energy``, and the measures.
@@ -21,14 +22,13 @@ from string import Template
 from typing import Any
 
 from adapters import mujoco_response, mujoco_scene, stepping
-from adapters.mujoco_engine import MujocoDefault
+from adapters.mujoco import MujocoDefault
 from adapters.mujoco_response import PLANE
 from adapters.mujoco_scene import WALLED_PLANE
-from adapters.mujoco_setup import Mass, scene_mjcf
 from adapters.mujoco_walls import plane_of
-from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase, ToiCase
+from adapters.shared.mujoco import Mass, scene_mjcf
+from crosscheck.core.schema import DEFAULT_DT, AnyCase, SceneCase
 from crosscheck.studies.repro.code import EngineCode, literal, number, raising, vector
-from crosscheck.studies.repro.mujoco import mujoco_code
 from crosscheck.studies.repro.scenes import NOTE, refusal, scene_code, scene_inputs
 from crosscheck.truth import scene_measures
 
@@ -138,10 +138,8 @@ def mujoco_scene_code(adapter: MujocoDefault, case: SceneCase) -> EngineCode:
 
 
 def mujoco_writer(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
-    """The script writer of both MuJoCo variants (``writers.WRITERS``): scenes and pairs."""
-    if isinstance(case, SceneCase):
-        return mujoco_scene_code(adapter, case)
-    if isinstance(case, ToiCase):  # (writers.WRITERS asks it no time of impact)
-        raise ValueError("mujoco declares no time-of-impact capability")
-    return mujoco_code(adapter, case)
+    """The script writer of the MuJoCo variants' scenes (their pairs and responses are calls of
+    :mod:`adapters.mujoco.calls`)."""
+    assert isinstance(case, SceneCase), "mujoco's pairs are calls of adapters.mujoco.calls"
+    return mujoco_scene_code(adapter, case)
 

@@ -52,9 +52,20 @@ from crosscheck.studies.repro.code import EngineCode, literal, vector
 from crosscheck.studies.repro.verdicts import comment, conventions_line, truths, verdict_line
 from crosscheck.studies.repro.writers import NoScene, writer_for
 
-__all__ = ["ReproError", "RunRows", "Script", "breaking_pairs", "build", "engine_part",
-           "engines_for",
-           "literal", "printed", "scripts", "write_run_scripts"]
+__all__ = [
+    "ReproError",
+    "RunRows",
+    "Script",
+    "breaking_pairs",
+    "build",
+    "engine_part",
+    "engines_for",
+    "literal",
+    "printed",
+    "scripted",
+    "scripts",
+    "write_run_scripts",
+]
 
 ENCODE = '''\
 def number(x):
@@ -244,8 +255,14 @@ def _adapter(engine: str) -> Adapter | None:
         adapter = adapters.get(pinned.split(engine)[0])
     except adapters.UnknownEngine:
         return None
-    scripted = isinstance(adapter, CallsAdapter) or writer_for(adapter) is not None
-    return adapter if scripted else None
+    return adapter if scripted(adapter) else None
+
+
+def scripted(adapter: Adapter) -> bool:
+    """Whether ``crosscheck repro`` writes scripts for ``adapter``: its engine calls are a
+    module (a :class:`~crosscheck.core.contract.CallsAdapter`, a plug-in's too), or, until
+    its scenes are calls too, it has an old writer."""
+    return isinstance(adapter, CallsAdapter) or writer_for(adapter) is not None
 
 
 def engine_part(adapter: Adapter, case: AnyCase,

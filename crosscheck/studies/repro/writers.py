@@ -3,7 +3,7 @@
 An adapter's pairs, responses and times of impact are made from its calls module
 (:mod:`~crosscheck.studies.repro.calls`); left here, keyed by exact class: every stepping
 engine's scenes (PyBullet and its CCD variant, pymunk, Box2D and its bullet variant, Rapier
-and its CCD variant, MuJoCo) and MuJoCo's pairs and responses.  A writer takes the adapter,
+and its CCD variant, MuJoCo).  A writer takes the adapter,
 the case and the quantities the run recorded as a declared hang, and returns an
 :class:`~crosscheck.studies.repro.code.EngineCode`.  The table goes when they are calls too.
 """
@@ -14,12 +14,12 @@ from collections.abc import Callable
 from typing import Any
 
 from adapters.box2d import Box2dBullet, Box2dDefault, Box2dTuned
-from adapters.mujoco_engine import MujocoDefault, MujocoStiff
+from adapters.mujoco import MujocoDefault, MujocoStiff
 from adapters.pybullet import PyBulletCcd, PyBulletDefault, PyBulletTuned
 from adapters.pymunk import PymunkDefault, PymunkTuned
 from adapters.rapier import RapierCcd, RapierDefault, RapierTuned
 from crosscheck.core.contract import Adapter
-from crosscheck.core.schema import AnyCase, SceneCase, ToiCase
+from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.studies.repro.code import EngineCode
 from crosscheck.studies.repro.scenes import pybullet_scene_code, pymunk_scene_code
 from crosscheck.studies.repro.scenes_box2d import box2d_writer
@@ -35,11 +35,6 @@ class NoScene(ValueError):
     or a time of impact for an engine without that query (or without its script)."""
 
 
-def _no_toi(name: str, case: AnyCase) -> None:
-    if isinstance(case, ToiCase):
-        raise NoScene(f"no repro script for sphere_toi on {name}")
-
-
 def _pybullet(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
     if isinstance(case, SceneCase):
         return pybullet_scene_code(adapter, case)
@@ -53,8 +48,9 @@ def _pymunk(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
 
 
 def _mujoco(adapter: Any, case: AnyCase, hung: frozenset[str]) -> EngineCode:
-    _no_toi(adapter.name, case)
-    return mujoco_writer(adapter, case, hung)
+    if isinstance(case, SceneCase):
+        return mujoco_writer(adapter, case, hung)
+    raise NoScene("mujoco's pairs are calls of adapters.mujoco.calls")
 
 
 WRITERS: dict[type[Adapter], Writer] = {

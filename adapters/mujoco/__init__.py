@@ -1,8 +1,9 @@
 """MuJoCo 4.0.0 (mujoco-core, float64) as an engine: ``mujoco`` (stiff) and ``mujoco-default``.
 
 Every case runs on a compiled two-body model (two free-joint bodies with explicit
-inertials, one geom each, gravity 0; see :mod:`adapters.mujoco_setup`), compiled once per
-adapter instance and kind (~10 ms) and changed per case: geom sizes with the bounds the
+inertials, one geom each, gravity 0; see :mod:`adapters.shared.mujoco`), compiled once per
+process, model text and role (detection, response; ~10 ms) and changed per case (the calls,
+plain data in and out, are :mod:`adapters.mujoco.calls`): geom sizes with the bounds the
 compiler derives (``geom_rbound``, ``geom_aabb``: the broad phase drops a pair whose bounds
 are stale), masses (``mj_setConst``) and ``qpos``.  2-D cases lie in z = 0: discs are
 spheres, a 2-D box gets the z half-width 2 x the case's largest half-width (1 if all are 0)
@@ -35,12 +36,13 @@ Detection (``aabb``, ``sphere``; ``mujoco-default`` only, see below): ``query`` 
   0.125 at 1e15 or 5.6e-17 at 1) or without contact at distance <= 0 (corner-touching
   boxes): the engine gives no direction there.
 
-Responses (``sphere_response``, 2-D and 3-D): stepped by :mod:`adapters.mujoco_response`
-until no contact is active and the spheres no longer approach.  Scenes (``sphere_scene``,
-2-D and 3-D) are stepped by :mod:`adapters.mujoco_scene` with the variant's ``scene_tuning``;
-their gravity and walls (plane geoms with the spheres' contact parameters) and each
-variant's resting conventions (``rest_gap``, ``rest_sink_*``, no sleeping, wall
-restitution) are derived in :mod:`adapters.mujoco_walls` from MuJoCo's solref/solimp rules.
+Responses (``sphere_response``, 2-D and 3-D): stepped (:mod:`adapters.mujoco_response` says
+how, and fits the stiff variant's contact to the case) until no contact is active and the
+spheres no longer approach. Scenes (``sphere_scene``, 2-D and 3-D) are stepped by
+:mod:`adapters.mujoco_scene` with the variant's ``scene_tuning``; their gravity and walls
+(plane geoms with the spheres' contact parameters) and each variant's resting conventions
+(``rest_gap``, ``rest_sink_*``, no sleeping, wall restitution) are derived in
+:mod:`adapters.mujoco_walls` from MuJoCo's solref/solimp rules.
 
 Conventions (sources in ``SOURCES``: docs of 4.0.0; source files linked at main and read at
 commit a7255075, a 3.12.1 development snapshot, the newest one mirrored here; each rule
@@ -103,26 +105,26 @@ contact starts on one and its margin makes a touching contact active).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
-from typing import Any, ClassVar
-
-import numpy as np
+from collections.abc import Callable
+from types import ModuleType
+from typing import ClassVar
 
 from adapters import mujoco_response as response
-from adapters import mujoco_scene, stepping
-from adapters.mujoco_setup import Mass, Pair, compile_pair, engine, guarded, refusal, set_sizes
+from adapters import mujoco_scene
 from adapters.mujoco_walls import DEFAULT_REST, TUNED_REST, Rest
+from adapters.shared.mujoco import ONE, UNIT, Mass, engine, pair_mjcf, refusal
+from adapters.stepping import SceneSteppingAdapter
 from crosscheck.core.contract import (
-    Adapter,
+    Call,
     Capability,
     Conventions,
     all_capabilities,
     import_problem,
+    refused,
 )
-from crosscheck.core.geometry import Vec, Vec3, to3, z_half
-from crosscheck.core.model import Kind, Observation, quantities_of
-from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, ToiCase
+from crosscheck.core.geometry import Vec3, to3, z_half
+from crosscheck.core.model import Kind
+from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
 
 MJ = "https://github.com/google-deepmind/mujoco/blob/main/"
 DOCS = "https://mujoco.readthedocs.io/en/4.0.0/"
@@ -151,8 +153,6 @@ SOURCES = (
     DOCS + "XMLreference.html#option-flag-refsafe",  # timeconst >= 2 dt
     DOCS + "XMLreference.html#option-flag-sleep",  # sleeping: opt-in, off by default
 )
-DISTMAX = 1e30
-"""``distmax`` of ``mj_geomDistance``: above any distance in the suite."""
 DETECTION = frozenset({Kind.AABB, Kind.SPHERE})
 STIFF_RTOL = 2e-4
 """The stiff contact's precision (``response_rtol``), relative to the case's largest velocity
@@ -161,24 +161,6 @@ component, measured off the suite: ``python -m tools.stiff_precision --cases 100
 to grazing; none of them in ``cases/``) and gave a median of 9.8e-8, 99% within 5.7e-6
 and a worst of 1.48e-4 (a grazing 2-D pair, B 225 times lighter: the line of centres
 turns while the contact lasts); declared as that worst, rounded up."""
-
-
-@dataclass(eq=False)
-class Detection:
-    """A detection case set into its pair: sizes, ``qpos``, the ``fromto`` buffer."""
-
-    pair: Pair
-    sizes: tuple[Vec3, Vec3]
-    qpos: tuple[float, ...]
-    dim: int
-    fromto: Any = field(default_factory=lambda: np.zeros(6))
-
-
-@dataclass(frozen=True, slots=True)
-class Fixed:
-    """An answer known without the engine (input it reads silently)."""
-
-    observation: Observation
 
 
 def sizes_of(case: PairCase) -> tuple[Vec3, Vec3]:
@@ -203,42 +185,6 @@ def non_finite(case: PairCase) -> str:
         if bad:
             return f"{name} holds {bad[0]!r}"
     return ""
-
-
-def _unit(v: Sequence[float]) -> Vec | None:
-    """``v`` normalised; None for a zero, overflowing or NaN vector (no direction)."""
-    length = math.hypot(*(float(x) for x in v))
-    return tuple(float(x) / length for x in v) if 0.0 < length < math.inf else None
-
-
-def detect(p: Detection) -> Observation:
-    """One collision pass and one distance query (see the module docstring)."""
-    mujoco, m, d = engine(), p.pair.model, p.pair.data
-    if p.pair.owner is not p:
-        place(p)
-    with guarded(p.pair):
-        mujoco.mj_kinematics(m, d)
-        mujoco.mj_collision(m, d)
-        distance = float(mujoco.mj_geomDistance(m, d, 0, 1, DISTMAX, p.fromto))
-    hit, normal = False, None
-    if d.ncon:
-        deepest = int(np.argmin(d.contact.dist))
-        if d.contact.dist[deepest] <= 0.0:
-            sign = 1.0 if d.contact.geom[deepest][0] == 0 else -1.0
-            hit, normal = True, _unit(sign * d.contact.frame[deepest][:3])
-    if not hit and distance > 0.0:
-        start, end = p.fromto[:3].tolist(), p.fromto[3:].tolist()  # Python floats: inf, no warning
-        normal = _unit([b - a for a, b in zip(start, end, strict=True)])
-    if normal is not None:
-        normal = normal[:p.dim]
-    return Observation(hit=hit, distance=distance, normal=normal)
-
-
-def place(p: Detection) -> None:
-    """Put a detection case's sizes and pose into its pair."""
-    set_sizes(p.pair, p.sizes)
-    p.pair.data.qpos[:] = p.qpos
-    p.pair.owner = p
 
 
 def _conventions(rtol: float, restitution: str, time_step: float | None,
@@ -289,7 +235,7 @@ _RESPONSE_NOTES = (
     "active contact; a warning (bad qpos/qvel/qacc: MuJoCo resets the state) is raised.  ")
 
 
-class MujocoDefault(Adapter):
+class MujocoDefault(SceneSteppingAdapter):
     """MuJoCo as a user gets it: only geometry, masses and velocities are set."""
 
     name: ClassVar[str] = "mujoco-default"
@@ -320,8 +266,8 @@ class MujocoDefault(Adapter):
     condim: ClassVar[str] = ""
     """Extra MJCF attributes of the response geoms."""
 
-    def __init__(self) -> None:
-        self._pairs: dict[str, Pair] = {}
+    calls: ClassVar[str] = "adapters.mujoco.calls"
+    scene_module: ClassVar[ModuleType] = mujoco_scene
 
     def version(self) -> str:
         return str(engine().mj_versionString())
@@ -338,53 +284,48 @@ class MujocoDefault(Adapter):
         """``mj_version()``: one call through the pybind11 binding into libmujoco."""
         return engine().mj_version  # type: ignore[no-any-return]
 
-    def pair(self, key: str) -> Pair:
-        """The compiled pair of ``key`` (a geom type, or ``response``), compiled on first use."""
-        if key not in self._pairs or self._pairs[key].broken:
-            if key == "response":
-                self._pairs[key] = compile_pair("sphere", self.condim)
-                if self.stiff is not None:
-                    response.tune_stiff(self._pairs[key])
-            else:
-                self._pairs[key] = compile_pair(key)
-        return self._pairs[key]
+    def _refusal(self, case: PairCase, geom: str, sizes: tuple[Vec3, Vec3],
+                 masses: tuple[Mass, Mass] | None) -> Exception | None:
+        why = refusal(geom, sizes, masses)
+        return refused(f"MuJoCo's compiler refuses this case: {why}" if why else None)
 
-    def prepare(self, case: AnyCase) -> Any:
-        if isinstance(case, SceneCase):
-            return stepping.prepare(mujoco_scene, case, self.scene_tuning)
-        assert not isinstance(case, ToiCase), "MuJoCo declares no time of impact"
+    def pair_call(self, case: AabbCase | SphereCase) -> Call:
+        """Detection in the compiled pair of the case's geom; never asked on a non-finite
+        input (every quantity undefined: MuJoCo reads it silently)."""
         geom = "box" if isinstance(case, AabbCase) else "sphere"
         sizes = sizes_of(case)
-        masses = self.masses(case) if isinstance(case, ResponseCase) else None
-        refused = refusal(geom, sizes, masses)
-        if refused is not None:
-            raise ValueError(f"MuJoCo's compiler refuses this case: {refused}")
-        if isinstance(case, ResponseCase):
-            assert masses is not None
-            contact = None if self.stiff is None else response.stiff_contact(case, self.stiff)
-            return response.prepare(self.pair("response"), case, masses, contact)
-        if bad := non_finite(case):
-            return Fixed(Observation.undefined(quantities_of(case.kind_enum), (
-                f"non-finite input ({bad}): MuJoCo's detection reads it silently")))
-        identity = (1.0, 0.0, 0.0, 0.0)
-        qpos = (*to3(case.a.center), *identity, *to3(case.b.center), *identity)
-        prepared = Detection(self.pair(geom), sizes, qpos, case.dim)
-        place(prepared)
-        return prepared
+        bad = non_finite(case)
+        mjcf = pair_mjcf(geom, (UNIT[geom],) * 2, (ONE,) * 2, "")
+        return Call("detection", "detect", {
+            "model": mjcf, "geom": geom, "a_size": sizes[0], "b_size": sizes[1],
+            "a_center": case.a.center, "b_center": case.b.center, "dim": case.dim},
+            refusal=self._refusal(case, geom, sizes, None), model=mjcf,
+            undefined=f"non-finite input ({bad}): MuJoCo's detection reads it silently"
+            if bad else "")
+
+    def response_call(self, case: ResponseCase) -> Call:
+        """Two free spheres stepped until the contact is over (the stiff variant: its contact
+        fitted to the case, :func:`adapters.mujoco_response.stiff_contact`)."""
+        masses = self.masses(case)
+        refused = self._refusal(case, "sphere", sizes_of(case), masses)
+        contact = (None if self.stiff is None or refused is not None  # refused: never fitted
+                   else response.stiff_contact(case, self.stiff))
+        mjcf = pair_mjcf("sphere", (UNIT["sphere"],) * 2, (ONE,) * 2, self.condim)
+        (ma, ia), (mb, ib) = masses
+        return Call("response", "respond", {
+            "model": mjcf, "stiff": self.stiff is not None, "a_center": case.a.center,
+            "a_velocity": case.a.velocity, "a_radius": case.a.radius, "a_mass": ma,
+            "a_inertia": ia, "b_center": case.b.center, "b_velocity": case.b.velocity,
+            "b_radius": case.b.radius, "b_mass": mb, "b_inertia": ib, "dim": case.dim,
+            "solref": None if contact is None else contact.solref,
+            "timestep": None if contact is None else contact.timestep,
+            "max_steps": response.MAX_STEPS},
+            refusal=refused, model=mjcf)
 
     def masses(self, case: ResponseCase) -> tuple[Mass, Mass]:
         """Mass and inertia of A and B: a solid sphere's, 2/5 m r^2 (MuJoCo's for a geom)."""
         return ((case.a.mass, (0.4 * case.a.mass * case.a.radius ** 2,) * 3),
                 (case.b.mass, (0.4 * case.b.mass * case.b.radius ** 2,) * 3))
-
-    def query(self, prepared: Any) -> Observation:
-        if isinstance(prepared, Fixed):
-            return prepared.observation
-        if isinstance(prepared, stepping.PreparedScene):
-            return stepping.query(prepared)
-        if isinstance(prepared, response.Prepared):
-            return response.respond(prepared)
-        return detect(prepared)
 
 
 class MujocoStiff(MujocoDefault):

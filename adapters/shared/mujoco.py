@@ -1,8 +1,11 @@
-"""MuJoCo setup shared by its adapters: quiet import, compiled pairs, the compiler's refusals.
+"""MuJoCo setup shared by its pair calls and its scene runner: the import with its warning handler,
+compiled pairs, the compiler's refusals, the stiff variant's model settings; plain (the
+standard library only), so a repro script holds this source (until the scenes are calls of
+:mod:`adapters.mujoco.calls`, which then holds it).
 
-What it is for: the detection part (:mod:`adapters.mujoco_engine`) and the response part
-(:mod:`adapters.mujoco_response`) both need a compiled two-body model whose sizes, masses
-and poses change per case, and both must keep MuJoCo from writing files:
+What it is for: detection and responses (:mod:`adapters.mujoco.calls`) both need a compiled
+two-body model whose sizes, masses and poses change per case, and both must keep MuJoCo
+from writing files:
 
 - ``engine()``: the ``mujoco`` module, imported once, lazily (an optional engine: importing
   this module does not import it).  On that import a warning handler is installed
@@ -23,8 +26,6 @@ and poses change per case, and both must keep MuJoCo from writing files:
   the compiler's range, the case's own model is compiled, and its error message returned.
 """
 
-from __future__ import annotations
-
 import math
 from collections import deque
 from collections.abc import Iterator, Sequence
@@ -32,10 +33,19 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
-from crosscheck.core.geometry import Vec3
+__all__ = ["MARGIN", "MAXIMP", "MINVAL", "ONE", "PLANE", "TOLERANCE", "UNIT", "WARNINGS", "Mass",
+           "Pair", "Plane", "compile_pair", "engine", "guarded", "pair_mjcf", "refusal",
+           "scene_mjcf", "set_masses", "set_sizes", "tune_stiff_model"]
 
-__all__ = ["MINVAL", "WARNINGS", "Mass", "Pair", "Plane", "compile_pair", "engine", "guarded",
-           "refusal", "scene_mjcf", "set_masses", "set_sizes"]
+Vec3 = tuple[float, float, float]
+MAXIMP = 0.9999
+"""mjMAXIMP, the largest impedance MuJoCo allows: the stiff contact's ``solimp`` d0 and d_width."""
+MARGIN = 2.0**-1022
+"""The stiff contact's geom margin: a touching contact (distance 0) is active."""
+TOLERANCE = 1e-15
+"""The stiff variant's solver tolerance (``opt.tolerance``; MuJoCo's default is 1e-8)."""
+PLANE = 2.0**-40
+"""Largest |vz| of a 2-D response, relative to its largest speed, taken as rounding noise."""
 
 MINVAL = 1e-15
 """mjMINVAL: the smallest mass and inertia MuJoCo's compiler accepts for a moving body."""
@@ -57,7 +67,8 @@ MJCF = """<mujoco model="crosscheck-pair">
 """The two-body model of every pair (repro scripts embed it, filled by :func:`pair_mjcf`)."""
 UNIT: dict[str, Vec3] = {"sphere": (1.0, 0.0, 0.0), "box": (1.0, 1.0, 1.0)}
 """The unit geom size of each geom type the pair is compiled with (a sphere: its radius)."""
-_ONE: Mass = (1.0, (1.0, 1.0, 1.0))
+ONE: Mass = (1.0, (1.0, 1.0, 1.0))
+"""A unit mass with unit inertia: what a pair is compiled with."""
 
 
 def _keep(message: str) -> None:
@@ -136,7 +147,7 @@ def compile_pair(geom: str, extra: str = "") -> Pair:
     ``extra``: more geom attributes, as MJCF text (e.g. ``' condim="1"'``).
     """
     mujoco = engine()
-    model = mujoco.MjModel.from_xml_string(pair_mjcf(geom, (UNIT[geom],) * 2, (_ONE,) * 2, extra))
+    model = mujoco.MjModel.from_xml_string(pair_mjcf(geom, (UNIT[geom],) * 2, (ONE,) * 2, extra))
     return Pair(model, mujoco.MjData(model), geom)
 
 
@@ -189,7 +200,7 @@ def refusal(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass] | None = No
     alone (the other two numbers are not read).
     """
     used: list[Vec3] = [(s[0], 1.0, 1.0) if geom == "sphere" else s for s in sizes]
-    weights = masses or (_ONE, _ONE)
+    weights = masses or (ONE, ONE)
     if _in_range(used, weights):
         return None
     try:
@@ -197,3 +208,13 @@ def refusal(geom: str, sizes: Sequence[Vec3], masses: Sequence[Mass] | None = No
     except ValueError as exc:
         return str(exc).strip().splitlines()[0]
     return None
+
+
+def tune_stiff_model(m: Any) -> None:
+    """RK4, solver tolerance 1e-15, and every geom's margin and flat solimp (the stiff
+    variant's pairs and scenes)."""
+    m.opt.integrator = engine().mjtIntegrator.mjINT_RK4
+    m.opt.tolerance = TOLERANCE
+    for g in range(m.ngeom):
+        m.geom_margin[g] = MARGIN
+        m.geom_solimp[g] = (MAXIMP, MAXIMP, 0.001, 0.5, 2.0)
