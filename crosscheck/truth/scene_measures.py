@@ -34,6 +34,7 @@ from fractions import Fraction
 from crosscheck.core.geometry import Vec, norm
 from crosscheck.core.model import Trajectory, Undefined, Value
 from crosscheck.core.schema import DEFAULT_DT, SceneCase
+from reference_impl import scene_measures as plain
 
 MEASURES = ("settle", "jitter", "energy_drift", "apex", "bounce_time", "divergence")
 MAX_SAMPLES = 20_000
@@ -71,17 +72,22 @@ def sample_steps(case: SceneCase) -> list[int]:
 
 def ground(case: SceneCase) -> int | None:
     """The index of the first wall facing gravity (a ground), or None."""
-    g = gravity(case)
-    for k, wall in enumerate(case.walls):
-        if math.fsum(n * x for n, x in zip(wall.normal, g, strict=True)) < 0:
-            return k
-    return None
+    return plain.ground(gravity(case), walls(case))
+
+
+def walls(case: SceneCase) -> list[tuple[Vec, float]]:
+    """The scene's walls as ``(normal, offset)`` pairs."""
+    return [(tuple(w.normal), w.offset) for w in case.walls]
+
+
+def bodies(case: SceneCase) -> list[tuple[Vec, float, float, Vec]]:
+    """The scene's bodies as ``(centre, radius, mass, velocity)``."""
+    return [(tuple(b.center), b.radius, b.mass, tuple(b.velocity)) for b in case.bodies]
 
 
 def gap(case: SceneCase, wall: int, center: Sequence[float], radius: float) -> float:
     """A sphere's signed gap to wall ``wall`` (negative: penetrating)."""
-    w = case.walls[wall]
-    return math.fsum(n * x for n, x in zip(w.normal, center, strict=True)) - w.offset - radius
+    return plain.gap(walls(case), wall, center, radius)
 
 
 def top_speed(case: SceneCase) -> float:
@@ -108,30 +114,17 @@ def top_speed(case: SceneCase) -> float:
 def energy_scale(case: SceneCase) -> float:
     """The initial kinetic energy, plus under gravity each body's ``m |g| h`` with ``h`` its
     centre's height above the ground (its centre's height over the scene when none)."""
-    g, floor = norm(gravity(case)), ground(case)
-    kinetic = math.fsum(0.5 * b.mass * math.fsum(v * v for v in b.velocity)
-                        for b in case.bodies)
-    if g == 0.0:
-        return kinetic
-    heights = [gap(case, floor, b.center, 0.0) if floor is not None else b.radius
-               for b in case.bodies]
-    return kinetic + math.fsum(b.mass * g * h for b, h in zip(case.bodies, heights, strict=True))
+    return plain.energy_scale(gravity(case), walls(case), bodies(case))
 
 
 def total_energy(case: SceneCase, positions: Sequence[Vec], velocities: Sequence[Vec]) -> float:
     """Kinetic energy plus ``-m g . (p - p0)`` (potential from each body's start)."""
-    g = gravity(case)
-    return math.fsum(
-        0.5 * b.mass * math.fsum(v * v for v in vel)
-        - b.mass * math.fsum(q * (x - x0) for q, x, x0 in zip(g, p, b.center, strict=True))
-        for b, p, vel in zip(case.bodies, positions, velocities, strict=True))
+    return plain.total_energy(gravity(case), bodies(case), positions, velocities)
 
 
 def drift(case: SceneCase, energy_end: float, duration: float) -> float:
     """``(E(T) - E(0)) / (E_scale T)`` (E(0) = the initial kinetic energy)."""
-    start = math.fsum(0.5 * b.mass * math.fsum(v * v for v in b.velocity) for b in case.bodies)
-    scale = energy_scale(case)
-    return (energy_end - start) / ((scale if scale > 0 else 1.0) * max(duration, 1e-300))
+    return plain.drift(gravity(case), walls(case), bodies(case), energy_end, duration)
 
 
 def bounces(case: SceneCase, trajectory: Trajectory) -> tuple[Vec, Vec]:
@@ -151,27 +144,9 @@ def bounces(case: SceneCase, trajectory: Trajectory) -> tuple[Vec, Vec]:
     >>> bounces(case, run)
     ((2.0,), (0.1,))
     """
-    floor = ground(case)
-    if floor is None:
-        return (), ()
-    normal = case.walls[floor].normal
-    heights = [gap(case, floor, ps[0], case.bodies[0].radius) for ps in trajectory.positions]
-    speeds = [math.fsum(n * v for n, v in zip(normal, vs[0], strict=True))
-              for vs in trajectory.velocities]
-    apexes: list[float] = []
-    times: list[float] = []
-    top, rising, falling = -math.inf, False, False
-    for k in range(1, len(speeds)):
-        falling = speeds[k - 1] < 0 or (falling and speeds[k - 1] == 0)  # through a 0 too
-        if falling and speeds[k] > 0:
-            times.append(trajectory.times[k])
-            top, rising = heights[k], True
-        elif rising:
-            top = max(top, heights[k])
-            if speeds[k] <= 0:
-                apexes.append(top)
-                rising = False
-    return tuple(apexes), tuple(times)
+    apexes, times = plain.bounces(gravity(case), walls(case), bodies(case), trajectory.times,
+                                  trajectory.positions, trajectory.velocities)
+    return apexes, times
 
 
 def engine_measures(case: SceneCase, positions: Sequence[Vec], velocities: Sequence[Vec],
@@ -179,26 +154,17 @@ def engine_measures(case: SceneCase, positions: Sequence[Vec], velocities: Seque
     """What an engine's run gives for every measure but ``divergence`` (judged against the
     exact trajectory, :func:`divergence`)."""
     duration = case.step_count * (case.dt or DEFAULT_DT)
-    out: dict[str, Value] = {
-        "energy_drift": drift(case, total_energy(case, positions, velocities), duration),
-        "divergence": Undefined(NOT_RECORDED)}
-    floor = ground(case)
-    out["settle"] = Undefined(NO_GROUND) if floor is None else tuple(
-        gap(case, floor, p, b.radius) for p, b in zip(positions, case.bodies, strict=True))
-    if trajectory is None:
-        out |= {q: Undefined(NOT_RECORDED) for q in ("jitter", "apex", "bounce_time")}
-        return out
-    half = [k for k, t in enumerate(trajectory.times) if t >= duration / 2]
-    out["jitter"] = max((norm(v) for k in half for v in trajectory.velocities[k]), default=0.0)
-    if floor is None:
-        out["apex"] = out["bounce_time"] = Undefined(NO_GROUND)
-    else:
-        out["apex"], out["bounce_time"] = bounces(case, trajectory)
-    return out
+    track = None if trajectory is None else (
+        trajectory.times, trajectory.positions, trajectory.velocities)
+    found = plain.engine_measures(gravity(case), walls(case), bodies(case), duration,
+                                  positions, velocities, track)
+    out: dict[str, Value] = {q: Undefined(v) if isinstance(v, str) else v
+                             for q, v in found.items()}
+    return out | {"divergence": Undefined(NOT_RECORDED)}
 
 
-NO_GROUND = "the scene has no ground (no wall facing gravity)"
-NOT_RECORDED = "no recorded trajectory (an open-space scene)"
+NO_GROUND = plain.NO_GROUND
+NOT_RECORDED = plain.NOT_RECORDED
 
 
 def divergence(case: SceneCase, mine: Trajectory, exact: Trajectory) -> float:

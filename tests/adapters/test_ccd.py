@@ -22,8 +22,8 @@ from adapters.rapier import RapierCcd, RapierTuned
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Category, Kind, Observation, Status
 from crosscheck.core.schema import CASE_ADAPTER, SceneCase
+from crosscheck.studies.repro.calls import calls_code
 from crosscheck.studies.repro.code import EngineCode
-from crosscheck.studies.repro.scenes import pybullet_scene_code
 from crosscheck.studies.repro.scenes_box2d import box2d_scene_code
 from crosscheck.studies.repro.scenes_rapier import rapier_scene_code
 from crosscheck.truth import oracle, scenes
@@ -148,7 +148,7 @@ def _run(code: EngineCode) -> dict[str, Any]:
 
 
 @pytest.mark.parametrize(("adapter", "write", "switch"), [
-    (PyBulletCcd(), pybullet_scene_code, "ccdSweptSphereRadius=0.9 * radius"),
+    (PyBulletCcd(), calls_code, "CCD = 0.9"),
     (Box2dBullet(), box2d_scene_code, "bullet=True"),
     (RapierCcd(), rapier_scene_code, ".ccd_enabled(True)"),
 ], ids=["pybullet-ccd", "box2d-bullet", "rapier-ccd"])
@@ -156,7 +156,7 @@ def test_the_repro_script_makes_the_switch_and_the_adapter_s_answer(
         adapter: Any, write: Any, switch: str) -> None:
     case = head_on(2)
     code = write(adapter, case)
-    assert switch in code.code
+    assert switch in code.code + "".join(f"\n{n} = {plain}" for n, _, _, plain in code.inputs)
     ran, obs = _run(code), adapter.observe(case)
     assert ran["velocities"] == obs.velocities and ran["positions"] == obs.positions
     assert math.isfinite(ran["energy"])

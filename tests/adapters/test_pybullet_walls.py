@@ -1,4 +1,4 @@
-"""PyBullet scenes with gravity and static walls (adapters/pybullet_scene.py).
+"""PyBullet scenes with gravity and static walls (the scene calls of adapters/pybullet/calls.py).
 
 Every expectation comes from a closed form (free fall, an elastic bounce, a sphere at rest)
 or from what the variant declares (``rest_gap``, ``rest_sink_steps``, ``sleeps``); none is
@@ -17,9 +17,9 @@ import pytest
 pytest.importorskip("pybullet")
 
 import adapters
-from adapters import pybullet_scene
-from adapters.pybullet import engine
+from adapters.pybullet import PyBulletDefault, PyBulletTuned, engine
 from adapters.scene import Body, SceneRun, Surroundings, Wall
+from tests.adapters.scene_calls import SceneCalls
 
 pytestmark = pytest.mark.engine
 
@@ -31,8 +31,14 @@ ROUNDING = 1e-12
 """Absolute slack for float64 positions of order 1 after a few hundred steps."""
 
 
-def tuning(name: str) -> pybullet_scene.Tuning | None:
-    value: pybullet_scene.Tuning | None = getattr(adapters.get(name), "scene_tuning")  # noqa: B009
+pybullet_scene = SceneCalls(PyBulletTuned())
+"""PyBullet's scene calls with a scene module's interface (a variant's settings passed in)."""
+DEFAULTS = PyBulletDefault().scene_settings()
+"""What the default variant passes: nothing set."""
+
+
+def tuning(name: str) -> dict[str, Any]:
+    value: dict[str, Any] = getattr(adapters.get(name), "scene_settings")()  # noqa: B009
     return value
 
 
@@ -62,10 +68,10 @@ def test_a_bad_wall_normal_raises_naming_the_wall() -> None:
     walls = (Wall((0.0, 0.0, 1.0), 0.0), Wall((0.0, 0.6, 0.8), 1.0))
     with pytest.raises(ValueError, match="wall 1"):
         pybullet_scene.prepare_scene([((0.0, 0.0, 1.0), R, 1.0, (0.0, 0.0, 0.0))], 3, 1.0,
-                                     1e-3, None, None, Surroundings((0.0, 0.0, -G), walls))
+                                     1e-3, None, DEFAULTS, Surroundings((0.0, 0.0, -G), walls))
     with pytest.raises(ValueError, match="gravity"):
         pybullet_scene.prepare_scene([((0.0, 0.0), R, 1.0, (0.0, 0.0))], 2, 1.0, 1e-3, None,
-                                     None, Surroundings((0.0, 0.0, -G), ()))
+                                     DEFAULTS, Surroundings((0.0, 0.0, -G), ()))
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -102,7 +108,7 @@ def test_a_dropped_sphere_lands_when_free_fall_says_and_rests_in_the_declared_ba
     travel = (math.sqrt(2 * G * h) + G * dt) * dt
     assert lo - travel <= gaps[landed:].min() and gaps[landed:].max() <= hi
     assert abs(samples.velocities[landed + 1:]).max() < G * dt
-    if tuning(name) is None:
+    if tuning(name) == DEFAULTS:
         assert lo <= gaps[-1] <= hi
 
 
@@ -170,10 +176,10 @@ def test_walls_stay_where_they_are_built(name: str) -> None:
     try:
         pybullet_scene.run_scene(p, 480)
         bt = engine()
-        for uid, wall in zip(p.walls, walls, strict=True):
-            position = bt.getBasePositionAndOrientation(uid, physicsClientId=p.cid)[0]
+        for uid, wall in zip(p["planes"], walls, strict=True):
+            position = bt.getBasePositionAndOrientation(uid, physicsClientId=p["cid"])[0]
             assert tuple(position[:2]) == tuple(wall.offset * n for n in wall.normal)
-            assert bt.getBaseVelocity(uid, physicsClientId=p.cid)[0] == (0.0, 0.0, 0.0)
+            assert bt.getBaseVelocity(uid, physicsClientId=p["cid"])[0] == (0.0, 0.0, 0.0)
     finally:
         pybullet_scene.release_scene(p)
 
@@ -195,7 +201,7 @@ def test_open_space_is_the_same_with_none_or_no_surroundings() -> None:
     runs = []
     for around in (None, Surroundings.none(3)):
         runs.append(run("pybullet-default", bodies, 3, 0.9, 1e-3, 400, around, every=0))
-    p = pybullet_scene.prepare_scene(bodies, 3, 0.9, 1e-3, None, None)  # positional call
+    p = pybullet_scene.prepare_scene(bodies, 3, 0.9, 1e-3, None, DEFAULTS)  # positional call
     try:
         runs.append(pybullet_scene.run_scene(p, 400))
     finally:
@@ -213,7 +219,7 @@ def test_samples_have_the_scene_shape_and_time_comes_from_the_clock(dim: int) ->
     low = (0.0,) * (dim - 2) + (R,)  # resting on the ground
     bodies: list[Body] = [((0.0, *low), R, 1.0, (1.0,) + (0.0,) * (dim - 1)),
                           ((1.0, *low), R, 1.0, (0.0,) * dim)]
-    p = pybullet_scene.prepare_scene(bodies, dim, 1.0, 1e-3, None, None, ground(dim))
+    p = pybullet_scene.prepare_scene(bodies, dim, 1.0, 1e-3, None, DEFAULTS, ground(dim))
     try:
         ticks = counter()
         recorded = pybullet_scene.run_scene(p, 10, clock=lambda: next(ticks), record_every=3)
@@ -235,15 +241,15 @@ def test_a_reused_client_runs_a_scene_bit_for_bit_as_a_new_one(name: str) -> Non
     """Released scenes leave emptied clients for the next ones (``resetSimulation``): an
     open-space collision run in a client that last held a scene of the same settings with
     gravity and a wall must end exactly as in a new client (no gravity, no wall left)."""
-    pybullet_scene.drop_idle_clients()
+    pybullet_scene.drop_idle_scene_clients()
     pair = [((0.0, 0.0), R, 1.0, (0.4, 0.0)), ((0.5, 0.05), R, 2.0, (-0.3, 0.0))]
     fresh = run(name, pair, 2, 0.8, 1 / 240, 300, None)
-    assert pybullet_scene.idle_clients() == 1
+    assert pybullet_scene.idle_scene_clients() == 1
     run(name, [((0.0, 0.0, 2.0), 2 * R, 3.0, (1.0, -1.0, 0.5))], 3, 0.5, 1e-3, 50,
         ground(3, 2.0))  # other settings: another client
     run(name, [((0.1, 0.2), R, 1.0, (0.0, -1.0))], 2, 0.5, 1 / 240, 120,
         ground(2, 3.0))  # the same settings: the first client, now with gravity and a wall
-    assert pybullet_scene.idle_clients() == 2
+    assert pybullet_scene.idle_scene_clients() == 2
     reused = run(name, pair, 2, 0.8, 1 / 240, 300, None)
     assert (reused.positions, reused.velocities) == (fresh.positions, fresh.velocities)
     assert fresh.samples is not None and reused.samples is not None

@@ -1,4 +1,4 @@
-"""pymunk scenes with gravity and static walls (``adapters/pymunk_scene.py``, ``wall_boxes``).
+"""pymunk scenes with gravity and static walls (``adapters/pymunk/calls.py``, ``wall_boxes``).
 
 Expected values come from closed forms (free fall, an elastic bounce between two walls, a
 frictionless slide) and from the conventions the variants declare, never from an engine run.
@@ -14,9 +14,9 @@ import pytest
 
 pytest.importorskip("pymunk")
 
-from adapters import pymunk_scene
 from adapters.pymunk import PymunkDefault, PymunkTuned
 from adapters.scene import Surroundings, Wall
+from tests.adapters.scene_calls import SceneCalls
 
 pytestmark = pytest.mark.engine
 
@@ -33,13 +33,13 @@ def disc(x: float, y: float, vx: float = 0.0, vy: float = 0.0, r: float = R) -> 
 
 def run(variant: Any, bodies: list[Any], e: float, dt: float, steps: int,
         surroundings: Surroundings | None, record_every: int = 0, clock: Any = None) -> Any:
-    prepared = pymunk_scene.prepare_scene(bodies, 2, e, dt, None, variant.scene_tuning,
-                                          surroundings)
+    scenes = SceneCalls(variant)
+    prepared = scenes.prepare_scene(bodies, 2, e, dt, None, scenes.settings(), surroundings)
     try:
         extra = {} if clock is None else {"clock": clock}
-        return pymunk_scene.run_scene(prepared, steps, record_every=record_every, **extra)
+        return scenes.run_scene(prepared, steps, record_every=record_every, **extra)
     finally:
-        pymunk_scene.release_scene(prepared)
+        scenes.release_scene(prepared)
 
 
 @pytest.mark.parametrize("dt", [1.0 / 60.0, 1e-3])
@@ -90,7 +90,7 @@ def test_a_disc_set_on_a_disc_sinks_at_most_the_declared_step(variant: Any, dt: 
     # Two discs touching each other and the ground, e 0, 3 s: touching discs are no contact,
     # so the upper one falls one step before its contact holds it: every gap within
     # rest_gap down to rest_sink_steps |g| dt^2 below it, and no speed above one step of
-    # gravity at the end.  (Taller columns sink more: see adapters/pymunk_scene.py.)
+    # gravity at the end.  (Taller columns sink more: see adapters/pymunk/__init__.py.)
     c = variant.conventions
     lo, hi = c.rest_gap
     floor = lo - c.rest_sink_steps * G * dt * dt * (1.0 + 1e-9)
@@ -128,11 +128,12 @@ def test_a_disc_sliding_on_the_ground_keeps_its_speed_without_friction(variant: 
 
 def test_a_wall_normal_that_is_not_an_axis_raises_naming_the_wall() -> None:
     bad = Surroundings((0.0, -G), (Wall((0.0, 1.0), 0.0), Wall((0.6, 0.8), 2.0)))
+    scenes = SceneCalls(PymunkDefault())
     with pytest.raises(ValueError, match="wall 1"):
-        pymunk_scene.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, None, bad)
+        scenes.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, scenes.settings(), bad)
     with pytest.raises(ValueError, match="gravity"):
-        pymunk_scene.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, None,
-                                   Surroundings((0.0, 0.0, -G), ()))
+        scenes.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, scenes.settings(),
+                             Surroundings((0.0, 0.0, -G), ()))
 
 
 @pytest.mark.parametrize("variant", VARIANTS, ids=IDS)
@@ -141,25 +142,28 @@ def test_open_space_is_gravity_zero_and_no_walls(variant: Any) -> None:
     plain = run(variant, bodies, 0.8, 1e-3, 500, None)
     none = run(variant, bodies, 0.8, 1e-3, 500, Surroundings.none(2))
     assert plain.positions == none.positions and plain.velocities == none.velocities
-    prepared = pymunk_scene.prepare_scene(bodies, 2, 0.8, 1e-3, None, variant.scene_tuning)
-    assert tuple(prepared.space.gravity) == (0.0, 0.0) and prepared.walls == ()
-    pymunk_scene.release_scene(prepared)
+    scenes = SceneCalls(variant)
+    prepared = scenes.prepare_scene(bodies, 2, 0.8, 1e-3, None, scenes.settings())
+    assert tuple(prepared["space"].gravity) == (0.0, 0.0) and len(prepared["shapes"]) == 2
+    scenes.release_scene(prepared)
 
 
 def test_walls_are_static_boxes_with_e_by_the_product_rule() -> None:
     walls = (Wall((0.0, 1.0), 0.0), Wall((-1.0, 0.0), -2.0))
-    prepared = pymunk_scene.prepare_scene([disc(0.0, R)], 2, 0.64, 1e-3, None, None,
-                                          Surroundings((0.0, -G), walls))
+    scenes = SceneCalls(PymunkDefault())
+    prepared = scenes.prepare_scene([disc(0.0, R)], 2, 0.64, 1e-3, None, scenes.settings(),
+                                    Surroundings((0.0, -G), walls))
     try:
-        assert len(prepared.walls) == 2
-        for shape in prepared.walls:
-            assert shape.body is prepared.space.static_body
-            assert shape.elasticity * prepared.shapes[0].elasticity == pytest.approx(0.64)
-        ground_top = max(v.y for v in prepared.walls[0].get_vertices())
-        side_left = min(v.x for v in prepared.walls[1].get_vertices())
+        disc_shape, *wall_shapes = prepared["shapes"]
+        assert len(wall_shapes) == 2
+        for shape in wall_shapes:
+            assert shape.body is prepared["space"].static_body
+            assert shape.elasticity * disc_shape.elasticity == pytest.approx(0.64)
+        ground_top = max(v.y for v in wall_shapes[0].get_vertices())
+        side_left = min(v.x for v in wall_shapes[1].get_vertices())
         assert ground_top == 0.0 and side_left == 2.0
     finally:
-        pymunk_scene.release_scene(prepared)
+        scenes.release_scene(prepared)
 
 
 def test_samples_have_the_scene_shape_and_the_wall_time_comes_from_the_clock() -> None:

@@ -1,4 +1,4 @@
-"""The scene runners (adapters/pybullet_scene.py, adapters/pymunk_scene.py) checked physically.
+"""The scene calls of pybullet and pymunk (adapters/<engine>/calls.py) checked physically.
 
 Each test states a physical expectation and a tolerance with its reason; none pins an
 engine's output.  Head-on tests start the balls 0.02 apart so that the collision (at
@@ -11,7 +11,6 @@ from __future__ import annotations
 import math
 import random
 from collections.abc import Sequence
-from types import ModuleType
 from typing import Any
 
 import pytest
@@ -19,10 +18,14 @@ import pytest
 pytest.importorskip("pybullet")
 pytest.importorskip("pymunk")
 
-from adapters import pybullet_scene, pymunk_scene, scene
 from adapters.pybullet import TUNED_BODY, TUNED_WORLD, PyBulletDefault, PyBulletTuned, engine
 from adapters.pymunk import PymunkDefault, PymunkTuned
 from adapters.scene import Body, SceneRun
+from tests.adapters.scene_calls import SceneCalls
+
+pybullet_scene = SceneCalls(PyBulletTuned())
+pymunk_scene = SceneCalls(PymunkTuned())
+"""Each engine's scene calls with a scene module's interface (a variant's settings passed in)."""
 
 pytestmark = pytest.mark.engine
 
@@ -38,27 +41,30 @@ EXACT = 1e-12
 """Relative tolerance of a single contact solved exactly: the impulse is a handful of
 float64 operations (rounding ~1e-16), and later solver iterations add corrections of that
 size; 1e-12 leaves four orders of margin."""
-SETTINGS: dict[tuple[ModuleType, bool], Any] = {
-    (pybullet_scene, True): PyBulletTuned.scene_tuning,
-    (pybullet_scene, False): PyBulletDefault.scene_tuning,
-    (pymunk_scene, True): PymunkTuned.scene_tuning,
-    (pymunk_scene, False): PymunkDefault.scene_tuning,
+SETTINGS: dict[tuple[Any, bool], Any] = {
+    (pybullet_scene, True): PyBulletTuned().scene_settings(),
+    (pybullet_scene, False): PyBulletDefault().scene_settings(),
+    (pymunk_scene, True): PymunkTuned().scene_settings(),
+    (pymunk_scene, False): PymunkDefault().scene_settings(),
 }
 
 
-def tuning(module: ModuleType, tuned: bool) -> Any:
+def tuning(module: Any, tuned: bool) -> Any:
     """The settings value the adapter of that variant passes to ``module.prepare_scene``."""
     return SETTINGS[module, tuned]
 
 
 def test_adapters_pass_the_tuned_settings_or_none() -> None:
-    assert tuning(pybullet_scene, True) == pybullet_scene.Tuning(TUNED_WORLD, TUNED_BODY)
+    assert tuning(pybullet_scene, True) == {"world_settings": TUNED_WORLD, "body": TUNED_BODY,
+                                            "maximal": False, "ccd": 0.0}
     assert PyBulletTuned.world is TUNED_WORLD and PyBulletTuned.body is TUNED_BODY
-    assert tuning(pymunk_scene, True) == pymunk_scene.Tuning(slop=0.0, bias=1.0, friction=0.0)
-    assert tuning(pybullet_scene, False) is None and tuning(pymunk_scene, False) is None
+    assert tuning(pymunk_scene, True) == {"slop": 0.0, "bias": 1.0, "friction": 0.0}
+    assert tuning(pybullet_scene, False) == {"world_settings": {}, "body": {},
+                                             "maximal": False, "ccd": 0.0}
+    assert tuning(pymunk_scene, False) == {"slop": None, "bias": None, "friction": None}
 
 
-def run(module: ModuleType, bodies: Sequence[Body], dim: int, e: float, steps: int,
+def run(module: Any, bodies: Sequence[Body], dim: int, e: float, steps: int,
         tuned: bool) -> SceneRun:
     prepared = module.prepare_scene(bodies, dim, e, DT, None, tuning(module, tuned))
     try:
@@ -78,7 +84,7 @@ def head_on(dim: int, va: float = 2.0, vb: float = -1.0) -> list[Body]:
             (on_x(dim, 0.51), 0.5, 1.0, on_x(dim, vb))]
 
 
-def exchange_tolerance(module: ModuleType, tuned: bool) -> float:
+def exchange_tolerance(module: Any, tuned: bool) -> float:
     """How far from exchanged the head-on velocities may be (closing speed 3, 0.03 s).
 
     Exact contacts (``EXACT`` x the speed) everywhere but default pybullet.  pymunk's default
@@ -94,7 +100,7 @@ def exchange_tolerance(module: ModuleType, tuned: bool) -> float:
 
 
 @pytest.mark.parametrize(("module", "tuned", "dim"), VARIANTS)
-def test_head_on_equal_masses_exchange_velocities(module: ModuleType, tuned: bool,
+def test_head_on_equal_masses_exchange_velocities(module: Any, tuned: bool,
                                                   dim: int) -> None:
     result = run(module, head_on(dim), dim, 1.0, 30, tuned)
     tol = exchange_tolerance(module, tuned)
@@ -103,7 +109,7 @@ def test_head_on_equal_masses_exchange_velocities(module: ModuleType, tuned: boo
 
 
 @pytest.mark.parametrize(("module", "tuned", "dim"), TUNED)
-def test_head_on_tuned_conserves_momentum(module: ModuleType, tuned: bool, dim: int) -> None:
+def test_head_on_tuned_conserves_momentum(module: Any, tuned: bool, dim: int) -> None:
     bodies = head_on(dim)
     result = run(module, bodies, dim, 1.0, 30, tuned)
     before = [sum(m * v[k] for _, _, m, v in bodies) for k in range(dim)]
@@ -120,25 +126,25 @@ def coefficient(result: SceneRun, closing: float) -> float:
 
 
 @pytest.mark.parametrize(("module", "tuned", "dim"), TUNED)
-def test_restitution_product_rule_gives_the_scene_value(module: ModuleType, tuned: bool,
+def test_restitution_product_rule_gives_the_scene_value(module: Any, tuned: bool,
                                                          dim: int) -> None:
     # Each body gets sqrt(0.25) = 0.5; the product is 0.25 (min/max/mean would give 0.5).
     result = run(module, head_on(dim, 1.0, -1.0), dim, 0.25, 30, tuned)
     assert coefficient(result, 2.0) == pytest.approx(0.25, abs=EXACT)
 
 
-def set_restitutions(module: ModuleType, prepared: Any, values: Sequence[float]) -> None:
+def set_restitutions(module: Any, prepared: Any, values: Sequence[float]) -> None:
     if module is pybullet_scene:
         bt = engine()
-        for uid, r in zip(prepared.bodies, values, strict=True):
-            bt.changeDynamics(uid, -1, restitution=r, physicsClientId=prepared.cid)
+        for uid, r in zip(prepared["spheres"], values, strict=True):
+            bt.changeDynamics(uid, -1, restitution=r, physicsClientId=prepared["cid"])
     else:
-        for shape, r in zip(prepared.shapes, values, strict=True):
+        for shape, r in zip(prepared["shapes"], values, strict=True):
             shape.elasticity = r
 
 
 @pytest.mark.parametrize(("module", "tuned", "dim"), TUNED)
-def test_engines_combine_restitution_by_product(module: ModuleType, tuned: bool,
+def test_engines_combine_restitution_by_product(module: Any, tuned: bool,
                                                 dim: int) -> None:
     # 0.5 and 0.8: product 0.4; min 0.5, mean 0.65, max 0.8, geometric mean 0.63.
     prepared = module.prepare_scene(head_on(dim, 1.0, -1.0), dim, 1.0, DT, None,
@@ -172,7 +178,7 @@ def test_pybullet_2d_scene_stays_in_the_plane(tuned: bool) -> None:
                                             tuning(pybullet_scene, tuned))
     try:
         result = pybullet_scene.run_scene(prepared, 1500)
-        positions, velocities = pybullet_scene.state(prepared)
+        positions, velocities = pybullet_scene.scene_state(prepared)
     finally:
         pybullet_scene.release_scene(prepared)
     assert all(len(p) == 2 for p in (*result.positions, *result.velocities))
@@ -181,13 +187,13 @@ def test_pybullet_2d_scene_stays_in_the_plane(tuned: bool) -> None:
     assert [v[2] for v in velocities] == [0.0] * 16
 
 
-def watch_steps(module: ModuleType, prepared: Any, log: list[str],
+def watch_steps(module: Any, prepared: Any, log: list[str],
                 monkeypatch: pytest.MonkeyPatch) -> None:
     """Note each engine step of ``prepared`` in ``log`` (the step still runs)."""
     if module is pybullet_scene:
         owner, name = engine(), "stepSimulation"
     else:
-        owner, name = prepared.space, "step"
+        owner, name = prepared["space"], "step"
     step = getattr(owner, name)
 
     def noted(*args: Any, **kwargs: Any) -> Any:
@@ -198,7 +204,7 @@ def watch_steps(module: ModuleType, prepared: Any, log: list[str],
 
 
 @pytest.mark.parametrize(("module", "tuned", "dim"), VARIANTS)
-def test_setup_is_outside_the_timed_loop(module: ModuleType, tuned: bool, dim: int,
+def test_setup_is_outside_the_timed_loop(module: Any, tuned: bool, dim: int,
                                          monkeypatch: pytest.MonkeyPatch) -> None:
     # Injected time: the clock's readings go to the same log as the engine's steps, so the
     # log shows what the timed span holds; building the scene takes no clock at all.
@@ -228,19 +234,19 @@ def test_setup_is_outside_the_timed_loop(module: ModuleType, tuned: bool, dim: i
 def test_pybullet_client_holds_only_the_scene_and_release_empties_it(n: int,
                                                                      dim: int) -> None:
     bt = engine()
-    pybullet_scene.drop_idle_clients()
+    pybullet_scene.drop_idle_scene_clients()
     prepared = pybullet_scene.prepare_scene(cluster(n, dim, seed=2), dim, 1.0, DT, 5,
                                             tuning(pybullet_scene, True))
     try:
-        assert bt.getNumBodies(physicsClientId=prepared.cid) == n
-        assert bt.isConnected(physicsClientId=prepared.cid)
+        assert bt.getNumBodies(physicsClientId=prepared["cid"]) == n
+        assert bt.isConnected(physicsClientId=prepared["cid"])
     finally:
         pybullet_scene.release_scene(prepared)
-    assert bt.isConnected(physicsClientId=prepared.cid)  # kept for the next scene, empty
-    assert bt.getNumBodies(physicsClientId=prepared.cid) == 0
-    assert pybullet_scene.idle_clients() == 1
-    pybullet_scene.drop_idle_clients()
-    assert not bt.isConnected(physicsClientId=prepared.cid)
+    assert bt.isConnected(physicsClientId=prepared["cid"])  # kept for the next scene, empty
+    assert bt.getNumBodies(physicsClientId=prepared["cid"]) == 0
+    assert pybullet_scene.idle_scene_clients() == 1
+    pybullet_scene.drop_idle_scene_clients()
+    assert not bt.isConnected(physicsClientId=prepared["cid"])
 
 
 def test_pymunk_refuses_3d() -> None:
@@ -249,14 +255,10 @@ def test_pymunk_refuses_3d() -> None:
 
 
 @pytest.mark.parametrize("module", [pybullet_scene, pymunk_scene], ids=["pybullet", "pymunk"])
-def test_bad_scenes_raise_before_the_engine_sees_them(module: ModuleType) -> None:
+def test_bad_scenes_raise_before_the_engine_sees_them(module: Any) -> None:
     # pymunk aborts the interpreter on mass 0, pybullet makes a mass-0 body static.
     zero_mass: list[Body] = [((0.0, 0.0), 0.5, 0.0, (1.0, 0.0))]
     with pytest.raises(ValueError, match="mass"):
         module.prepare_scene(zero_mass, 2, 1.0, DT, None, tuning(module, True))
     with pytest.raises(ValueError, match="restitution"):
         module.prepare_scene(head_on(2), 2, -0.5, DT, None, tuning(module, True))
-
-
-def test_both_modules_share_one_scene_type() -> None:
-    assert pybullet_scene.SceneRun is pymunk_scene.SceneRun is scene.SceneRun

@@ -27,8 +27,7 @@ from crosscheck.core.model import Trajectory
 from crosscheck.core.schema import CASE_ADAPTER, SceneCase
 from crosscheck.core.values import encode
 from crosscheck.studies.repro import measures
-from crosscheck.studies.repro.script import printed, script_text
-from crosscheck.studies.repro.writers import writer_for
+from crosscheck.studies.repro.script import engine_part, printed, script_text
 from crosscheck.truth import scene_measures
 from tests.conftest import ROOT
 
@@ -66,10 +65,8 @@ def run_script(name: str, case: SceneCase, tmp_path: Path,
                rows: list[dict[str, object]] | None = None) -> str:
     """The script of ``case`` on engine ``name``, run in a fresh process: its stdout."""
     adapter = adapters.get(name)
-    writer = writer_for(adapter)
-    assert writer is not None
     info = {"name": adapter.name, "engine": adapter.engine, "settings": adapter.settings}
-    text = script_text(case, writer(adapter, case, frozenset()), info, rows or [], [], "test")
+    text = script_text(case, engine_part(adapter, case), info, rows or [], [], "test")
     path = tmp_path / "repro.py"
     path.write_text(text, encoding="utf-8")
     done = subprocess.run([sys.executable, str(path)], capture_output=True, text=True,
