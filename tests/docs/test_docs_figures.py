@@ -329,7 +329,7 @@ def test_the_advice_gives_instructions_before_the_wall_clock(
     assert "| 1 | fake-right | pass | 2 | 100% | 50 ± 0 k instr | " in text
     assert "| 2 | fake-off | fail | 2 | 0% | 60 ± 0 k instr | " in text
     assert "| b | reference | pass | 2 | 100% | 2 ± 0 k instr | " in text
-    assert "Passing, cheapest first by instructions per query: fake-right." in text
+    assert "Passing (cheapest first by instructions per query): fake-right." in text
     assert "| median ± IQR |" not in text
 
 
@@ -364,7 +364,7 @@ def test_the_figures_of_a_run_without_counts_show_no_count(files: dict[str, str]
             in files["headline.md"])
     assert ("| # | engine | tier | cases | within | median ± IQR | worst answer |"
             in files["advice.md"])
-    assert "Passing, cheapest first: fake-right." in files["advice.md"]
+    assert "Passing (cheapest first): fake-right." in files["advice.md"]
     tables = [line for line in files["query-times.md"].splitlines() if line.endswith(":")]
     assert tables == [tables[0], "Timed cases per engine x kind:"]
 
