@@ -9,7 +9,7 @@ penetration minus the margin, ``v`` its rate) is set by ``solref`` and ``solimp`
 bounce is a spring-damper acting over many steps.
 
 The build sets sizes, masses (then ``mj_setConst``) and, for the stiff variant, the per-case
-contact and time step in a compiled pair (:mod:`adapters.shared.mujoco`).  The ask resets
+contact and time step in a compiled pair (:mod:`adapters.mujoco.calls`).  The ask resets
 the data (``mj_resetData``: time, warm start and warnings), puts the case's centres and
 velocities in ``qpos``/``qvel`` (2-D: z = 0, vz = 0) and loops: it runs the collision pass of
 the current state (``mj_kinematics``, ``mj_collision``: the pass ``mj_step`` starts with),
@@ -63,13 +63,11 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 
-from adapters.shared.mujoco import MARGIN, MAXIMP, PLANE, TOLERANCE
 from crosscheck.core.geometry import difference, norm
 from crosscheck.core.schema import ResponseCase
 
-__all__ = ["MARGIN", "MAXIMP", "MAX_STEPS", "PLANE", "TOLERANCE", "Contact", "Stiff",
-           "damping_dashpot", "damping_ratio", "dashpot", "restitution_refusal",
-           "stiff_contact"]
+__all__ = ["MAX_STEPS", "Contact", "Stiff", "damping_dashpot", "damping_ratio", "dashpot",
+           "restitution_refusal", "stiff_contact"]
 
 MAX_STEPS = 50_000
 """Step cap of one response; a contact still active then is an error."""

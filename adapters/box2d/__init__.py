@@ -3,7 +3,7 @@
 Box2D is a 2-D engine in float32 (``float32`` is C ``float`` throughout): every 3-D case
 is skipped with the reason "2-D engine", and every input is rounded to float32 on its way
 into the engine.  Kinds: ``aabb`` (polygon boxes), ``sphere`` (circles) and
-``sphere_response``, and ``sphere_scene`` (stepped by :mod:`adapters.box2d_scene`, see below),
+``sphere_response``, and ``sphere_scene`` (the scene calls, see below),
 and ``sphere_toi``: ``b2TimeOfImpact`` on two circles (:mod:`adapters.box2d_toi`, where its
 conventions, ``toi_target`` -0.015 and ``toi_tolerance`` 0.00125, are derived and cited).
 
@@ -46,13 +46,13 @@ centres read before that step.  The velocities after it are the answer (position
 correction moves positions only).  Restitution: Box2D mixes the fixtures' values by
 ``max`` (b2MixRestitution), so A's fixture gets the case's ``e`` and B's 0.
 
-Scenes (``sphere_scene``, 2-D) are stepped by :mod:`adapters.box2d_scene` in worlds built by
-:mod:`adapters.box2d_world` (as responses are), with the variant's ``scene_tuning``: ``box2d``
-passes its ``variant`` (dt and iterations from the scene), ``box2d-default`` None (Box2D's
-defaults); the scene conventions, measured, are in that module's docstring, and so are
-the walls of scenes with surroundings (static bodies with box fixtures) and the declared
-``rest_gap`` (-b2_linearSlop, polygon radius), ``rest_sink_steps``, ``sleeps`` and
-``wall_restitution`` (``box2d_scene.with_walls``).
+Scenes (``sphere_scene``, 2-D) are the scene calls of :mod:`adapters.box2d.calls` (worlds
+built as responses are), with the variant's ``scene_tuning``: ``box2d`` passes its ``variant``
+(dt and iterations from the scene), ``box2d-default`` None (Box2D's defaults); the scene
+conventions, measured, are in :mod:`adapters.box2d.scene`'s docstring, and so are the walls
+of scenes with surroundings (static bodies with box fixtures) and the declared ``rest_gap``
+(-b2_linearSlop, polygon radius), ``rest_sink_steps``, ``sleeps`` and ``wall_restitution``
+(``scene.with_walls``).
 
 Variants (sources below):
 
@@ -158,14 +158,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from types import ModuleType
 from typing import Any, ClassVar
 
-from adapters import box2d_scene
-from adapters.box2d_world import Variant
+from adapters.box2d.calls import engine
+from adapters.box2d.scene import Variant, scene_settings, with_walls
 from adapters.shared import toi_refusal
-from adapters.shared.box2d import engine
-from adapters.stepping import SceneSteppingAdapter
+from adapters.stepping import SceneCallsAdapter, scene_inputs
 from crosscheck.core.contract import (
     Call,
     Capability,
@@ -179,6 +177,7 @@ from crosscheck.core.schema import (
     AnyCase,
     PairCase,
     ResponseCase,
+    SceneCase,
     SphereCase,
     ToiCase,
 )
@@ -276,7 +275,7 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
     skin = variant.polygon_radius is None
     box_margin = B2_EPSILON + (SKIN if skin else 0.0)
     verdict = {"face": SKIN, "corner": SKIN} if skin else {}
-    return box2d_scene.with_walls(Conventions(
+    return with_walls(Conventions(
         box_extents="half (box=(hx, hy) calls b2PolygonShape::SetAsBox(hx, hy))",
         normal="A to B (b2WorldManifold.normal; apart: b2Distance pointA -> pointB); as is",
         touching={"sphere": True, "face": True, "corner": skin},
@@ -328,7 +327,7 @@ _WALL_NOTES = (
     "(b2ContactSolver.cpp position solver, b2Settings.h); sleeping as the variant sets it.")
 
 
-class Box2dTuned(SceneSteppingAdapter):
+class Box2dTuned(SceneCallsAdapter):
     """Box2D set for accuracy: no polygon skin, small step, no friction, no rotation, no sleep."""
 
     name: ClassVar[str] = "box2d"
@@ -344,10 +343,9 @@ class Box2dTuned(SceneSteppingAdapter):
     capabilities: ClassVar[frozenset[Capability]] = CAPABILITIES
     conventions: ClassVar[Conventions] = _conventions(variant, settings)
     scene_tuning: ClassVar[Variant | None] = variant
-    """What scenes are built with (its dt replaced by the scene's; adapters/box2d_scene.py)."""
+    """What scenes are built with (its dt replaced by the scene's; adapters/box2d/scene.py)."""
 
     calls: ClassVar[str] = "adapters.box2d.calls"
-    scene_module: ClassVar[ModuleType] = box2d_scene
 
     def version(self) -> str:
         b2 = engine()
@@ -404,6 +402,14 @@ class Box2dTuned(SceneSteppingAdapter):
             "duration": case.duration}
         return Call("sweeps", "time_of_impact", inputs, refusal=refused(toi_refusal(**inputs)))
 
+    def scene_settings(self) -> dict[str, Any]:
+        """The variant's inputs to the scene calls besides the scene (``scene_tuning``)."""
+        return scene_settings(self.scene_tuning)
+
+    def scene_call(self, case: SceneCase) -> Call:
+        return Call("scene", "step_scene", {**scene_inputs(case), **self.scene_settings()},
+                    release="release_scene")
+
 
 
 class Box2dDefault(Box2dTuned):
@@ -445,6 +451,6 @@ class Box2dBullet(Box2dTuned):
                "b2_maxTranslation, 2 m a step (declared max_speed 2 / dt at the declared "
                "time step: 2 m per step at any dt).  Walls as the box2d variant's (no skin, "
                "rest band -b2_linearSlop to 0, no sleeping); every variant's discs are swept "
-               "against static walls, bullets or not.  Measured in adapters/box2d_scene.py"),
+               "against static walls, bullets or not.  Measured in adapters/box2d/scene.py"),
         sources=Box2dTuned.conventions.sources + BOX2D_BULLET_SOURCES,
     )

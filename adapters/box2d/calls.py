@@ -18,14 +18,68 @@ or the bodies no longer approach, or ``max_steps``.
 Time of impact: ``b2TimeOfImpact`` on two circle sweeps over Box2D's [0, 1] from the start to
 the end centres (toi = t x duration); the normal from ``b2Distance``'s witness points at the
 sweeps' transforms at t.  ``e_failed`` and ``e_unknown`` raise.
+
+Scene (2-D; a 3-D scene raises): a new world (the scene's gravity, sleeping as the variant
+says); per wall a static body at the wall box's anchor with one box fixture (``SetAsBox`` in the
+body's frame: the surface at 0 there, exactly; :mod:`adapters.shared.wall_boxes`), restitution
+e, the variant's friction and polygon radius (None: Box2D's skin); per disc a dynamic body of
+restitution e (Box2D takes the larger: e).  The ask times only ``world.Step(dt,
+velocity_iterations, position_iterations)`` (velocity iterations: the scene's if given) and
+reads ``position`` / ``linearVelocity`` (float32, widened).  What was measured:
+:mod:`adapters.box2d.scene`.
+
+What the pairs, responses and scenes share:
+A world has gravity 0 (a scene's gravity if it has one) and sleeping set with
+``SetAllowSleeping`` (pybox2d's ``b2World(doSleep=...)`` only sets a Python attribute); a disc
+is a dynamic body with one circle fixture of density 0 whose mass is then set exactly through
+``massData`` (centre 0; moment ``m r^2 / 2`` when rotation is free, else 0 with
+``fixedRotation``).
 """
 
 import math
+import time
 from collections.abc import Sequence
+from functools import partial
 from typing import Any
 
 from adapters.shared import end_centres, no_contact
-from adapters.shared.box2d import disc, engine, new_world, xy
+from adapters.shared.scene import check_scene, check_surroundings, scene_answer, step_and_record
+from adapters.shared.wall_boxes import slabs
+
+
+def engine() -> Any:
+    """The ``Box2D`` module (pybox2d), imported on first use."""
+    import Box2D  # type: ignore[import-untyped]
+
+    return Box2D
+
+
+def xy(v: Sequence[float]) -> tuple[float, float]:
+    """The first two components of ``v`` as floats (a ``b2Vec2`` or a tuple)."""
+    return (float(v[0]), float(v[1]))
+
+
+def new_world(sleep: bool, gravity: Sequence[float] = (0.0, 0.0)) -> Any:
+    """A ``b2World`` with ``gravity`` (none by default); sleeping on or off in Box2D itself."""
+    world = engine().b2World(gravity=xy(gravity))
+    world.SetAllowSleeping(sleep)  # not doSleep=: it only sets a Python attribute
+    return world
+
+
+def disc(world: Any, center: Sequence[float], velocity: Sequence[float], radius: float,
+         mass: float, restitution: float, friction: float | None, fixed_rotation: bool,
+         bullet: bool) -> Any:
+    """A dynamic body at ``center`` with ``velocity`` and ``mass``, with one circle fixture
+    (``friction`` None: Box2D's default)."""
+    b2 = engine()
+    body = world.CreateDynamicBody(position=xy(center), linearVelocity=xy(velocity),
+                                   fixedRotation=fixed_rotation, bullet=bullet)
+    extra = {} if friction is None else {"friction": friction}
+    body.CreateCircleFixture(radius=radius, density=0.0, restitution=restitution, **extra)
+    moment = 0.0 if fixed_rotation else 0.5 * mass * radius**2
+    body.massData = b2.b2MassData(mass=mass, center=(0.0, 0.0), I=moment)
+    return body
+
 
 Answer = dict[str, Any]
 Vec = tuple[float, ...]
@@ -174,3 +228,57 @@ def time_of_impact(p: dict[str, Any]) -> Answer:
     normal = ((dx / length, dy / length) if length > 0
               else "b2Distance's witness points coincide at the reported time")
     return {"hit": True, "toi": t * p["duration"], "normal": normal}
+
+
+def _wall(world: Any, slab: Any, restitution: float, polygon_radius: float | None,
+          friction: float | None) -> Any:
+    anchor, centre, half = slab
+    body = world.CreateStaticBody(position=xy(anchor))
+    shape = engine().b2PolygonShape()
+    shape.SetAsBox(half[0], half[1], xy(centre), 0.0)
+    if polygon_radius is not None:
+        shape.radius = polygon_radius
+    extra = {} if friction is None else {"friction": friction}
+    body.CreateFixture(shape=shape, restitution=restitution, **extra)
+    return body
+
+
+def scene(bodies: tuple[Any, ...], dim: int, restitution: float, dt: float,
+          iterations: int | None, gravity: tuple[float, ...], walls: tuple[Any, ...],
+          steps: int, record_every: int, polygon_radius: float | None, friction: float | None,
+          fixed_rotation: bool, sleep: bool, velocity_iterations: int,
+          position_iterations: int, bullet: bool) -> dict[str, Any]:
+    """A world with the scene's walls and discs (see the module docstring)."""
+    if dim != 2:
+        raise ValueError(f"box2d is a 2-D engine: no {dim}-D scenes")
+    check_scene(bodies, dim, restitution, dt)  # Box2D reads a mass <= 0 as 1
+    check_surroundings(gravity, walls, dim)
+    w = new_world(sleep, gravity)
+    planes = tuple(_wall(w, slab, restitution, polygon_radius, friction)
+                   for slab in slabs(bodies, walls))
+    discs = tuple(disc(w, center, velocity, radius, mass, restitution, friction,
+                       fixed_rotation, bullet) for center, radius, mass, velocity in bodies)
+    return {"world": w, "discs": discs, "planes": planes, "dt": dt, "steps": steps,
+            "record_every": record_every, "bodies": bodies, "gravity": gravity, "walls": walls,
+            "iterations": (velocity_iterations if iterations is None else iterations,
+                           position_iterations)}
+
+
+def step_scene(built: dict[str, Any], clock: Any = time.perf_counter) -> Answer:
+    """Step the scene to its end (only ``world.Step`` is timed, by ``clock``): the final
+    state, the measures and the trajectory."""
+    discs = built["discs"]
+
+    def read() -> tuple[list[Any], list[Any]]:
+        return [xy(b.position) for b in discs], [xy(b.linearVelocity) for b in discs]
+
+    step = partial(built["world"].Step, built["dt"], *built["iterations"])
+    wall_s, records = step_and_record(step, read, built["steps"], built["record_every"], clock)
+    return scene_answer(built["bodies"], built["gravity"], built["walls"], built["dt"],
+                        built["steps"], read(), records, wall_s)
+
+
+def release_scene(built: dict[str, Any]) -> None:
+    """Destroy the scene's discs and walls (their fixtures and contacts go with them)."""
+    for body in (*built["discs"], *built["planes"]):
+        built["world"].DestroyBody(body)

@@ -1,7 +1,7 @@
 """MuJoCo 4.0.0 (mujoco-core, float64) as an engine: ``mujoco`` (stiff) and ``mujoco-default``.
 
 Every case runs on a compiled two-body model (two free-joint bodies with explicit
-inertials, one geom each, gravity 0; see :mod:`adapters.shared.mujoco`), compiled once per
+inertials, one geom each, gravity 0; see :mod:`adapters.mujoco.calls`), compiled once per
 process, model text and role (detection, response; ~10 ms) and changed per case (the calls,
 plain data in and out, are :mod:`adapters.mujoco.calls`): geom sizes with the bounds the
 compiler derives (``geom_rbound``, ``geom_aabb``: the broad phase drops a pair whose bounds
@@ -38,11 +38,11 @@ Detection (``aabb``, ``sphere``; ``mujoco-default`` only, see below): ``query`` 
 
 Responses (``sphere_response``, 2-D and 3-D): stepped (:mod:`adapters.mujoco_response` says
 how, and fits the stiff variant's contact to the case) until no contact is active and the
-spheres no longer approach. Scenes (``sphere_scene``, 2-D and 3-D) are stepped by
-:mod:`adapters.mujoco_scene` with the variant's ``scene_tuning``; their gravity and walls
-(plane geoms with the spheres' contact parameters) and each variant's resting conventions
-(``rest_gap``, ``rest_sink_*``, no sleeping, wall restitution) are derived in
-:mod:`adapters.mujoco_walls` from MuJoCo's solref/solimp rules.
+spheres no longer approach. Scenes (``sphere_scene``, 2-D and 3-D) are the scene calls of
+:mod:`adapters.mujoco.calls` with the variant's ``scene_tuning``; their model, gravity and
+walls (plane geoms with the spheres' contact parameters) and each variant's resting
+conventions (``rest_gap``, ``rest_sink_*``, no sleeping, wall restitution) are derived in
+:mod:`adapters.mujoco.scene` from MuJoCo's solref/solimp rules.
 
 Conventions (sources in ``SOURCES``: docs of 4.0.0; source files linked at main and read at
 commit a7255075, a 3.12.1 development snapshot, the newest one mirrored here; each rule
@@ -106,14 +106,19 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from types import ModuleType
 from typing import ClassVar
 
 from adapters import mujoco_response as response
-from adapters import mujoco_scene
-from adapters.mujoco_walls import DEFAULT_REST, TUNED_REST, Rest
-from adapters.shared.mujoco import ONE, UNIT, Mass, engine, pair_mjcf, refusal
-from adapters.stepping import SceneSteppingAdapter
+from adapters.mujoco.calls import ONE, UNIT, Mass, engine, pair_mjcf, refusal
+from adapters.mujoco.scene import (
+    DEFAULT_REST,
+    TUNED_REST,
+    Rest,
+    Tuning,
+    scene_model,
+    scene_settings,
+)
+from adapters.stepping import SceneCallsAdapter, scene_inputs
 from crosscheck.core.contract import (
     Call,
     Capability,
@@ -227,7 +232,7 @@ _DETECTION_NOTES = (
     "contact, else the fromto segment.  Zero or negative sizes and zero masses: the compiler "
     "refuses them (error rows); NaN/inf positions are read silently (reported undefined).  ")
 _SCENE_NOTES = (
-    "Scenes (adapters/mujoco_scene.py): one compiled model of free spheres per scene; 2-D "
+    "Scenes (adapters/mujoco/scene.py): one compiled model of free spheres per scene; 2-D "
     "in z = 0, solver noise out of the plane dropped within 2^-40 of the scene's scale.  ")
 _RESPONSE_NOTES = (
     "Responses: free spheres stepped until no contact is active and they no longer approach; "
@@ -235,7 +240,7 @@ _RESPONSE_NOTES = (
     "active contact; a warning (bad qpos/qvel/qacc: MuJoCo resets the state) is raised.  ")
 
 
-class MujocoDefault(SceneSteppingAdapter):
+class MujocoDefault(SceneCallsAdapter):
     """MuJoCo as a user gets it: only geometry, masses and velocities are set."""
 
     name: ClassVar[str] = "mujoco-default"
@@ -261,13 +266,12 @@ class MujocoDefault(SceneSteppingAdapter):
             "contact shorter than a step gets none.  "),
         DEFAULT_REST, soft=True, friction=1.0, sampled=True)
     stiff: ClassVar[response.Stiff | None] = None
-    scene_tuning: ClassVar[mujoco_scene.Tuning | None] = None
-    """What scenes are built with (see adapters/mujoco_scene.py); None: MuJoCo's defaults."""
+    scene_tuning: ClassVar[Tuning | None] = None
+    """What scenes are built with (see adapters/mujoco/scene.py); None: MuJoCo's defaults."""
     condim: ClassVar[str] = ""
     """Extra MJCF attributes of the response geoms."""
 
     calls: ClassVar[str] = "adapters.mujoco.calls"
-    scene_module: ClassVar[ModuleType] = mujoco_scene
 
     def version(self) -> str:
         return str(engine().mj_versionString())
@@ -322,6 +326,14 @@ class MujocoDefault(SceneSteppingAdapter):
             "max_steps": response.MAX_STEPS},
             refusal=refused, model=mjcf)
 
+    def scene_call(self, case: SceneCase) -> Call:
+        """The scene's model (MJCF) compiled and stepped with the variant's settings."""
+        inputs = scene_inputs(case)
+        mjcf = scene_model(inputs["bodies"], inputs["walls"], self.scene_tuning)
+        settings = scene_settings(bool(case.walls) or any(inputs["gravity"]), case.restitution,
+                                  inputs["dt"], self.scene_tuning)
+        return Call("scene", "step_scene", {"model": mjcf, **inputs, **settings}, model=mjcf)
+
     def masses(self, case: ResponseCase) -> tuple[Mass, Mass]:
         """Mass and inertia of A and B: a solid sphere's, 2/5 m r^2 (MuJoCo's for a geom)."""
         return ((case.a.mass, (0.4 * case.a.mass * case.a.radius ** 2,) * 3),
@@ -367,7 +379,7 @@ class MujocoStiff(MujocoDefault):
             "mujoco-default's and is scored there only.  "),
         TUNED_REST, response_rtol=STIFF_RTOL, sampled=True)
     stiff: ClassVar[response.Stiff | None] = response.Stiff()
-    scene_tuning: ClassVar[mujoco_scene.Tuning | None] = mujoco_scene.Tuning()
+    scene_tuning: ClassVar[Tuning | None] = Tuning()
     condim: ClassVar[str] = ' condim="1"'
 
     def unsupported(self, case: AnyCase) -> str | None:

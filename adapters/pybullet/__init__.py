@@ -85,7 +85,7 @@ Conventions, measured here (sources in ``SOURCES``):
   ``fixedTimeStep``) [quickstart guide, setTimeStep].  Damping: the multibody default
   linear damping 0.04 [btMultiBody.cpp] acts as dv/dt = -0.04 (1 + |v|) v
   (``DAMPING_K1_LINEAR`` + ``DAMPING_K2_LINEAR`` |v|, measured in scenes, see
-  :mod:`adapters.pybullet_scene`); the tuned variant sets it to 0.
+  :mod:`adapters.pybullet.scene`); the tuned variant sets it to 0.
 - contacts sampled (``sampled_contacts`` True, both variants): detection runs on the
   positions a step starts from [btDiscreteDynamicsWorld.cpp], and a multibody has no CCD
   (``changeDynamics`` sets ``ccdSweptSphereRadius`` on rigid bodies only
@@ -128,8 +128,9 @@ the 0.001 margin (margin 0 makes GJK read 2^-40 gaps as 0).
 ``pybullet-default``: only the case's geometry, masses, velocities and restitution;
 everything else as pybullet sets it (damping 0.04, lateral friction 0.5, threshold 0.2,
 contactSlop 1e-5, default contact ERP, dt 1/240 s).  Both set restitution by the product.
-Scenes (``sphere_scene``) are stepped by :mod:`adapters.pybullet_scene` with the variant's
-``scene_tuning``: the tuned settings as a ``pybullet_scene.Tuning``, or None (defaults).
+Scenes (``sphere_scene``) are the scene calls of :mod:`adapters.pybullet.calls` with the
+variant's ``scene_tuning`` (:mod:`adapters.pybullet.scene`: the tuned settings as a
+``Tuning``, or None for the defaults), measured as that module says.
 
 (Longer than 400 lines: about 135 of them are this docstring, the conventions as measured with
 their sources; the code is the pooled bodies and the response stepping that uses them.)
@@ -141,14 +142,11 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from importlib import metadata
-from types import ModuleType
 from typing import Any, ClassVar
 
-from adapters import pybullet_scene
-from adapters.pybullet.calls import World, world
-from adapters.pybullet_scene import Tuning
-from adapters.shared.pybullet import connect, engine, quiet
-from adapters.stepping import SceneSteppingAdapter
+from adapters.pybullet.calls import World, connect, engine, quiet, world
+from adapters.pybullet.scene import Tuning, scene_settings
+from adapters.stepping import SceneCallsAdapter, scene_inputs
 from crosscheck.core.contract import (
     Call,
     Capability,
@@ -158,7 +156,7 @@ from crosscheck.core.contract import (
 )
 from crosscheck.core.geometry import Vec3, to3, z_half
 from crosscheck.core.model import Kind
-from crosscheck.core.schema import AabbCase, PairCase, ResponseCase, SphereCase
+from crosscheck.core.schema import AabbCase, PairCase, ResponseCase, SceneCase, SphereCase
 
 __all__ = ["TUNED_BODY", "TUNED_WORLD", "PyBulletCcd", "PyBulletDefault", "PyBulletTuned",
            "World", "client",
@@ -228,7 +226,7 @@ WALLS_NOTE = (
     "|g| dt^2 (rest_sink_steps 1).  No sleeping: createMultiBody without "
     "URDF_ENABLE_SLEEPING makes a multibody that cannot sleep and a rigid body "
     "DISABLE_DEACTIVATION (URDF2Bullet.cpp; measured: 0.1 m/s kept 5 s).")
-"""What every variant declares about gravity and walls (see adapters/pybullet_scene.py)."""
+"""What every variant declares about gravity and walls (see adapters/pybullet/scene.py)."""
 
 SIZE_LIMIT = 1e5
 """Largest pooled size: an AABB diagonal 2 sqrt 3 x 1e5 stays well below Bullet's 1e6."""
@@ -278,7 +276,7 @@ def ordinary(case: PairCase, ca: Vec3, cb: Vec3, specs: Sequence[Spec]) -> bool:
             and all(-COORD_LIMIT <= x <= COORD_LIMIT for x in numbers))
 
 
-class PyBulletTuned(SceneSteppingAdapter):
+class PyBulletTuned(SceneCallsAdapter):
     """PyBullet tuned for accuracy (see the module docstring)."""
 
     name: ClassVar[str] = "pybullet"
@@ -295,7 +293,7 @@ class PyBulletTuned(SceneSteppingAdapter):
     world: ClassVar[dict[str, float]] = TUNED_WORLD
     body: ClassVar[dict[str, float]] = TUNED_BODY
     scene_tuning: ClassVar[Tuning | None] = Tuning(TUNED_WORLD, TUNED_BODY)
-    """What scenes are built with (see adapters/pybullet_scene.py); None: engine defaults."""
+    """What scenes are built with (see adapters/pybullet/scene.py); None: engine defaults."""
     conventions: ClassVar[Conventions] = Conventions(
         box_extents="half",
         normal="B to A (contactNormalOnB of getClosestPoints); flipped by the adapter",
@@ -348,12 +346,11 @@ class PyBulletTuned(SceneSteppingAdapter):
                "so a sphere on a wall with e > 0 rests "
                "floating e |g| dt^2 above it (its speculative target), and one on a sphere "
                "hops; a column of spheres creeps into the ground (no positional correction; "
-               "measured in adapters/pybullet_scene.py)"),
+               "measured in adapters/pybullet/scene.py)"),
         sources=SOURCES,
     )
 
     calls: ClassVar[str] = "adapters.pybullet.calls"
-    scene_module: ClassVar[ModuleType] = pybullet_scene
 
     def version(self) -> str:
         return metadata.version("pybullet")
@@ -390,6 +387,13 @@ class PyBulletTuned(SceneSteppingAdapter):
             "restitution": case.restitution, "tol": APPROACH_RTOL * max(speeds, default=0.0),
             "max_steps": MAX_STEPS}, release="release")
 
+    def scene_settings(self) -> dict[str, Any]:
+        """The variant's inputs to the scene calls besides the scene (``scene_tuning``)."""
+        return scene_settings(self.scene_tuning)
+
+    def scene_call(self, case: SceneCase) -> Call:
+        return Call("scene", "step_scene", {**scene_inputs(case), **self.scene_settings()},
+                    release="release_scene")
 
 
 class PyBulletDefault(PyBulletTuned):
@@ -414,7 +418,7 @@ class PyBulletDefault(PyBulletTuned):
           "contact ERP 0.08 in PhysicsServerCommandProcessor.cpp; the slop is the allowed "
           "penetration), so rest_gap (-1e-5, 0); approaches slower than 0.2 do not bounce."
         + "  Default damping 0.04 (dv/dt = -0.04 (1 + |v|) v, btMultiBody.cpp; measured in "
-          "adapters/pybullet_scene.py), friction 0.5 per body (btCollisionObject.cpp; "
+          "adapters/pybullet/scene.py), friction 0.5 per body (btCollisionObject.cpp; "
           "combined as the product 0.25 in btManifoldResult::calculateCombinedFriction) "
           "and contactSlop 1e-5 act on responses",
     )
@@ -453,6 +457,6 @@ class PyBulletCcd(PyBulletTuned):
                "so no pass-through was measured but a caught impact keeps only part of its "
                "bounce, between none and e of it.  Rigid bodies "
                "have no multibody speed clamp (100 m/s per coordinate).  Measured in "
-               "adapters/pybullet_scene.py"),
+               "adapters/pybullet/scene.py"),
         sources=SOURCES + PYBULLET_CCD_SOURCES,
     )

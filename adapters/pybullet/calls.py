@@ -1,10 +1,10 @@
 """PyBullet's calls (the ``pybullet``, ``pybullet-default`` and ``pybullet-ccd`` pairs), plain
 data in and out.
 
-Everything that drives pybullet shares :mod:`adapters.shared.pybullet`: the quiet import
+Everything that drives pybullet (the pairs, the scenes, the bench) shares the quiet import
 (``engine()``: the import prints a banner), ``quiet()`` (C-level stdout and stderr on
 /dev/null for what prints ``b3Warning`` lines) and ``connect(settings)`` (a DIRECT client,
-gravity 0, the settings).
+gravity 0, the settings), below.
 
 A pair (detection or response) is two base-only multibodies on shapes cached per client,
 taken from a pool of idle bodies per world (a world: a client and its pool, by name); a
@@ -18,15 +18,93 @@ settings; each ask resets centres and velocities and steps until the bodies no l
 approach along the line of centres the step detected from (not above ``tol``), at most
 ``max_steps``; ``resolved_at`` is the centres at the start of the first step that reported
 the contact.  A 2-D pair lies in the plane z = 0; a 2-D response that leaves it raises.
+
+A scene (``sphere_scene``) gets a DIRECT client of its own (never a pair's): gravity 0 (the
+scene's, when it has one), ``fixedTimeStep`` dt, ``numSubSteps`` 0, ``numSolverIterations``
+if given, and the variant's ``world`` settings; a static ``GEOM_PLANE`` per wall (a mass-0 base
+at ``offset x normal``, restitution sqrt(e), the friction settings of ``body``), then a base-only
+multibody per sphere (``useMaximalCoordinates`` when ``maximal``: a rigid body, with
+``ccdSweptSphereRadius`` ``ccd`` x its radius when ``ccd`` > 0) with restitution sqrt(e) and
+``body``.  The ask times only ``stepSimulation`` and reads the bases' positions and velocities
+(a 2-D scene that leaves the plane z = 0 raises).  Releasing empties the client
+(``resetSimulation``) and keeps it for a next scene of the same world settings
+(``SCENE_IDLE_CLIENTS`` at most; a connect costs 30-50 ms, a reset 0.2 ms).  What this
+measures and why: :mod:`adapters.pybullet.scene`.
+
+What the pairs, responses and scenes share:
+- ``engine()``: the pybullet module, imported once, lazily (importing this module does not
+  import it; the import prints a banner);
+- ``quiet()``: pybullet's banner and ``b3Warning`` lines go to the C-level stdout/stderr,
+  so what prints them runs with file descriptors 1 and 2 on /dev/null (a redirect costs
+  ~8 us);
+- ``connect(settings)``: a new DIRECT client (no GUI) with gravity 0 and ``settings``.
+
+(Longer than 400 lines: one module is what a repro script holds verbatim; the pooled pairs
+and the scenes' reused clients are each about 150 lines.)
 """
 
+import contextlib
+import ctypes
+import functools
 import math
+import os
+import sys
+import time
 from collections import OrderedDict
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from adapters.shared import approach_speed
-from adapters.shared.pybullet import connect, engine, quiet
+from adapters.shared import approach_speed, to3
+from adapters.shared.scene import (
+    check_scene,
+    check_surroundings,
+    in_scene_dim,
+    scene_answer,
+    step_and_record,
+)
+
+_MODULE: list[Any] = []
+
+
+@contextlib.contextmanager
+def quiet() -> Iterator[None]:
+    """Send C-level stdout and stderr to /dev/null (the banner, b3Warning lines)."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    saved = (os.dup(1), os.dup(2))
+    null = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(null, 1)
+        os.dup2(null, 2)
+        yield
+    finally:
+        ctypes.CDLL(None).fflush(None)  # C stdio buffers empty into /dev/null
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in (*saved, null):
+            os.close(fd)
+
+
+def engine() -> Any:
+    """The pybullet module, imported quietly once (its import prints a banner)."""
+    if not _MODULE:
+        with quiet():
+            import pybullet
+        _MODULE.append(pybullet)
+    return _MODULE[0]
+
+
+def connect(settings: dict[str, float]) -> int:
+    """A new DIRECT client with gravity 0 and ``settings``."""
+    bt = engine()
+    with quiet():
+        cid: int = bt.connect(bt.DIRECT)
+        bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
+        if settings:
+            bt.setPhysicsEngineParameter(**settings, physicsClientId=cid)
+    return cid
+
 
 Answer = dict[str, Any]
 Vec3 = tuple[float, float, float]
@@ -270,3 +348,144 @@ def release(built: Pair) -> None:
                 engine().resetBaseVelocity(body, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0),
                                            physicsClientId=built.cid)
         give_back(built.world, body, sid, keep)
+
+
+SCENE_IDLE_CLIENTS = 6
+"""Emptied scene clients kept for the next scenes, whatever their settings."""
+_SCENE_IDLE: list[tuple[tuple[tuple[str, float], ...], int]] = []
+"""Emptied scene clients and their world settings, least recently released first."""
+
+
+def scene_world(world_settings: dict[str, float], dt: float,
+                iterations: int | None) -> dict[str, float]:
+    """A scene's ``setPhysicsEngineParameter`` arguments: the variant's, with the scene's
+    fixed step (no sub-steps) and iterations."""
+    settings = dict(world_settings)
+    settings.update(fixedTimeStep=dt, numSubSteps=0)
+    if iterations is not None:
+        settings["numSolverIterations"] = iterations
+    return settings
+
+
+def _scene_client(settings: dict[str, float]) -> int:
+    """The most recently emptied client of these world settings, or a new one."""
+    key = tuple(sorted(settings.items()))
+    for k in range(len(_SCENE_IDLE) - 1, -1, -1):
+        if _SCENE_IDLE[k][0] == key:
+            return _SCENE_IDLE.pop(k)[1]
+    return connect(settings)
+
+
+def _add_wall(cid: int, normal: Any, offset: float, restitution: float,
+              body: dict[str, float], maximal: bool) -> int:
+    bt = engine()
+    n = to3(normal)
+    friction = {key: value for key, value in body.items() if key.endswith("Friction")}
+    with quiet():
+        plane = bt.createCollisionShape(bt.GEOM_PLANE, planeNormal=n, physicsClientId=cid)
+        uid: int = bt.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=plane,
+                                      basePosition=tuple(offset * x for x in n),
+                                      useMaximalCoordinates=maximal, physicsClientId=cid)
+        bt.changeDynamics(uid, -1, restitution=math.sqrt(restitution), **friction,
+                          physicsClientId=cid)
+    return uid
+
+
+def _add_sphere(cid: int, shapes: dict[float, int], sphere: Any, restitution: float,
+                body: dict[str, float], maximal: bool, ccd: float) -> int:
+    bt = engine()
+    center, radius, mass, velocity = sphere
+    extra = dict(body)
+    if ccd > 0.0:
+        extra["ccdSweptSphereRadius"] = ccd * radius
+    with quiet():
+        if radius not in shapes:
+            shapes[radius] = bt.createCollisionShape(bt.GEOM_SPHERE, radius=radius,
+                                                     physicsClientId=cid)
+        uid: int = bt.createMultiBody(baseMass=mass, baseCollisionShapeIndex=shapes[radius],
+                                      basePosition=to3(center), useMaximalCoordinates=maximal,
+                                      physicsClientId=cid)
+        bt.changeDynamics(uid, -1, restitution=math.sqrt(restitution), **extra,
+                          physicsClientId=cid)
+    bt.resetBaseVelocity(uid, to3(velocity), (0.0, 0.0, 0.0), physicsClientId=cid)
+    return uid
+
+
+def scene(bodies: tuple[Any, ...], dim: int, restitution: float, dt: float,
+          iterations: int | None, gravity: tuple[float, ...], walls: tuple[Any, ...],
+          steps: int, record_every: int, world_settings: dict[str, float],
+          body: dict[str, float], maximal: bool, ccd: float) -> dict[str, Any]:
+    """The scene in a client of its own (see the module docstring)."""
+    check_scene(bodies, dim, restitution, dt)
+    check_surroundings(gravity, walls, dim)
+    settings = scene_world(world_settings, dt, iterations)
+    cid = _scene_client(settings)
+    built: dict[str, Any] = {
+        "cid": cid, "dim": dim, "spheres": (), "key": tuple(sorted(settings.items())),
+        "dt": dt, "steps": steps, "record_every": record_every, "bodies": bodies,
+        "gravity": gravity, "walls": walls}
+    shapes: dict[float, int] = {}
+    try:
+        if any(gravity):
+            engine().setGravity(*to3(gravity), physicsClientId=cid)
+        built["planes"] = tuple(_add_wall(cid, normal, offset, restitution, body, maximal)
+                                for normal, offset in walls)
+        built["spheres"] = tuple(_add_sphere(cid, shapes, sphere, restitution, body, maximal,
+                                             ccd) for sphere in bodies)
+    except Exception:
+        release_scene(built)
+        raise
+    return built
+
+
+def scene_state(built: dict[str, Any]) -> tuple[list[Any], list[Any]]:
+    """The 3-D centres and linear velocities of the scene's spheres, in scene order."""
+    bt, cid = engine(), built["cid"]
+    positions = [bt.getBasePositionAndOrientation(b, physicsClientId=cid)[0]
+                 for b in built["spheres"]]
+    velocities = [bt.getBaseVelocity(b, physicsClientId=cid)[0] for b in built["spheres"]]
+    return positions, velocities
+
+
+def step_scene(built: dict[str, Any], clock: Any = time.perf_counter) -> Answer:
+    """Step the scene to its end (only ``stepSimulation`` is timed, by ``clock``): the final
+    state, the measures and the trajectory."""
+    # one stepSimulation call per step, as a C partial: no Python frame in the timed loop
+    step = functools.partial(engine().stepSimulation, physicsClientId=built["cid"])
+    dim = built["dim"]
+
+    def read() -> tuple[Any, Any]:
+        positions, velocities = scene_state(built)
+        return (in_scene_dim(dim, positions, "position"),
+                in_scene_dim(dim, velocities, "velocity"))
+
+    wall_s, records = step_and_record(step, read, built["steps"], built["record_every"], clock)
+    return scene_answer(built["bodies"], built["gravity"], built["walls"], built["dt"],
+                        built["steps"], read(), records, wall_s)
+
+
+def idle_scene_clients() -> int:
+    """How many emptied scene clients are kept for the next scenes."""
+    return len(_SCENE_IDLE)
+
+
+def drop_idle_scene_clients() -> None:
+    """Disconnect every kept scene client (the next scene connects a new one)."""
+    with quiet():
+        while _SCENE_IDLE:
+            engine().disconnect(physicsClientId=_SCENE_IDLE.pop()[1])
+
+
+def release_scene(built: dict[str, Any]) -> None:
+    """Empty the scene's client and keep it for a next scene of the same world settings, with
+    gravity 0 and those settings set again (the least recently released past
+    ``SCENE_IDLE_CLIENTS`` disconnected)."""
+    bt, cid = engine(), built["cid"]
+    with quiet():
+        bt.resetSimulation(physicsClientId=cid)
+        bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
+        if built["key"]:
+            bt.setPhysicsEngineParameter(**dict(built["key"]), physicsClientId=cid)
+        _SCENE_IDLE.append((built["key"], cid))
+        if len(_SCENE_IDLE) > SCENE_IDLE_CLIENTS:
+            bt.disconnect(physicsClientId=_SCENE_IDLE.pop(0)[1])

@@ -60,12 +60,72 @@ Variants (Space settings; sources below):
   0.10000000149), bias ((1 - 0.1f)^60), iterations (10) and friction (0) left
   at their defaults.
 
-Scenes (``sphere_scene``) are stepped by :mod:`adapters.pymunk_scene` with the variant's
-``scene_tuning``: ``pymunk`` passes its slop, bias and friction as a ``pymunk_scene.Tuning``,
-``pymunk-default`` None (pymunk's defaults).  Gravity and walls (static Poly boxes on
-``space.static_body``): each variant declares ``rest_gap`` = (-collision_slop, 0), i.e.
-(-0.1f, 0) default and (0, 0) tuned, ``rest_sink_steps`` 1, no sleeping and the wall's restitution
-(sqrt(e), product e); the reasons and the measurements are in that module's docstring.
+Scenes (``sphere_scene``) are the calls ``scene``/``step_scene`` of :mod:`adapters.pymunk.calls`:
+``pymunk`` passes its slop, bias and friction (``scene_tuned``), ``pymunk-default`` None for
+each (pymunk's defaults).  Gravity and walls (static Poly boxes on ``space.static_body``):
+each variant declares ``rest_gap`` = (-collision_slop, 0), i.e. (-0.1f, 0) default and (0, 0)
+tuned, ``rest_sink_steps`` 1, no sleeping and the wall's restitution (sqrt(e), product e).
+
+Scene conventions, measured with the scene calls (sources as in ``SOURCES``):
+
+- restitution: Munk2D combines the shapes' elasticities by their product [cpArbiter.c];
+  measured: shapes set to 0.5 and 0.8 bounce with 0.4 (not the min, mean or max).  Every
+  shape gets sqrt(e), so every pair gets e (to an ulp; e = 0.25, 0.5, 0.81 measured
+  exactly in both variants).  There is no restitution threshold.
+- touching at the start (distance exactly 0) is not a contact (circles collide only when
+  strictly overlapping [cpCollision.c]), but a step moves positions before it collides
+  [cpSpaceStep.c]: two touching balls, one moving at 1 into the other, overlap after the
+  move and exchange velocities in step 1; touching balls moving together stay untouched
+  (a pair at 0.3 for 100 steps, velocities and gap exact).
+- simultaneous contacts: in a chain of touching balls only the pair that overlaps after a
+  step's move collides, so momentum passes one ball per step.  5-ball cradle (equal masses,
+  e = 1, striker at 1): step k hands velocity 1 to ball k; after 4 steps only the last ball
+  moves, at exactly 1, the others exactly 0 (the textbook cradle), whatever the iterations
+  (1, 10, 50, 1000) and in both variants.
+- energy at e = 1: kinetic energy and momentum kept to rounding (16 random discs, 3 s at dt
+  1e-3: energy exactly, momentum within 9e-16; the cradle exactly); at dt 1/60 with speeds
+  up to 7, energy lost up to 1.8e-7 of its value.  Both variants alike: slop and bias act
+  on positions through separate bias velocities, and only on overlaps beyond the slop
+  (0.1); at dt 1e-3 the variants' states were bit-identical in 20 random scenes of 2 to 30
+  discs, at dt 1/60 and speeds x 5 in 4 of 5 (the fifth: same energy, other states).
+- impacts are resolved in the first step whose move makes the discs overlap, so centres lag
+  the exact run by up to the closing speed x dt (0.002 measured, dt 1e-3).
+
+Gravity and walls (``surroundings``; declared per variant by :func:`with_walls`):
+
+- a wall is what pymunk's users build for a ground: a static shape on ``space.static_body``,
+  here a ``Poly`` box of radius 0 (no bevel), 1000 x the largest radius thick on the solid
+  side and 1e4 x the scene's extent sideways (:mod:`adapters.shared.wall_boxes`), its surface at
+  the wall's offset exactly (float64 corners).  A ``Segment`` would be thin (a disc faster
+  than its radius a step tunnels) and, like a circle, collides only when strictly
+  overlapping; walls never collide with each other (shapes of one static body).
+- resting: a disc touching a ``Poly`` is a contact (``points.d <= circle->r + poly->r``,
+  cpCollision.c ``CircleToPoly``), so a disc placed on the ground stays at gap 0 (measured:
+  exactly 0 and speed exactly 0 over 10 s, both variants, dt 1e-3, 1/240, 1/60).  Touching
+  discs are not a contact, so a disc on a disc first falls one step, ``|g| dt**2``
+  (``REST_SINK_STEPS``); overlaps are corrected only beyond collision_slop
+  (``con->bias = -bias * min(0, dist + slop) / dt``, cpArbiter.c), by bias velocities that
+  the tuned variant's collision_bias 1.0 turns off (``1 - bias^dt`` = 0, cpSpaceStep.c):
+  ``rest_gap`` is (-slop, 0), (-0.1f, 0) default and (0, 0) tuned.  The declared sink
+  is that one contact's fall; in a column the falls add up and are never corrected (the
+  lower discs are pushed down by the impulses from above, and a step moves before it
+  collides).  Measured, columns of n discs (r 0.1) set touching on the ground for 5 s,
+  both variants alike and in units of ``|g| dt**2`` the same at dt 1/60 and 1/240 (deepest
+  gap during the run / at the end): e 0: n 2 and 3: -1.00 / -1.00, n 5: -2.0 / -1.9, n 10:
+  -2.9 / -2.3, n 20: -5 / -5; e 0.5: n 2 -1.18 / -0.79, n 3 -1.04 / -0.71, n 10 -2.5 / -1.8;
+  e 1: the column does not stay at rest (each step's fall is bounced back elastically):
+  n 3 -7 to -10 / -2.4 to -2.9 with speeds up to 0.8 m/s after 4 s, n 10 down to -177
+  with speeds up to 5 m/s.
+- sleeping: off in both variants (``sleep_time_threshold`` INFINITY unless set, cpSpace.c).
+- restitution with walls: a wall's shape gets sqrt(e) like the discs (product e).  The bounce
+  velocity is taken in the prestep, before the step's gravity is added (cpSpaceStep.c), so
+  an elastic drop keeps its height: measured, a disc dropped from 1 m (e 1) kept every
+  apex at 1.000000 m for 10 s at dt 1e-3, 1/240 and 1/60, both variants; a disc at 3 m/s
+  between two walls in zero gravity kept exactly 3 over 10 s, 17 bounces.
+- friction of a wall: the variant's for the discs (tuned 0; default pymunk's 0), combined by
+  product (``arb->u = a->u * b->u``, cpArbiter.c).
+Measured outside the suite with the scene calls (the drop: a disc of radius 0.1 at 1.1 above
+the ground, e 1, 10 s, every step recorded).
 
 collision_slop is a Space setting: it only sets how much overlap the bias term
 leaves uncorrected.  It does not apply to ``shapes_collide`` nor to the
@@ -108,15 +168,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from types import ModuleType
+from dataclasses import replace
 from typing import ClassVar
 
-from adapters import pymunk_scene
-from adapters.pymunk_scene import Tuning
-from adapters.stepping import SceneSteppingAdapter
+import numpy as np
+
+from adapters.stepping import SceneCallsAdapter, scene_inputs
 from crosscheck.core.contract import Call, Capability, Conventions, all_capabilities
 from crosscheck.core.model import Kind
-from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SphereCase
+from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase, SphereCase
 
 MUNK2D = "https://github.com/viblo/Munk2D/blob/master/src/"
 PYMUNK = "https://github.com/viblo/pymunk/blob/master/pymunk/"
@@ -149,7 +209,7 @@ _NOTES = ("Detection uses Shape.shapes_collide (independent of any Space: collis
 
 _WALL_NOTES = (
     " Gravity and walls (scenes): each wall a static Poly box on space.static_body, 1000 x "
-    "the largest radius thick, 1e4 x the scene's extent sideways (adapters/wall_boxes.py); "
+    "the largest radius thick, 1e4 x the scene's extent sideways (adapters/shared/wall_boxes.py); "
     "a disc touching a Poly is a contact (d <= r, cpCollision.c CircleToPoly), so a disc "
     "resting on a wall stays at gap 0; touching discs are not (strict <), so a disc on a "
     "disc falls one step, |g| dt^2, first; overlaps within collision_slop are never "
@@ -157,7 +217,7 @@ _WALL_NOTES = (
 
 
 def _conventions(settings: str, dt: float, slop: float) -> Conventions:
-    return pymunk_scene.with_walls(Conventions(
+    return with_walls(Conventions(
         box_extents="full (Poly.create_box takes width and height; the adapter passes 2*half)",
         normal="A to B (ContactPointSet.normal points from the first shape to the second); "
                "used as is",
@@ -178,7 +238,29 @@ def _conventions(settings: str, dt: float, slop: float) -> Conventions:
     ), slop)
 
 
-class PymunkTuned(SceneSteppingAdapter):
+DEFAULT_SLOP = float(np.float32(0.1))
+"""Munk2D's default collision_slop, ``0.1f`` (cpSpace.c), as a double: 0.10000000149011612."""
+REST_SINK_STEPS = 1.0
+"""A disc resting on a disc sinks one step's fall, ``|g| dt**2``, below the rest band: touching
+circles are no contact (strict ``<``, cpCollision.c) and a step moves before it collides
+(cpSpaceStep.c), so the upper disc falls for one step before the contact holds it."""
+WALL_RESTITUTION = (
+    "product of the shapes' elasticities (cpArbiter.c): a wall's Poly gets sqrt(e) like every "
+    "disc, so a disc-wall contact bounces with e; the bounce is read from the approach "
+    "velocity before the step's gravity (cpSpaceStep.c: prestep, then velocities), so an "
+    "elastic drop keeps its apex; no threshold")
+
+
+def with_walls(conventions: Conventions, slop: float) -> Conventions:
+    """``conventions`` with a variant's gravity-and-walls fields (``slop``: its
+    collision_slop): resting contacts held from ``-slop`` to touching, one step's sink,
+    no sleeping (Munk2D's sleep_time_threshold is INFINITY unless set, cpSpace.c)."""
+    return replace(conventions, rest_gap=(-slop if slop else 0.0, 0.0),
+                   rest_sink_steps=REST_SINK_STEPS, rest_sink_s2=0.0, sleeps=False,
+                   wall_restitution=WALL_RESTITUTION)
+
+
+class PymunkTuned(SceneCallsAdapter):
     """pymunk set for accuracy: small step, no slop, no positional correction, no friction."""
 
     name: ClassVar[str] = "pymunk"
@@ -195,8 +277,8 @@ class PymunkTuned(SceneSteppingAdapter):
     bias: ClassVar[float | None] = 1.0
     iterations: ClassVar[int | None] = 10
     friction: ClassVar[float | None] = 0.0
-    scene_tuning: ClassVar[Tuning | None] = Tuning(slop=slop, bias=bias, friction=friction)
-    """What scenes are built with (see adapters/pymunk_scene.py); None: pymunk's defaults."""
+    scene_tuned: ClassVar[bool] = True
+    """Scenes get the variant's slop, bias and friction (False: pymunk's defaults)."""
 
     def version(self) -> str:
         import pymunk
@@ -214,7 +296,6 @@ class PymunkTuned(SceneSteppingAdapter):
         return None
 
     calls: ClassVar[str] = "adapters.pymunk.calls"
-    scene_module: ClassVar[ModuleType] = pymunk_scene
     binding_objects: ClassVar[tuple[str, ...]] = ("_chipmunk*.so",)
     """The engine's shared objects for the instruction timer: pymunk's cffi module, Chipmunk2D
     compiled in.
@@ -249,6 +330,17 @@ class PymunkTuned(SceneSteppingAdapter):
             "friction": self.friction, "moment": MOMENT, "max_steps": MAX_STEPS},
             release="release_world")
 
+    def scene_settings(self) -> dict[str, float | None]:
+        """What the variant sets in a scene: its slop, bias and friction, or None for each
+        (pymunk's defaults) when ``scene_tuned`` is False."""
+        tuned = self.scene_tuned
+        return {"slop": self.slop if tuned else None, "bias": self.bias if tuned else None,
+                "friction": self.friction if tuned else None}
+
+    def scene_call(self, case: SceneCase) -> Call:
+        return Call("scene", "step_scene", {**scene_inputs(case), **self.scene_settings()},
+                    release="release_scene")
+
 
 
 class PymunkDefault(PymunkTuned):
@@ -258,10 +350,10 @@ class PymunkDefault(PymunkTuned):
     settings: ClassVar[str] = ("dt 1/60 s; collision_slop (0.1f), collision_bias ((1-0.1f)^60), "
                                "iterations (10), friction (0) at defaults; elasticity A = e, B = 1")
     conventions: ClassVar[Conventions] = _conventions(settings, 1.0 / 60.0,
-                                                      pymunk_scene.DEFAULT_SLOP)
+                                                      DEFAULT_SLOP)
     dt: ClassVar[float] = 1.0 / 60.0
     slop: ClassVar[float | None] = None
     bias: ClassVar[float | None] = None
     iterations: ClassVar[int | None] = None
     friction: ClassVar[float | None] = None
-    scene_tuning: ClassVar[Tuning | None] = None
+    scene_tuned: ClassVar[bool] = False

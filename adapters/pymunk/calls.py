@@ -12,11 +12,27 @@ ask removes and re-adds the shapes (no cached arbiter), zeroes the bias velocity
 solve left (``Body.update_position(body, 0)``), puts back the case's centres and velocities,
 and steps until the first step whose contact reached ``pre_solve`` (its centres are
 ``resolved_at``), or until the bodies no longer approach, or ``max_steps``.
+
+Scenes (``sphere_scene``, 2-D): a new Space with the scene's gravity and damping 1.0, the
+iterations if given; per disc a dynamic ``Body(m, moment_for_circle(m, 0, r))`` with a Circle;
+per wall a ``Poly`` box (radius 0) on ``space.static_body`` with its world corners
+(:mod:`adapters.shared.wall_boxes`: the surface at the wall's offset exactly).  Every shape
+gets elasticity sqrt(e) (pymunk multiplies them: every pair bounces with e); ``slop``,
+``bias`` and ``friction`` are the variant's (None: pymunk's default).  The ask times only
+``space.step(dt)`` and reads ``Body.position`` / ``Body.velocity`` (every ``record_every``
+steps too, untimed).  Measured conventions (resting, sinking, apexes): the adapter's
+docstring and tests/adapters/test_pymunk_walls.py.
 """
 
+import math
+import time
+from functools import partial
 from typing import Any
 
 import pymunk
+
+from adapters.shared.scene import check_scene, check_surroundings, scene_answer, step_and_record
+from adapters.shared.wall_boxes import corners, slabs
 
 Answer = dict[str, Any]
 Vec = tuple[float, ...]
@@ -134,3 +150,60 @@ def respond(built: dict[str, Any]) -> Answer:
 def release_world(built: dict[str, Any]) -> None:
     """Empty the Space."""
     built["space"].remove(*built["bodies"], *built["shapes"])
+
+
+def scene(bodies: tuple[Any, ...], dim: int, restitution: float, dt: float,
+          iterations: int | None, slop: float | None, bias: float | None,
+          friction: float | None, gravity: Vec, walls: tuple[Any, ...], steps: int,
+          record_every: int) -> dict[str, Any]:
+    """A Space with the scene's discs and walls (a 3-D scene raises: pymunk is 2-D)."""
+    if dim != 2:
+        raise ValueError(f"pymunk is a 2-D engine: no {dim}-D scenes")
+    check_scene(bodies, dim, restitution, dt)  # before pymunk.Body: mass <= 0 aborts
+    check_surroundings(gravity, walls, dim)
+    space: Any = pymunk.Space()
+    space.gravity = (gravity[0], gravity[1])
+    space.damping = 1.0
+    for name, value in (("iterations", iterations), ("collision_slop", slop),
+                        ("collision_bias", bias)):
+        if value is not None:
+            setattr(space, name, value)
+    elasticity = math.sqrt(restitution)  # the product of two shapes' is e
+    discs: list[Any] = []
+    shapes: list[Any] = []
+    for center, radius, mass, velocity in bodies:
+        disc = pymunk.Body(mass, pymunk.moment_for_circle(mass, 0.0, radius))
+        disc.position = (center[0], center[1])
+        disc.velocity = (velocity[0], velocity[1])
+        discs.append(disc)
+        shapes.append(pymunk.Circle(disc, radius))
+    for slab in slabs(bodies, walls):
+        (x0, y0), (x1, y1) = corners(slab)
+        shapes.append(pymunk.Poly(space.static_body, [(x0, y0), (x1, y0), (x1, y1), (x0, y1)],
+                                  radius=0.0))
+    for shape in shapes:
+        shape.elasticity = elasticity
+        if friction is not None:
+            shape.friction = friction
+    space.add(*discs, *shapes)
+    return {"space": space, "discs": discs, "shapes": shapes, "dt": dt, "steps": steps,
+            "record_every": record_every, "bodies": bodies, "gravity": gravity, "walls": walls}
+
+
+def step_scene(built: dict[str, Any], clock: Any = time.perf_counter) -> Answer:
+    """Step the scene to its end: the final state, the measures and the trajectory (only the
+    stepping is timed, by ``clock``)."""
+    discs = built["discs"]
+
+    def read() -> tuple[list[Vec], list[Vec]]:
+        return [_vec(d.position) for d in discs], [_vec(d.velocity) for d in discs]
+
+    wall_s, records = step_and_record(partial(built["space"].step, built["dt"]), read,
+                                      built["steps"], built["record_every"], clock)
+    return scene_answer(built["bodies"], built["gravity"], built["walls"], built["dt"],
+                        built["steps"], read(), records, wall_s)
+
+
+def release_scene(built: dict[str, Any]) -> None:
+    """Empty the Space."""
+    built["space"].remove(*built["discs"], *built["shapes"])

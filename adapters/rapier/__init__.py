@@ -6,9 +6,9 @@ Kinds: ``aabb``, ``sphere``, ``sphere_response`` in 3-D, and in 2-D run in the p
 (as fcl does): a disc is a ball at z = 0, a 2-D box a cuboid with the z half-width of
 :func:`crosscheck.core.geometry.z_half` (z is never the axis of least overlap nor a gap), a
 2-D response locks z translation; answers come back as 2-tuples.  Scenes (``sphere_scene``,
-2-D and 3-D) are stepped by :mod:`adapters.rapier_scene` with the variant's ``scene_tuning``
-(its conventions are measured and declared there; gravity and walls:
-:mod:`adapters.rapier_walls`).  Times of impact (``sphere_toi``, 2-D and
+2-D and 3-D) are the scene calls of :mod:`adapters.rapier.calls` with the variant's
+``scene_tuning`` (:mod:`adapters.rapier.scene`: its settings, gravity and walls, and the
+conventions as measured and declared).  Times of impact (``sphere_toi``, 2-D and
 3-D) are a shape cast (``toi_target`` 0, ``toi_tolerance`` 0).
 
 Detection.  The bindings expose no pairwise parry query (no ``contact``/``distance`` of two
@@ -117,7 +117,7 @@ quarantined by rapier (``PhysicsWorld.quarantine``): the ask raises then.  Times
 ``QueryPipeline.cast_shape`` of A's ball with the relative velocity against B's at rest
 (exact for translations; parry's ball-ball cast is analytic); inputs the engine would take
 unchecked are refused (:func:`adapters.shared.toi_refusal`).  The builders are shared with
-the scene runner (:mod:`adapters.shared.rapier`).
+the scene runner (:mod:`adapters.rapier.calls`).
 """
 
 from __future__ import annotations
@@ -127,13 +127,12 @@ import math
 from collections.abc import Callable
 from dataclasses import replace
 from importlib import metadata
-from types import ModuleType
 from typing import Any, ClassVar
 
-from adapters import rapier_scene, rapier_walls
-from adapters.rapier_scene import Tuning
+from adapters.rapier import scene as rapier_walls  # gravity and walls
+from adapters.rapier.scene import Tuning, scene_settings
 from adapters.shared import toi_refusal
-from adapters.stepping import SceneSteppingAdapter
+from adapters.stepping import SceneCallsAdapter, scene_inputs
 from crosscheck.core import contract
 from crosscheck.core.contract import (
     FEATURES,
@@ -149,6 +148,7 @@ from crosscheck.core.schema import (
     AabbCase,
     PairCase,
     ResponseCase,
+    SceneCase,
     SphereCase,
     ToiCase,
 )
@@ -274,7 +274,7 @@ TUNED = Conventions(
     negative_extents="",
     toi_target=0.0,
     toi_tolerance=0.0,
-    # gravity and walls (adapters/rapier_walls.py): no slop, a 60 Hz spring at the wall,
+    # gravity and walls (adapters/rapier/scene.py): no slop, a 60 Hz spring at the wall,
     # no sleeping, the scene's e on the wall under the variant's rule (Max: e)
     rest_gap=(0.0, 0.0), rest_sink_steps=0.0, rest_sink_s2=rapier_walls.REST_SINK_S2,
     sleeps=False, wall_restitution="",
@@ -308,11 +308,11 @@ DEFAULT = replace(
                     "for all the rigid-bodies' (rapier.rs, rigid-body CCD guide) and "
                     "soft_ccd_prediction is 0 (rigid_body.rs), so a contact forms only from "
                     "a step start within the 0.02 prediction distance; faster pairs pass "
-                    "through each other (measured in adapters/rapier_scene.py)."),
+                    "through each other (measured in adapters/rapier/scene.py)."),
 )
 
 
-class RapierTuned(SceneSteppingAdapter):
+class RapierTuned(SceneCallsAdapter):
     """Rapier set for the textbook rules and accuracy (see the module docstring)."""
 
     name: ClassVar[str] = "rapier"
@@ -334,13 +334,12 @@ class RapierTuned(SceneSteppingAdapter):
         ("normalized_max_linear_velocity", F32_MAX))
     """Responses: the ``IntegrationParameters`` the world gets."""
     scene_tuning: ClassVar[Tuning | None] = Tuning(parameters)
-    """What scenes are built with (adapters/rapier_scene.py; its dt is the scene's); None:
+    """What scenes are built with (adapters/rapier/scene.py; its dt is the scene's); None:
     rapier's defaults."""
 
     calls: ClassVar[str] = "adapters.rapier.calls"
-    scene_module: ClassVar[ModuleType] = rapier_scene
     tuned: ClassVar[bool] = True
-    """Responses: the tuned builders (adapters.shared.rapier), else rapier's defaults."""
+    """Responses: the tuned builders (adapters.rapier.calls), else rapier's defaults."""
 
     def version(self) -> str:
         return metadata.version("rapier3d")
@@ -380,6 +379,14 @@ class RapierTuned(SceneSteppingAdapter):
             "tuned": self.tuned, "parameters": self.parameters,
             "tol": APPROACH_RTOL * max(speeds, default=0.0), "max_steps": MAX_STEPS},
             refusal=refusal(case))
+
+    def scene_settings(self) -> dict[str, Any]:
+        """The variant's inputs to the scene calls besides the scene (``scene_tuning``)."""
+        return scene_settings(self.scene_tuning)
+
+    def scene_call(self, case: SceneCase) -> Call:
+        return Call("scene", "step_scene", {**scene_inputs(case), **self.scene_settings()},
+                    release="release_scene")
 
     def toi_call(self, case: ToiCase) -> Call:
         """``cast_shape``; refused for inputs rapier would take unchecked."""
@@ -429,9 +436,9 @@ class RapierCcd(RapierTuned):
         notes=("Scenes only.  Every body ccd_enabled (a bullet: swept against fixed and "
                "non-bullet bodies, never against another bullet, rigid_body.rs), on the "
                "tuned variant's soft CCD (predictive contacts whatever the travel).  "
-               "Measured in adapters/rapier_scene.py: ccd_enabled changes no fast-body "
+               "Measured in adapters/rapier/scene.py: ccd_enabled changes no fast-body "
                "result; soft CCD catches them.  Gravity and walls as the tuned variant's "
                "(half-spaces; resting gap and elastic drops measured equal to it, "
-               "adapters/rapier_walls.py)"),
+               "adapters/rapier/scene.py)"),
         sources=RapierTuned.conventions.sources + RAPIER_CCD_SOURCES,
     )

@@ -20,19 +20,89 @@ Time of impact: ``QueryPipeline.cast_shape`` of A's ball with velocity va - vb a
 ball at rest (B's frame), ``ShapeCastOptions(max_time_of_impact=duration, target_distance=0,
 stop_at_penetration=True)``; the normal is minus ``normal1`` (B's outward normal at the hit,
 pointing to A) as the engine gives it.
+
+Scene: a new ``PhysicsWorld`` (gravity 0) with the variant's ``IntegrationParameters`` (its
+``dt`` replaced by the scene's, ``num_solver_iterations`` the scene's if given); one dynamic
+body per sphere (tuned or default builders, ``ccd_enabled`` when ``ccd``; a 2-D scene keeps
+to z = 0) with a ball collider of restitution e; then the scene's gravity and one fixed body
+with a ``HalfSpace`` collider per wall (the variant's material, restitution e).  Numbers
+float32 cannot hold raise ``OverflowError``.  The ask times only ``PhysicsWorld.step`` and
+reads ``translation`` / ``linvel`` (a quarantined body raises).  What was measured:
+:mod:`adapters.rapier.scene`.
+
+What the pairs, responses and scenes share:
+- tuned bodies: no sleeping, soft CCD (``soft_ccd_prediction`` :data:`SOFT_CCD`), rotations
+  locked, no damping; default bodies: only a centre and a velocity;
+- a 2-D body keeps to the plane z = 0 (z translation locked);
+- tuned balls: friction 0, a restitution combined by a named rule; default balls: a mass
+  and a restitution;
+- a ``PhysicsWorld`` with gravity 0 and ``IntegrationParameters`` overrides.
 """
 
+import time
 from typing import Any
 
 from adapters.shared import approach_speed, no_contact, to3, z_half
-from adapters.shared.rapier import (
-    default_body,
-    default_collider,
-    in_plane,
-    new_world,
-    tuned_body,
-    tuned_collider,
+from adapters.shared.scene import (
+    check_scene,
+    check_surroundings,
+    in_scene_dim,
+    scene_answer,
+    step_and_record,
 )
+
+SOFT_CCD = 1e30
+"""Tuned bodies' ``soft_ccd_prediction``: no bound on the predictive reach of a step."""
+
+
+def tuned_body(centre: Any, velocity: Any) -> Any:
+    """The tuned variant's body: no sleeping, soft CCD, rotations locked, no damping."""
+    import rapier3d as rp
+
+    return (rp.RigidBody.dynamic().translation(centre).linvel(velocity).can_sleep(False)
+            .soft_ccd_prediction(SOFT_CCD).locked_axes(rp.LockedAxes.ROTATION_LOCKED)
+            .linear_damping(0.0).angular_damping(0.0))
+
+
+def default_body(centre: Any, velocity: Any) -> Any:
+    """The default variant's body: only its centre and velocity."""
+    import rapier3d as rp
+
+    return rp.RigidBody.dynamic().translation(centre).linvel(velocity)
+
+
+def in_plane(builder: Any, dim: int) -> Any:
+    """A 2-D body keeps to the plane z = 0 (z translation locked); a 3-D one is unchanged."""
+    return builder.enabled_translations((True, True, False)) if dim == 2 else builder
+
+
+def tuned_collider(radius: float, mass: float, restitution: float,
+                   rule: str = "MULTIPLY") -> Any:
+    """The tuned variant's ball: friction 0, ``restitution`` combined by ``rule`` (the name
+    of a ``CoefficientCombineRule``)."""
+    import rapier3d as rp
+
+    return (rp.Collider.ball(radius).mass(mass).friction(0.0).restitution(restitution)
+            .restitution_combine_rule(getattr(rp.CoefficientCombineRule, rule)))
+
+
+def default_collider(radius: float, mass: float, restitution: float) -> Any:
+    """The default variant's ball: its mass and restitution, the rest rapier's defaults."""
+    import rapier3d as rp
+
+    return rp.Collider.ball(radius).mass(mass).restitution(restitution)
+
+
+def new_world(parameters: tuple[tuple[str, float], ...]) -> Any:
+    """A ``PhysicsWorld`` with gravity 0 and these ``IntegrationParameters`` overrides."""
+    import rapier3d as rp
+
+    world = rp.PhysicsWorld(gravity=(0.0, 0.0, 0.0))
+    params = world.integration_parameters
+    for key, value in parameters:
+        setattr(params, key, value)
+    return world
+
 
 Answer = dict[str, Any]
 Vec = tuple[float, ...]
@@ -195,3 +265,100 @@ def cast_shape(p: dict[str, Any]) -> Answer:
     return {"hit": True, "toi": float(hit.time_of_impact),
             "normal": tuple(-float(x) for x in n[:p["dim"]])}
 
+
+F32_MAX = 3.4028234663852886e38
+"""The largest finite float32 (rapier's ``Real``): a scene's numbers must fit in it."""
+
+
+def scene_parameters(parameters: tuple[tuple[str, float], ...], dt: float,
+                     iterations: int | None) -> tuple[tuple[str, float], ...]:
+    """A scene world's ``IntegrationParameters``: the variant's, then dt and iterations."""
+    settings = [(k, v) for k, v in parameters if k != "dt"]
+    settings.append(("dt", dt))
+    if iterations is not None:
+        settings.append(("num_solver_iterations", iterations))
+    return tuple(settings)
+
+
+def _check_f32(bodies: tuple[Any, ...], restitution: float, gravity: Vec,
+               walls: tuple[Any, ...]) -> None:
+    """``OverflowError`` for a number float32 cannot hold (rapier would read it as inf)."""
+    for i, (center, radius, mass, velocity) in enumerate(bodies):
+        for x in (*center, radius, mass, *velocity):
+            if abs(x) > F32_MAX:
+                raise OverflowError(f"body {i}: {x!r} is beyond float32's largest finite value")
+    if restitution > F32_MAX:
+        raise OverflowError(f"restitution {restitution!r} is beyond float32's range")
+    named = [("gravity", g) for g in gravity]
+    named += [(f"wall {k} offset", offset) for k, (_, offset) in enumerate(walls)]
+    for name, x in named:
+        if abs(x) > F32_MAX:
+            raise OverflowError(f"{name} {x!r} is beyond float32's largest finite value")
+
+
+def _wall_collider(normal: Vec, offset: float, restitution: float, tuned: bool,
+                   rule: str) -> Any:
+    rp = engine()
+    n = to3(normal)
+    builder = rp.Collider.halfspace(n).translation((offset * n[0], offset * n[1], offset * n[2]))
+    builder = builder.restitution(restitution)
+    if tuned:
+        builder = (builder.friction(0.0)
+                   .restitution_combine_rule(getattr(rp.CoefficientCombineRule, rule)))
+    return builder
+
+
+def scene(bodies: tuple[Any, ...], dim: int, restitution: float, dt: float,
+          iterations: int | None, gravity: Vec, walls: tuple[Any, ...], steps: int,
+          record_every: int, parameters: tuple[tuple[str, float], ...], tuned: bool,
+          rule: str, ccd: bool) -> dict[str, Any]:
+    """The scene's world (see the module docstring)."""
+    check_scene(bodies, dim, restitution, dt)
+    check_surroundings(gravity, walls, dim)
+    _check_f32(bodies, restitution, gravity, walls)
+    if iterations is not None and iterations < 1:
+        raise ValueError(f"iterations must be >= 1, got {iterations}")
+    world = new_world(scene_parameters(parameters, dt, iterations))
+    handles = []
+    for center, radius, mass, velocity in bodies:
+        if tuned:
+            builder = tuned_body(to3(center), to3(velocity))
+            if ccd:
+                builder = builder.ccd_enabled(True)
+            collider = tuned_collider(radius, mass, restitution, rule)
+        else:
+            builder = default_body(to3(center), to3(velocity))
+            collider = default_collider(radius, mass, restitution)
+        handles.append(world.add_body(in_plane(builder, dim), [collider]))
+    rp = engine()
+    if any(gravity):
+        world.gravity = rp.Vec3(*to3(gravity))
+    if walls:
+        world.add_body(rp.RigidBody.fixed(), [
+            _wall_collider(normal, offset, restitution, tuned, rule) for normal, offset in walls])
+    return {"world": world, "handles": tuple(handles), "dim": dim, "dt": dt, "steps": steps,
+            "record_every": record_every, "bodies": bodies, "gravity": gravity, "walls": walls}
+
+
+def step_scene(built: dict[str, Any], clock: Any = time.perf_counter) -> Answer:
+    """Step the scene to its end (only ``PhysicsWorld.step`` is timed, by ``clock``): the
+    final state, the measures and the trajectory."""
+    world, dim = built["world"], built["dim"]
+
+    def read() -> tuple[Any, Any]:
+        if not world.quarantine.is_empty():
+            raise FloatingPointError(f"rapier quarantined a body whose state became "
+                                     f"non-finite ({world.quarantine})")
+        bodies = [world.rigid_bodies[h] for h in built["handles"]]
+        return (in_scene_dim(dim, (b.translation.to_tuple() for b in bodies), "position"),
+                in_scene_dim(dim, (b.linvel.to_tuple() for b in bodies), "velocity"))
+
+    wall_s, records = step_and_record(world.step, read, built["steps"], built["record_every"],
+                                      clock)
+    return scene_answer(built["bodies"], built["gravity"], built["walls"], built["dt"],
+                        built["steps"], read(), records, wall_s)
+
+
+def release_scene(built: dict[str, Any]) -> None:
+    """Empty the scene's world (``PhysicsWorld.clear``: its bodies and colliders go)."""
+    built["world"].clear()

@@ -2,7 +2,10 @@
 
 Only the standard library: a repro script includes this module's source where an engine's
 calls module imports from it (``from adapters.shared import ...``; the script builder,
-:mod:`crosscheck.studies.repro.calls`, puts the source in place of the import).
+:mod:`crosscheck.studies.repro.calls`, puts the source in place of the import).  So do its
+modules: :mod:`adapters.shared.scene` (checking, stepping and recording a scene, and its
+answer with the measures of :mod:`reference_impl.scene_measures`) and
+:mod:`adapters.shared.wall_boxes` (walls as thick static boxes, for pymunk and Box2D).
 
 - 2-D in a 3-D engine: :func:`to3` (a 2-D case lies in the plane z = 0) and :func:`z_half`
   (the z half-width both boxes of a 2-D case get);

@@ -24,9 +24,7 @@ Box2D = pytest.importorskip("Box2D")
 
 import adapters  # noqa: E402
 from adapters import box2d as b2e  # noqa: E402
-from adapters import box2d_scene  # noqa: E402
 from adapters.box2d import Box2dDefault, Box2dTuned  # noqa: E402
-from adapters.scene import Body  # noqa: E402
 from crosscheck.core.contract import Adapter  # noqa: E402
 from crosscheck.core.geometry import Vec, norm  # noqa: E402
 from crosscheck.core.model import Category, Kind, Observation, Status  # noqa: E402
@@ -37,6 +35,10 @@ from crosscheck.results.store import ResultsStore  # noqa: E402
 from crosscheck.run.runner import run  # noqa: E402
 from crosscheck.truth import oracle, scenes  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
+from tests.adapters.scene_calls import (  # noqa: E402
+    Body,
+    SceneCalls,
+)
 from tests.conftest import aabb, response, sphere  # noqa: E402
 
 pytestmark = pytest.mark.engine
@@ -492,7 +494,7 @@ def test_registry_and_version() -> None:
     assert all(s.startswith("https://") for s in TUNED.conventions.sources)
 
 
-# Scenes (sphere_scene, 2-D): adapters/box2d_scene.py in worlds of adapters/box2d_world.py.
+# Scenes (sphere_scene, 2-D): the scene calls of adapters/box2d/calls.py.
 
 def scene_case(bodies: list[dict[str, Any]], restitution: float = 1.0, dt: float = 1e-3,
                duration: float = 3.0) -> SceneCase:
@@ -528,7 +530,7 @@ def test_scenes_are_a_2d_capability_of_both_variants() -> None:
 
 @pytest.mark.parametrize("dt", [1e-3, 1.0 / 60.0, 0.1])
 def test_scene_elastic_head_on_pair_exchanges_velocities_exactly(dt: float) -> None:
-    # Declared (box2d_scene): the exchange is exact, momentum and energy too, at any dt.
+    # Declared (adapters/box2d/scene.py): the exchange is exact, momentum and energy too, at any dt.
     case = scene_case(HEAD_ON, dt=dt)
     got = stepped(TUNED, case)
     want = scenes.truth(case)
@@ -586,16 +588,19 @@ def test_scene_clock_reads_only_around_the_stepping_loop() -> None:
         return next(readings)
 
     bodies: list[Body] = [((-2.0, 0.0), 0.5, 1.0, (1.0, 0.0)), ((2.0, 0.0), 0.5, 1.0, (-1.0, 0.0))]
-    built = box2d_scene.prepare_scene(bodies, 2, 1.0, 1e-3, None, TUNED.scene_tuning)
-    logged = box2d_scene.Prepared(LoggedWorld(built.world, log), built.variant, built.bodies)
+    scenes = SceneCalls(TUNED)
+    built = scenes.prepare_scene(bodies, 2, 1.0, 1e-3, None, scenes.settings())
+    world = built["world"]
+    built["world"] = LoggedWorld(world, log)
     try:
-        idle = box2d_scene.run_scene(logged, 0, clock=clock)
+        idle = scenes.run_scene(built, 0, clock=clock)
         assert log == ["clock", "clock"]
         log.clear()
-        ran = box2d_scene.run_scene(logged, 7, clock=clock)
+        ran = scenes.run_scene(built, 7, clock=clock)
         assert log == ["clock", *["step"] * 7, "clock"]
     finally:
-        box2d_scene.release_scene(built)
+        built["world"] = world
+        scenes.release_scene(built)
     assert (idle.steps, ran.steps) == (0, 7)
     assert (idle.wall_s, ran.wall_s) == (0.5, 2.25)
     assert ran.positions[0][0] == pytest.approx(-2.0 + 7e-3, abs=F32_EPS * 4)
@@ -611,14 +616,16 @@ def test_scene_clock_reads_only_around_the_stepping_loop() -> None:
 def test_scene_bad_input_is_refused_before_box2d_sees_it(bodies: list[Body], dim: int,
                                                          restitution: float, match: str) -> None:
     with pytest.raises(ValueError, match=match):
-        box2d_scene.prepare_scene(bodies, dim, restitution, 1e-3, None, None)
+        scenes = SceneCalls(DEFAULT)
+        scenes.prepare_scene(bodies, dim, restitution, 1e-3, None, scenes.settings())
 
 
 def test_scene_negative_steps_are_refused() -> None:
-    built = box2d_scene.prepare_scene([((0.0, 0.0), 0.5, 1.0, (1.0, 0.0))], 2, 1.0, 1e-3, None,
-                                      None)
+    scenes = SceneCalls(DEFAULT)
+    built = scenes.prepare_scene([((0.0, 0.0), 0.5, 1.0, (1.0, 0.0))], 2, 1.0, 1e-3, None,
+                                 scenes.settings())
     try:
         with pytest.raises(ValueError, match="steps"):
-            box2d_scene.run_scene(built, -1)
+            scenes.run_scene(built, -1)
     finally:
-        box2d_scene.release_scene(built)
+        scenes.release_scene(built)

@@ -1,4 +1,4 @@
-"""Box2D scenes with gravity and static walls (``adapters/box2d_scene.py``, ``box2d_world``,
+"""Box2D scenes with gravity and static walls (the scene calls of ``adapters/box2d/calls.py``,
 ``wall_boxes``).
 
 Expected values come from closed forms (free fall, an elastic bounce between two walls, a
@@ -17,9 +17,9 @@ import pytest
 
 pytest.importorskip("Box2D")
 
-from adapters import box2d_scene
 from adapters.box2d import RTOL, Box2dBullet, Box2dDefault, Box2dTuned
-from adapters.scene import Surroundings, Wall
+from adapters.box2d.scene import POLYGON_RADIUS
+from tests.adapters.scene_calls import SceneCalls, Surroundings, Wall
 
 pytestmark = pytest.mark.engine
 
@@ -27,6 +27,9 @@ G = 9.81
 R = 0.1
 VARIANTS = [Box2dTuned(), Box2dDefault(), Box2dBullet()]
 IDS = [v.name for v in VARIANTS]
+box2d_scene = SceneCalls(Box2dTuned())
+"""Box2D's scene calls with a scene module's interface (a variant's settings passed in)."""
+DEFAULTS = Box2dDefault().scene_settings()
 GROUND = Surroundings((0.0, -G), (Wall((0.0, 1.0), 0.0),))
 
 
@@ -36,7 +39,7 @@ def disc(x: float, y: float, vx: float = 0.0, vy: float = 0.0) -> Any:
 
 def run(variant: Any, bodies: list[Any], e: float, dt: float, steps: int,
         surroundings: Surroundings | None, record_every: int = 0, clock: Any = None) -> Any:
-    prepared = box2d_scene.prepare_scene(bodies, 2, e, dt, None, variant.scene_tuning,
+    prepared = box2d_scene.prepare_scene(bodies, 2, e, dt, None, variant.scene_settings(),
                                          surroundings)
     try:
         extra = {} if clock is None else {"clock": clock}
@@ -126,16 +129,16 @@ def test_sliding_on_the_ground_keeps_the_speed_only_without_friction(variant: An
     if friction == 0.0:
         assert vx == 1.0
     else:
-        arm = R - box2d_scene.POLYGON_RADIUS
+        arm = R - POLYGON_RADIUS
         assert 1.0 / (1.0 + 0.5 * (R / arm) ** 2) <= vx < 1.0
 
 
 def test_a_wall_normal_that_is_not_an_axis_raises_naming_the_wall() -> None:
     bad = Surroundings((0.0, -G), (Wall((0.0, 1.0), 0.0), Wall((0.0, 2.0), 2.0)))
     with pytest.raises(ValueError, match="wall 1"):
-        box2d_scene.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, None, bad)
+        box2d_scene.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, DEFAULTS, bad)
     with pytest.raises(ValueError, match="wall 0: the offset"):
-        box2d_scene.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, None,
+        box2d_scene.prepare_scene([disc(0.0, R)], 2, 1.0, 1e-3, None, DEFAULTS,
                                   Surroundings((0.0, -G), (Wall((0.0, 1.0), math.inf),)))
 
 
@@ -145,8 +148,8 @@ def test_open_space_is_gravity_zero_and_no_walls(variant: Any) -> None:
     plain = run(variant, bodies, 0.8, 1e-3, 500, None)
     none = run(variant, bodies, 0.8, 1e-3, 500, Surroundings.none(2))
     assert plain.positions == none.positions and plain.velocities == none.velocities
-    prepared = box2d_scene.prepare_scene(bodies, 2, 0.8, 1e-3, None, variant.scene_tuning)
-    assert tuple(prepared.world.gravity) == (0.0, 0.0) and prepared.walls == ()
+    prepared = box2d_scene.prepare_scene(bodies, 2, 0.8, 1e-3, None, variant.scene_settings())
+    assert tuple(prepared["world"].gravity) == (0.0, 0.0) and prepared["planes"] == ()
     box2d_scene.release_scene(prepared)
 
 
@@ -155,16 +158,16 @@ def test_walls_are_static_boxes_with_the_variants_skin_and_e(variant: Any) -> No
     b2 = pytest.importorskip("Box2D")
     walls = (Wall((0.0, 1.0), 0.0), Wall((-1.0, 0.0), -2.0))
     prepared = box2d_scene.prepare_scene([disc(0.0, R)], 2, 0.3, 1e-3, None,
-                                         variant.scene_tuning, Surroundings((0.0, -G), walls))
+                                         variant.scene_settings(), Surroundings((0.0, -G), walls))
     try:
         _, skin = variant.conventions.rest_gap
-        for body in prepared.walls:
+        for body in prepared["planes"]:
             assert body.type == b2.b2_staticBody
             (fixture,) = body.fixtures
             assert fixture.restitution == pytest.approx(0.3)
             assert fixture.shape.radius == pytest.approx(skin)
         ground, side = ([body.GetWorldPoint(v) for v in body.fixtures[0].shape.vertices]
-                        for body in prepared.walls)
+                        for body in prepared["planes"])
         assert max(p[1] for p in ground) == 0.0 and min(p[0] for p in side) == 2.0
     finally:
         box2d_scene.release_scene(prepared)

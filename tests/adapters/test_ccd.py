@@ -24,8 +24,6 @@ from crosscheck.core.model import Category, Kind, Observation, Status
 from crosscheck.core.schema import CASE_ADAPTER, SceneCase
 from crosscheck.studies.repro.calls import calls_code
 from crosscheck.studies.repro.code import EngineCode
-from crosscheck.studies.repro.scenes_box2d import box2d_scene_code
-from crosscheck.studies.repro.scenes_rapier import rapier_scene_code
 from crosscheck.truth import oracle, scenes
 from crosscheck.truth.score import judge
 
@@ -149,8 +147,8 @@ def _run(code: EngineCode) -> dict[str, Any]:
 
 @pytest.mark.parametrize(("adapter", "write", "switch"), [
     (PyBulletCcd(), calls_code, "CCD = 0.9"),
-    (Box2dBullet(), box2d_scene_code, "bullet=True"),
-    (RapierCcd(), rapier_scene_code, ".ccd_enabled(True)"),
+    (Box2dBullet(), calls_code, "BULLET = True"),
+    (RapierCcd(), calls_code, "CCD = True"),
 ], ids=["pybullet-ccd", "box2d-bullet", "rapier-ccd"])
 def test_the_repro_script_makes_the_switch_and_the_adapter_s_answer(
         adapter: Any, write: Any, switch: str) -> None:

@@ -28,7 +28,8 @@ from adapters.mujoco import (  # noqa: E402
     MujocoStiff,
     sizes_of,
 )
-from adapters.shared.mujoco import compile_pair, refusal, set_sizes  # noqa: E402
+from adapters.mujoco.calls import compile_pair, refusal, set_sizes  # noqa: E402
+from adapters.mujoco.scene import TUNED_RTOL, Tuning  # noqa: E402
 from crosscheck.cases.load import load_paths  # noqa: E402
 from crosscheck.core.geometry import Vec, to3  # noqa: E402
 from crosscheck.core.model import Category, Observation, Undefined  # noqa: E402
@@ -41,6 +42,7 @@ from crosscheck.truth import oracle  # noqa: E402
 from crosscheck.truth.bounds import bound, error_of  # noqa: E402
 from crosscheck.truth.categories import velocity_scale  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
+from tests.adapters.scene_calls import MujocoSceneCalls  # noqa: E402
 from tests.conftest import ROOT, aabb, sphere  # noqa: E402
 from tests.conftest import response as resp_case  # noqa: E402
 from tools.stiff_precision import draw, relative_error  # noqa: E402
@@ -197,7 +199,7 @@ def test_no_log_file_is_written_and_without_the_handler_there_is_one(tmp_path: P
             "data = mujoco.MjData(model)\n"
             "data.qpos[0] = float('nan')\n"
             "mujoco.mj_step(model, data)\n")
-    with_handler = "from adapters.shared.mujoco import engine\nmujoco = engine()\n" + warn
+    with_handler = "from adapters.mujoco.calls import engine\nmujoco = engine()\n" + warn
     plain = "import mujoco\n" + warn
     for name, code in (("handled", with_handler), ("plain", plain)):
         folder = tmp_path / name
@@ -466,13 +468,13 @@ def test_registry_and_versions() -> None:
     assert STIFF.conventions.rtol == DEFAULT.conventions.rtol == 2.0**-50
 
 
-# --- scenes (adapters/mujoco_scene.py) ---
+# --- scenes (the scene calls of adapters/mujoco/calls.py) ---
 
 HEAD_ON = [((-2.0, 0.0), 0.5, 1.0, (1.0, 0.0)), ((2.0123456789, 0.0), 0.5, 1.0, (-1.0, 0.0))]
 
 
 def _stepped(bodies: list[Any], dim: int, e: float, tuning: Any, steps: int) -> Any:
-    from adapters import mujoco_scene
+    mujoco_scene = MujocoSceneCalls(MujocoStiff())
 
     prepared = mujoco_scene.prepare_scene(bodies, dim, e, 1e-3, None, tuning)
     return mujoco_scene.run_scene(prepared, steps)
@@ -480,13 +482,11 @@ def _stepped(bodies: list[Any], dim: int, e: float, tuning: Any, steps: int) -> 
 
 @pytest.mark.parametrize("dim", [2, 3])
 def test_tuned_scene_exchanges_velocities_of_an_elastic_head_on_pair(dim: int) -> None:
-    from adapters import mujoco_scene
-
     bodies = [(c + (0.0,) * (dim - 2), r, m, v + (0.0,) * (dim - 2)) for c, r, m, v in HEAD_ON]
-    run = _stepped(bodies, dim, 1.0, mujoco_scene.Tuning(), 3000)
+    run = _stepped(bodies, dim, 1.0, Tuning(), 3000)
     (va, *rest_a), (vb, *rest_b) = run.velocities
-    assert va == pytest.approx(-1.0, abs=mujoco_scene.TUNED_RTOL)
-    assert vb == pytest.approx(1.0, abs=mujoco_scene.TUNED_RTOL)
+    assert va == pytest.approx(-1.0, abs=TUNED_RTOL)
+    assert vb == pytest.approx(1.0, abs=TUNED_RTOL)
     assert va != -1.0  # a soft contact: not the exact exchange (the test can fail)
     assert rest_a == rest_b == [0.0] * (dim - 1)
     assert abs(va + vb) <= 1e-12  # momentum kept: equal and opposite constraint forces
@@ -494,9 +494,7 @@ def test_tuned_scene_exchanges_velocities_of_an_elastic_head_on_pair(dim: int) -
 
 
 def test_tuned_scene_restitution_is_the_scenes_e() -> None:
-    from adapters import mujoco_scene
-
-    run = _stepped(HEAD_ON, 2, 0.5, mujoco_scene.Tuning(substeps=32), 3000)
+    run = _stepped(HEAD_ON, 2, 0.5, Tuning(substeps=32), 3000)
     assert run.velocities[0][0] == pytest.approx(-0.5, abs=1e-2)
     assert run.velocities[1][0] == pytest.approx(0.5, abs=1e-2)
 
@@ -510,10 +508,10 @@ def test_default_scene_ignores_restitution_and_keeps_momentum() -> None:
 
 
 def test_scene_clock_reads_only_around_the_stepping() -> None:
-    from adapters import mujoco_scene
+    mujoco_scene = MujocoSceneCalls(MujocoStiff())
 
     readings = iter([10.0, 10.25, 20.0, 20.5])
-    prepared = mujoco_scene.prepare_scene(HEAD_ON, 2, 1.0, 1e-3, None, mujoco_scene.Tuning())
+    prepared = mujoco_scene.prepare_scene(HEAD_ON, 2, 1.0, 1e-3, None, Tuning())
     assert mujoco_scene.run_scene(prepared, 0, clock=lambda: next(readings)).wall_s == 0.25
     stepped = mujoco_scene.run_scene(prepared, 5, clock=lambda: next(readings))
     assert stepped.wall_s == 0.5 and stepped.steps == 5
@@ -531,10 +529,10 @@ def test_scene_clock_reads_only_around_the_stepping() -> None:
 ])
 def test_scene_refuses_bad_input(bodies: list[Any], dim: int, e: float, dt: float,
                                  message: str) -> None:
-    from adapters import mujoco_scene
+    mujoco_scene = MujocoSceneCalls(MujocoStiff())
 
     with pytest.raises(ValueError, match=message):
-        mujoco_scene.prepare_scene(bodies, dim, e, dt, None, mujoco_scene.Tuning())
+        mujoco_scene.prepare_scene(bodies, dim, e, dt, None, Tuning())
     with pytest.raises(ValueError, match="steps must be"):
         mujoco_scene.run_scene(
             mujoco_scene.prepare_scene(HEAD_ON, 2, 1.0, 1e-3, None, None), -1)

@@ -1,4 +1,4 @@
-"""MuJoCo scenes with gravity and walls (adapters/mujoco_scene.py, adapters/mujoco_walls.py).
+"""MuJoCo scenes with gravity and walls (adapters/mujoco/calls.py, adapters/mujoco/scene.py).
 
 Every expected value comes from a closed form (free fall, the declared rest band and sink,
 the declared restitution precision) or from the engine compared with itself (a wall against
@@ -16,14 +16,23 @@ import pytest
 mujoco = pytest.importorskip("mujoco")
 
 import adapters  # noqa: E402
-from adapters import mujoco_scene, mujoco_walls  # noqa: E402
-from adapters.scene import Body, SceneRun, Surroundings, Wall  # noqa: E402
+from adapters.mujoco import MujocoStiff  # noqa: E402
+from adapters.mujoco import scene as mujoco_walls  # noqa: E402
+from tests.adapters.scene_calls import (  # noqa: E402
+    Body,
+    MujocoSceneCalls,
+    SceneRun,
+    Surroundings,
+    Wall,
+)
 
 pytestmark = pytest.mark.engine
 
 G = 9.81
 R = 0.1
-VARIANTS = {"mujoco": mujoco_scene.Tuning(), "mujoco-default": None}
+mujoco_scene = MujocoSceneCalls(MujocoStiff())
+"""MuJoCo's scene calls with a scene module's interface (a variant's Tuning passed in)."""
+VARIANTS = {"mujoco": mujoco_walls.Tuning(), "mujoco-default": None}
 
 
 def _up(dim: int) -> int:
@@ -110,7 +119,7 @@ def test_a_tuned_elastic_drop_returns_to_its_height_within_the_declared_precisio
     assert run.samples is not None
     gaps = run.samples.positions[:, 0, 2] - R
     after = gaps[round(1.5 * fall / dt):]  # the flight after the first bounce
-    rtol = mujoco_scene.TUNED_RTOL
+    rtol = mujoco_walls.TUNED_RTOL
     assert h * (1.0 - rtol) ** 2 - G * dt * dt <= after.max() <= h * (1.0 + rtol) ** 2
 
 
@@ -124,7 +133,7 @@ def test_a_tuned_elastic_ball_between_two_walls_keeps_its_speed(dim: int) -> Non
                Surroundings((0.0,) * dim, walls))
     free = 2.0 * (1.0 - R)  # the centre's travel between the walls
     bounces = math.floor((speed * duration - free / 2.0) / free) + 1
-    rtol = mujoco_scene.TUNED_RTOL
+    rtol = mujoco_walls.TUNED_RTOL
     got = math.hypot(*run.velocities[0])
     assert speed * (1.0 - rtol) ** bounces <= got <= speed * (1.0 + rtol) ** bounces
     assert -1.0 + R - 0.01 < run.positions[0][0] < 1.0 - R + 0.01
@@ -140,7 +149,7 @@ def test_a_tuned_wall_bounces_like_the_mirror_image_sphere() -> None:
     alone = _run("mujoco", [ball], 3, e, dt, steps, wall)
     pair = _run("mujoco", [ball, mirror], 3, e, dt, steps, None)
     assert alone.velocities[0][0] == pytest.approx(pair.velocities[0][0], rel=1e-9)
-    assert alone.velocities[0][0] == pytest.approx(-e, rel=mujoco_scene.TUNED_RTOL * 50)
+    assert alone.velocities[0][0] == pytest.approx(-e, rel=mujoco_walls.TUNED_RTOL * 50)
 
 
 @pytest.mark.parametrize("name", VARIANTS)
@@ -150,7 +159,7 @@ def test_a_wall_contact_has_the_parameters_of_a_sphere_contact(name: str) -> Non
     bodies: list[Body] = [_sphere(3, -0.01), ((0.15, 0.0, R + 0.05), R, 1.0, (0.0, 0.0, 0.0))]
     prepared = mujoco_scene.prepare_scene(bodies, 3, 0.6, 1e-3, None, VARIANTS[name],
                                           _ground(3))
-    m, d = prepared.model, prepared.data
+    m, d = prepared["model"], prepared["data"]
     mujoco.mj_kinematics(m, d)
     mujoco.mj_collision(m, d)
     assert d.ncon == 2
@@ -178,7 +187,7 @@ def test_every_wall_is_an_exact_plane_and_walls_never_touch_each_other() -> None
     walls = tuple(Wall(n, -2.0) for n in axes)  # a closed box |x|, |y|, |z| <= 2
     prepared = mujoco_scene.prepare_scene([_sphere(3, 0.0)], 3, 1.0, 1e-3, None, None,
                                           Surroundings((0.0, 0.0, -G), walls))
-    m, d = prepared.model, prepared.data
+    m, d = prepared["model"], prepared["data"]
     mujoco.mj_kinematics(m, d)
     mujoco.mj_collision(m, d)
     assert d.ncon == 0
@@ -218,5 +227,5 @@ def test_each_variant_declares_no_sleeping_and_its_wall_restitution(name: str) -
     assert conventions.sleeps is False
     prepared = mujoco_scene.prepare_scene([_sphere(3, 0.0)], 3, 1.0, 1e-3, None,
                                           VARIANTS[name], _ground(3))
-    assert prepared.model.opt.enableflags == 0  # mjENBL_SLEEP is opt-in
+    assert prepared["model"].opt.enableflags == 0  # mjENBL_SLEEP is opt-in
     assert (conventions.wall_restitution == "") == (name == "mujoco")

@@ -21,8 +21,8 @@ import adapters
 from adapters import pybullet as pbe
 from adapters.pybullet import PyBulletDefault, PyBulletTuned, engine
 from adapters.pybullet import calls as pool
+from adapters.pybullet import calls as shared_pybullet
 from adapters.pybullet.calls import Pair
-from adapters.shared import pybullet as shared_pybullet
 from crosscheck.core.model import Observation
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import ROOT, aabb, response, sphere

@@ -11,6 +11,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
 
@@ -18,8 +19,7 @@ pytest.importorskip("pybullet")
 
 import adapters
 from adapters.pybullet import PyBulletDefault, PyBulletTuned, engine
-from adapters.scene import Body, SceneRun, Surroundings, Wall
-from tests.adapters.scene_calls import SceneCalls
+from tests.adapters.scene_calls import Body, SceneCalls, SceneRun, Surroundings, Wall
 
 pytestmark = pytest.mark.engine
 

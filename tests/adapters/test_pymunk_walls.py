@@ -15,8 +15,7 @@ import pytest
 pytest.importorskip("pymunk")
 
 from adapters.pymunk import PymunkDefault, PymunkTuned
-from adapters.scene import Surroundings, Wall
-from tests.adapters.scene_calls import SceneCalls
+from tests.adapters.scene_calls import SceneCalls, Surroundings, Wall
 
 pytestmark = pytest.mark.engine
 

@@ -3,14 +3,14 @@
 The conformance tests call rapier3d directly and pin what the adapters rely on, each with
 the engine fact named, so that an upgrade that changes it fails here.  Expected values come
 from the case's geometry, the exact oracle or a declared rule, never from an engine run.
-The scene tests (``adapters/rapier_scene.py``) are at the end; with them the module is over
-400 lines: one engine's pinned behaviour, kept in the one test module this engine has.
+The scene tests (the scene calls of ``adapters/rapier/calls.py``) are at the end; with them
+the module is over 400 lines: one engine's pinned behaviour, kept in the one test module this
+engine has.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +32,7 @@ from crosscheck.truth import oracle  # noqa: E402
 from crosscheck.truth.bounds import error_of  # noqa: E402
 from crosscheck.truth.categories import length_scale, velocity_scale  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
+from tests.adapters.scene_calls import SceneCalls  # noqa: E402
 from tests.conftest import aabb, response, sphere  # noqa: E402
 
 pytestmark = pytest.mark.engine
@@ -420,7 +421,7 @@ def test_touching_spheres_are_a_convention_disagreement_for_the_default_variant(
     assert (verdict.status, verdict.category) == (Status.DISAGREE, Category.CONVENTION)
 
 
-# --- scenes (adapters/rapier_scene.py) ----------------------------------------------------
+# --- scenes (the scene calls of adapters/rapier/calls.py) ------------------------------
 
 HEAD_ON_2D = [((-2.0, 0.0), 0.5, 1.0, (1.0, 0.0)), ((2.0123456789, 0.0), 0.5, 1.0, (-1.0, 0.0))]
 HEAD_ON_3D = [((-2.0, 0.0, 0.0), 0.5, 1.0, (1.0, 0.0, 0.0)),
@@ -429,8 +430,7 @@ HEAD_ON_3D = [((-2.0, 0.0, 0.0), 0.5, 1.0, (1.0, 0.0, 0.0)),
 
 def stepped_scene(bodies: list[Any], dim: int, e: float, tuning: Any, steps: int = 3000,
                   dt: float = 1e-3, iterations: int | None = None) -> Any:
-    from adapters import rapier_scene
-
+    rapier_scene = SceneCalls(TUNED)
     prepared = rapier_scene.prepare_scene(bodies, dim, e, dt, iterations, tuning)
     try:
         return rapier_scene.run_scene(prepared, steps)
@@ -442,8 +442,8 @@ def stepped_scene(bodies: list[Any], dim: int, e: float, tuning: Any, steps: int
 def test_tuned_scene_exchanges_velocities_of_an_elastic_head_on_pair(bodies: list[Any],
                                                                      dim: int) -> None:
     # Equal masses, e = 1: the textbook exchanges the velocities (declared: exactly, in both
-    # dims, measured in adapters/rapier_scene.py); momentum stays 0 and the energy 1.
-    run = stepped_scene(bodies, dim, 1.0, TUNED.scene_tuning)
+    # dims, measured in adapters/rapier/scene.py); momentum stays 0 and the energy 1.
+    run = stepped_scene(bodies, dim, 1.0, TUNED.scene_settings())
     assert run.steps == 3000 and len(run.velocities[0]) == dim
     assert run.velocities == (bodies[1][3], bodies[0][3])
     momentum = [math.fsum(1.0 * v[i] for v in run.velocities) for i in range(dim)]
@@ -455,7 +455,7 @@ def test_tuned_scene_exchanges_velocities_of_an_elastic_head_on_pair(bodies: lis
 @pytest.mark.parametrize("variant", [TUNED, DEFAULT], ids=["rapier", "rapier-default"])
 def test_scene_restitution_is_e_rounded_to_float32(variant: RapierTuned, e: float) -> None:
     # Every collider gets e: Max (tuned) and Average (default) of e and e are e, in float32.
-    run = stepped_scene(HEAD_ON_2D, 2, e, variant.scene_tuning)
+    run = stepped_scene(HEAD_ON_2D, 2, e, variant.scene_settings())
     f32_e = float(rp.Vec3(e, 0.0, 0.0).to_tuple()[0])
     assert run.velocities[1][0] == pytest.approx(f32_e, rel=4 * F32_EPSILON)
     assert run.velocities[1][0] - run.velocities[0][0] == pytest.approx(2 * f32_e, rel=1e-6)
@@ -464,26 +464,25 @@ def test_scene_restitution_is_e_rounded_to_float32(variant: RapierTuned, e: floa
 def test_tuned_scene_is_the_textbook_cradle_and_default_sleeps_slow_bodies() -> None:
     cradle = [((-1.0, 0.0), 0.5, 1.0, (1.0, 0.0))] + [
         ((float(i), 0.0), 0.5, 1.0, (0.0, 0.0)) for i in range(4)]
-    run = stepped_scene(cradle, 2, 1.0, TUNED.scene_tuning, steps=2000)
+    run = stepped_scene(cradle, 2, 1.0, TUNED.scene_settings(), steps=2000)
     assert [v[0] for v in run.velocities] == pytest.approx([0.0, 0.0, 0.0, 0.0, 1.0],
                                                            abs=4 * F32_EPSILON)
     slow = [((0.0, 0.0), 0.5, 1.0, (0.05, 0.0))]
-    assert stepped_scene(slow, 2, 1.0, TUNED.scene_tuning).velocities[0][0] == pytest.approx(
+    assert stepped_scene(slow, 2, 1.0, TUNED.scene_settings()).velocities[0][0] == pytest.approx(
         0.05, rel=4 * F32_EPSILON)  # no sleeping: the body keeps its speed
-    assert stepped_scene(slow, 2, 1.0, DEFAULT.scene_tuning).velocities == ((0.0, 0.0),)
+    assert stepped_scene(slow, 2, 1.0, DEFAULT.scene_settings()).velocities == ((0.0, 0.0),)
 
 
 def test_scene_speed_cap_only_in_the_default_variant() -> None:
     fast = [((0.0, 0.0, 0.0), 0.5, 1.0, (1000.0, 0.0, 0.0))]
-    assert stepped_scene(fast, 3, 1.0, TUNED.scene_tuning, steps=1).velocities[0][0] == 1000.0
-    capped = stepped_scene(fast, 3, 1.0, DEFAULT.scene_tuning, steps=1).velocities[0][0]
+    assert stepped_scene(fast, 3, 1.0, TUNED.scene_settings(), steps=1).velocities[0][0] == 1000.0
+    capped = stepped_scene(fast, 3, 1.0, DEFAULT.scene_settings(), steps=1).velocities[0][0]
     assert capped == re_.DEFAULT_MAX_SPEED
 
 
 def test_scene_clock_times_only_the_stepping_loop() -> None:
     # Injected time: the readings go to the same log as the world's steps.
-    from adapters import rapier_scene
-
+    rapier_scene = SceneCalls(TUNED)
     log: list[str] = []
     readings = iter([1.0, 1.5, 3.0, 7.0])
 
@@ -491,8 +490,8 @@ def test_scene_clock_times_only_the_stepping_loop() -> None:
         log.append("clock")
         return next(readings)
 
-    prepared = rapier_scene.prepare_scene(HEAD_ON_3D, 3, 1.0, 1e-3, None, TUNED.scene_tuning)
-    world = prepared.world
+    prepared = rapier_scene.prepare_scene(HEAD_ON_3D, 3, 1.0, 1e-3, None, TUNED.scene_settings())
+    world = prepared["world"]
 
     class Watched:
         quarantine = world.quarantine
@@ -503,7 +502,7 @@ def test_scene_clock_times_only_the_stepping_loop() -> None:
             log.append("step")
             world.step()
 
-    prepared = replace(prepared, world=Watched())  # the same bodies, the steps logged
+    prepared["world"] = Watched()  # the same bodies, the steps logged
     idle = rapier_scene.run_scene(prepared, 0, clock=clock)
     assert log == ["clock", "clock"]
     log.clear()
@@ -513,9 +512,8 @@ def test_scene_clock_times_only_the_stepping_loop() -> None:
 
 
 def test_bad_scenes_are_refused_with_value_error() -> None:
-    from adapters import rapier_scene
-
-    tuning = TUNED.scene_tuning
+    rapier_scene = SceneCalls(TUNED)
+    tuning = TUNED.scene_settings()
     with pytest.raises(ValueError, match="mass"):
         rapier_scene.prepare_scene([((0.0, 0.0), 0.5, 0.0, (1.0, 0.0))], 2, 1.0, 1e-3, None,
                                    tuning)
@@ -533,9 +531,9 @@ def test_bad_scenes_are_refused_with_value_error() -> None:
     prepared = rapier_scene.prepare_scene(HEAD_ON_2D, 2, 1.0, 1e-3, None, tuning)
     with pytest.raises(ValueError, match="steps"):
         rapier_scene.run_scene(prepared, -1)
-    assert len(prepared.world.rigid_bodies) == 2
+    assert len(prepared["world"].rigid_bodies) == 2
     rapier_scene.release_scene(prepared)
-    assert len(prepared.world.rigid_bodies) == len(prepared.world.colliders) == 0
+    assert len(prepared["world"].rigid_bodies) == len(prepared["world"].colliders) == 0
 
 
 def test_both_variants_step_suite_scenes_through_the_adapter() -> None:

@@ -1,4 +1,4 @@
-"""Rapier scenes with gravity and static walls (``adapters/rapier_walls.py``, ``rapier_scene``).
+"""Rapier scenes with gravity and static walls (``adapters/rapier/calls.py``, ``scene.py``).
 
 Expected values come from closed forms (free fall, a spring's static deflection, an elastic
 or inelastic bounce between two walls) and from the conventions the variants declare, never
@@ -15,9 +15,13 @@ import pytest
 
 rp = pytest.importorskip("rapier3d")
 
-from adapters import rapier_scene, rapier_walls  # noqa: E402
 from adapters.rapier import RapierCcd, RapierDefault, RapierTuned  # noqa: E402
-from adapters.scene import Surroundings, Wall  # noqa: E402
+from adapters.rapier import scene as rapier_walls  # noqa: E402
+from tests.adapters.scene_calls import (  # noqa: E402
+    SceneCalls,
+    Surroundings,
+    Wall,
+)
 
 pytestmark = pytest.mark.engine
 
@@ -25,6 +29,8 @@ G = 9.81
 R = 0.1
 VARIANTS = [RapierTuned(), RapierDefault(), RapierCcd()]
 IDS = [v.name for v in VARIANTS]
+rapier_scene = SceneCalls(RapierTuned())
+"""Rapier's scene calls with a scene module's interface (a variant's settings passed in)."""
 F32_ULP_01 = 2.0**-27
 """The spacing of float32 numbers in [0.0625, 0.125): a centre at height 0.1."""
 
@@ -41,7 +47,7 @@ def at_height(dim: int, z: float) -> tuple[float, ...]:
 
 def run(variant: Any, bodies: list[Any], dim: int, e: float, dt: float, steps: int,
         surroundings: Surroundings | None, record_every: int = 0) -> Any:
-    prepared = rapier_scene.prepare_scene(bodies, dim, e, dt, None, variant.scene_tuning,
+    prepared = rapier_scene.prepare_scene(bodies, dim, e, dt, None, variant.scene_settings(),
                                           surroundings)
     try:
         return rapier_scene.run_scene(prepared, steps, record_every=record_every)
@@ -71,7 +77,7 @@ def test_a_resting_sphere_sinks_the_declared_spring_deflection(variant: Any, dim
     # The declared band and sink: rest_gap (0, 0) and |g| rest_sink_s2 = g / omega^2 (a
     # 60 Hz spring), up to where float32 freezes the approach: a substep's move below half
     # an ulp of the height, the overdamped spring's slow mode moving h omega / 2 zeta of the
-    # distance left per substep h (twice that estimate, see adapters/rapier_walls.py).
+    # distance left per substep h (twice that estimate, see adapters/rapier/scene.py).
     conventions = variant.conventions
     sink = G * conventions.rest_sink_s2 + G * conventions.rest_sink_steps * dt**2
     omega = 2.0 * math.pi * rapier_walls.STATIC_CONTACT_HZ
@@ -91,10 +97,10 @@ def test_a_resting_sphere_sinks_the_declared_spring_deflection(variant: Any, dim
 def test_only_the_variants_declared_to_sleep_put_a_resting_sphere_to_sleep(variant: Any) -> None:
     # RigidBodyActivation: slower than the threshold for time_until_sleep (0.5 s) -> asleep.
     prepared = rapier_scene.prepare_scene([(at_height(3, R), R, 1.0, (0.0,) * 3)], 3, 0.0,
-                                          1.0 / 60.0, None, variant.scene_tuning, ground(3))
+                                          1.0 / 60.0, None, variant.scene_settings(), ground(3))
     try:
         scene = rapier_scene.run_scene(prepared, 120)
-        body = prepared.world.rigid_bodies[prepared.handles[0]]
+        body = prepared["world"].rigid_bodies[prepared["handles"][0]]
         assert body.is_sleeping == variant.conventions.sleeps
         if variant.conventions.sleeps:
             assert scene.velocities == ((0.0, 0.0, 0.0),)
@@ -129,9 +135,9 @@ def test_walls_are_one_fixed_body_with_a_half_space_each() -> None:
     box = Surroundings((0.0, -G), (Wall((0.0, 1.0), 0.0), Wall((1.0, 0.0), -2.0),
                                    Wall((-1.0, 0.0), -2.0)))
     prepared = rapier_scene.prepare_scene([((0.0, 1.0), R, 1.0, (0.0, 0.0))], 2, 1.0, 1e-3,
-                                          None, RapierTuned.scene_tuning, box)
-    world = prepared.world
-    walls = [body for handle, body in world.rigid_bodies if handle not in prepared.handles]
+                                          None, RapierTuned().scene_settings(), box)
+    world = prepared["world"]
+    walls = [body for handle, body in world.rigid_bodies if handle not in prepared["handles"]]
     assert len(walls) == 1 and walls[0].is_fixed
     shapes = [world.colliders[c].shape for c in walls[0].colliders]
     assert [s.shape_type for s in shapes] == [rp.ShapeType.HALFSPACE] * 3
@@ -144,14 +150,14 @@ def test_open_space_builds_no_wall_and_no_gravity(dim: int) -> None:
     bodies = [((0.0,) * dim, R, 1.0, (1.0,) + (0.0,) * (dim - 1))]
     for surroundings in (None, Surroundings.none(dim)):
         prepared = rapier_scene.prepare_scene(bodies, dim, 1.0, 1e-3, None,
-                                              RapierTuned.scene_tuning, surroundings)
-        assert len(prepared.world.rigid_bodies) == 1
-        assert prepared.world.gravity.to_tuple() == (0.0, 0.0, 0.0)
+                                              RapierTuned().scene_settings(), surroundings)
+        assert len(prepared["world"].rigid_bodies) == 1
+        assert prepared["world"].gravity.to_tuple() == (0.0, 0.0, 0.0)
         rapier_scene.release_scene(prepared)
 
 
 def test_bad_surroundings_are_refused_naming_the_wall() -> None:
-    tuning = RapierTuned.scene_tuning
+    tuning = RapierTuned().scene_settings()
     body = [((0.0, 1.0), R, 1.0, (0.0, 0.0))]
     tilted = Surroundings((0.0, -G), (Wall((0.0, 1.0), 0.0), Wall((0.6, 0.8), 0.0)))
     with pytest.raises(ValueError, match="wall 1"):
@@ -168,7 +174,7 @@ def test_samples_have_the_scenes_shape_and_the_wall_time_comes_from_the_clock(
         steps: int, every: int) -> None:
     bodies = [((0.0, 0.5), R, 1.0, (0.0, 0.0)), ((1.0, 0.5), R, 2.0, (0.0, 0.0))]
     prepared = rapier_scene.prepare_scene(bodies, 2, 1.0, 1e-3, None,
-                                          RapierDefault.scene_tuning, ground(2))
+                                          RapierDefault().scene_settings(), ground(2))
     ticks = itertools.count()
     scene = rapier_scene.run_scene(prepared, steps, clock=lambda: float(next(ticks)),
                                    record_every=every)

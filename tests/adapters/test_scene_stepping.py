@@ -20,8 +20,7 @@ pytest.importorskip("pymunk")
 
 from adapters.pybullet import TUNED_BODY, TUNED_WORLD, PyBulletDefault, PyBulletTuned, engine
 from adapters.pymunk import PymunkDefault, PymunkTuned
-from adapters.scene import Body, SceneRun
-from tests.adapters.scene_calls import SceneCalls
+from tests.adapters.scene_calls import Body, SceneCalls, SceneRun
 
 pybullet_scene = SceneCalls(PyBulletTuned())
 pymunk_scene = SceneCalls(PymunkTuned())

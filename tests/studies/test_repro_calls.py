@@ -27,8 +27,7 @@ from crosscheck.core.model import Kind, Undefined, quantities_of
 from crosscheck.core.schema import AabbCase, ResponseCase, SphereCase
 from crosscheck.core.values import encode
 from crosscheck.studies.repro.calls import included
-from crosscheck.studies.repro.script import engine_part, script_text
-from crosscheck.studies.repro.writers import NoScene
+from crosscheck.studies.repro.script import ReproError, engine_part, script_text
 from tests.conftest import aabb, sphere
 
 TOY_CALLS = '''\
@@ -143,5 +142,5 @@ def test_a_kind_the_adapter_makes_no_call_for_has_no_script(toy: ToySpheres) -> 
         toy.call(box)  # its pair call takes spheres only
     with pytest.raises(NotImplementedError, match="no call for sphere"):
         ToyResponses().call(sphere(0.0, 3.0))
-    with pytest.raises(NoScene):
+    with pytest.raises(ReproError, match="no call for sphere"):
         engine_part(ToyResponses(), sphere(0.0, 3.0))

@@ -20,7 +20,7 @@ import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from adapters.shared.pybullet import connect, engine
+from adapters.pybullet.calls import connect, engine
 
 Pair = tuple[Sequence[float], Any, Sequence[float], Any]
 Loop = Callable[[], None]

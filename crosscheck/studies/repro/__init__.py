@@ -7,11 +7,8 @@
 - :mod:`~crosscheck.studies.repro.calls`: the engine part of any adapter whose engine calls
   are a module (:class:`~crosscheck.core.contract.CallsAdapter`, built-in or a plug-in's):
   that module's source, verbatim, and the call on the case's exact inputs;
-- :mod:`~crosscheck.studies.repro.writers`: until they are calls too, the old writers of the
-  stepping engines' scenes: :mod:`~crosscheck.studies.repro.scenes` (PyBullet and pymunk;
-  the other engines' scenes in ``scenes_box2d``, ``scenes_mujoco``, ``scenes_rapier``; their
-  gravity, walls and measures in :mod:`~crosscheck.studies.repro.measures`), on the ground
-  of :mod:`~crosscheck.studies.repro.code`;
+- :mod:`~crosscheck.studies.repro.code`: what every engine part is made of (exact
+  literals, guards);
 - :mod:`~crosscheck.studies.repro.issue`: a Markdown bug report around a script.
 """
 

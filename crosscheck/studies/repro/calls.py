@@ -8,8 +8,9 @@ verbatim, then makes the call on the case's exact inputs (``float.fromhex`` lite
 adapter does: ``built = <build>(**inputs)``, ``answer = <ask>(built)``; each quantity is the
 answer's (absent: None, printed ``null``; a ``str``, a value with no definition, ``null``,
 its reason a comment).  Where the calls module imports a shared helper (``from
-adapters.shared import ...``, :mod:`adapters.shared`, plain too) the helper's source comes
-first, in place of the import.  A call the adapter refuses (``Call.refusal``) is behind a
+adapters.shared import ...``, :mod:`adapters.shared`, plain too; or the scene measures,
+:mod:`reference_impl.scene_measures`) the helper's source comes first, in place of the import
+(a helper's own helpers before it).  A call the adapter refuses (``Call.refusal``) is behind a
 guard that raises as the adapter does; quantities the run recorded as a declared hang are
 left out (the call's ``partial`` ask), and the full ask is made last.
 Nothing here knows an engine: the adapter and its module are the script.
@@ -28,8 +29,10 @@ from crosscheck.core.model import quantities_of
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase, SphereCase, ToiCase
 from crosscheck.studies.repro.code import EngineCode, literal, raising, undefined
 
-SHARED = re.compile(r"^from (adapters\.shared[\w.]*) import (?:\([^)]*\)|[^\n]+)$", re.MULTILINE)
-"""An import of a shared helper in a calls module: the script holds the helper's source."""
+SHARED = re.compile(r"^from (adapters\.shared[\w.]*|reference_impl\.scene_measures) "
+                    r"import (?:\([^)]*\)|[^\n]+)$", re.MULTILINE)
+"""An import of a shared helper in a calls module (or in a helper): the script holds the
+helper's source."""
 NO_VALUE = """\
 for quantity, value in answer.items():
     if isinstance(value, str):  # a quantity with no defined value, and why
@@ -82,12 +85,25 @@ def _source(module: ModuleType) -> str:
     return text.rstrip()
 
 
+def _without_helpers(text: str) -> str:
+    return SHARED.sub(lambda m: f"# from {m.group(1)} import ...: its source is above", text)
+
+
 def included(module: ModuleType) -> tuple[str, list[ModuleType]]:
-    """A calls module's source with its shared helpers' imports taken out, and the helpers."""
+    """A calls module's source with its shared helpers' imports taken out, and the helpers
+    (each after the helpers it imports itself)."""
+    helpers: list[ModuleType] = []
+
+    def add(text: str) -> None:
+        for name in dict.fromkeys(SHARED.findall(text)):
+            helper = importlib.import_module(name)
+            if helper not in helpers:
+                add(_source(helper))
+                helpers.append(helper)
+
     text = _source(module)
-    helpers = [importlib.import_module(name) for name in dict.fromkeys(SHARED.findall(text))]
-    return SHARED.sub(lambda m: f"# from {m.group(1)} import ...: its source is above",
-                      text), helpers
+    add(text)
+    return _without_helpers(text), helpers
 
 
 def calls_code(adapter: CallsAdapter, case: AnyCase,
@@ -117,8 +133,8 @@ def calls_code(adapter: CallsAdapter, case: AnyCase,
         made = raising(call.refusal, adapter.engine, made)
     elif call.undefined:
         made = undefined(call.undefined, quantities, adapter.engine, made)
-    parts = [*(f"# {m.__name__}, verbatim (shared by engines' calls).\n{_source(m)}\n\n"
-               for m in helpers),
+    parts = [*(f"# {m.__name__}, verbatim (shared by engines' calls).\n"
+               f"{_without_helpers(_source(m))}\n\n" for m in helpers),
              f"# {adapter.calls}, verbatim: the calls crosscheck's adapter makes.", text, "", "",
              "# The adapter's call on the case's inputs: build (untimed), then ask (timed).",
              made]

@@ -1,8 +1,7 @@
 """What every engine part of a repro script is made of: :class:`EngineCode`, exact literals, guards.
 
 An engine part (an adapter's calls module with its call,
-:mod:`~crosscheck.studies.repro.calls`; or, until scenes are calls too, a scene writer of
-:mod:`~crosscheck.studies.repro.scenes`) is the Python text that makes the adapter's calls
+:mod:`~crosscheck.studies.repro.calls`) is the Python text that makes the adapter's calls
 and leaves the engine's answer in variables named after the case's quantities;
 :mod:`~crosscheck.studies.repro.script` puts the inputs and the printing around it.
 

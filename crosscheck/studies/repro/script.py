@@ -5,8 +5,7 @@ A script uses only the engine's own API (``fcl``, ``pybullet``, ``pymunk``, ``mu
 ``reference`` and ``reference-f32``) and none of crosscheck.  Its inputs are the stored
 case's exact binary64 values (``float.fromhex`` literals; ``float("nan")``, ``float("inf")``
 for bad input), its calls are those the engine's adapter makes (its calls module's source,
-verbatim: :mod:`crosscheck.studies.repro.calls`; for what is not calls yet, the old writers
-of :mod:`crosscheck.studies.repro.writers`), so it reproduces the engine's answer bit for
+verbatim: :mod:`crosscheck.studies.repro.calls`), so it reproduces the engine's answer bit for
 bit.  It prints first (flushed: a
 crash, an exception or a hang still leaves it on screen) its inputs and what the run recorded
 beside the answer (:mod:`crosscheck.studies.repro.verdicts`): the exact answer (``expected
@@ -16,14 +15,14 @@ textbook formula in float64 when the run has the ``reference`` engine (``textboo
 quantity of the case as ``<quantity> = <text>``, where ``<text>`` is the JSON text crosscheck
 writes in results.csv's ``value`` column.
 
-Scenes (``sphere_scene``, stepped by PyBullet, pymunk, Box2D, MuJoCo and Rapier) get scripts
-too: they build the scene with its gravity and walls as the adapter does, step it (recording
-the states every ``scene_measures.record_every`` steps when it has gravity or walls) and print
-the final ``positions`` and ``velocities``, the total ``momentum`` and ``energy``, and the
-measures computed as the harness computes them (:mod:`crosscheck.studies.repro.measures`):
-``settle``, ``jitter``, ``energy_drift``, ``apex`` and ``bounce_time``, with a comment on
-``divergence`` (judged by crosscheck against the exact trajectory: the run's value); in open
-space only ``energy_drift``, the others a comment.
+Scenes (``sphere_scene``, stepped by PyBullet, pymunk, Box2D, MuJoCo and Rapier) are calls
+too: the engine's scene call builds the scene with its gravity and walls, steps it (recording
+the states every ``scene_measures.record_every`` steps when it has gravity or walls) and
+answers with the final ``positions`` and ``velocities``, the total ``momentum`` and ``energy``,
+and the measures computed by the harness's own functions (:mod:`reference_impl.scene_measures`,
+held as source): ``settle``, ``jitter``, ``energy_drift``, ``apex`` and ``bounce_time``, with a
+comment on ``divergence`` (judged by crosscheck against the exact trajectory: the run's
+value); in open space only ``energy_drift``, the others a comment.
 
 Everything comes from the stored run (:func:`crosscheck.results.run.read_run`): the
 cases, the rows, the engines and their conventions.  A run writes no script:
@@ -46,11 +45,11 @@ from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase
 from crosscheck.results.run import Run, read_run
 from crosscheck.results.store import repro_name, repro_path
 from crosscheck.run import envs, pinned
-from crosscheck.studies.repro import measures
 from crosscheck.studies.repro.calls import calls_code, has_call
 from crosscheck.studies.repro.code import EngineCode, literal, vector
 from crosscheck.studies.repro.verdicts import comment, conventions_line, truths, verdict_line
-from crosscheck.studies.repro.writers import NoScene, writer_for
+from crosscheck.truth.scene_measures import MEASURES, surrounded
+from crosscheck.truth.scenes import QUANTITIES
 
 __all__ = [
     "ReproError",
@@ -134,7 +133,7 @@ Input = tuple[str, str, str, str]
 def pair_inputs(case: AnyCase) -> tuple[Input, ...]:
     """The inputs of a two-body case: centres, sizes, and for a response masses, velocities
     and the restitution."""
-    assert not isinstance(case, SceneCase), "a scene's inputs are its writer's"
+    assert not isinstance(case, SceneCase), "a scene's inputs are its call's"
     out = []
     for which in ("a", "b"):
         body = getattr(case, which)
@@ -204,21 +203,39 @@ def _recorded(case: AnyCase, rows: list[Row], textbook: list[Row],
             "sys.stdout.flush()  # all of it on screen before the engine is asked"]
 
 
+MEASURED = ("settle", "jitter", "energy_drift", "apex", "bounce_time")
+"""The measures a scene's call computes from the engine's states (every one but
+``divergence``); in open space only ``energy_drift`` has a value."""
+
+
 def printed(case: AnyCase) -> tuple[str, ...]:
     """The quantities a script prints as ``<quantity> = <JSON text>``: every quantity of the
-    case's kind, but of a scene only those the script computes
-    (:func:`crosscheck.studies.repro.measures.printed`; the others are a comment)."""
+    case's kind, but of a scene only the final state and the measures its call computes
+    (:data:`MEASURED`; open space: ``energy_drift`` only; the others are a comment)."""
     if isinstance(case, SceneCase):
-        return measures.printed(case)
+        return (*QUANTITIES, *(MEASURED if surrounded(case) else ("energy_drift",)))
     return quantities_of(case.kind_enum)
 
 
+def _scene_note(case: SceneCase, rows: list[Row]) -> str:
+    """The comment on the measures a scene's script does not print."""
+    if not surrounded(case):
+        others = ", ".join(q for q in MEASURES if q != "energy_drift")
+        return (f"# {others}: none in open space (no ground and no recorded trajectory); "
+                "crosscheck records null")
+    recorded = next((str(r["value"]) for r in rows if r["quantity"] == "divergence"),
+                    "nothing (not in this run)")
+    return ("# divergence: computed by crosscheck against the exact run's trajectory (the "
+            f"first recorded time a centre is more than diverge_at = {case.diverge_at!r} mean "
+            f"radii from the exact one), not by this script; the run recorded {recorded}")
+
+
 def _answers(case: AnyCase, engine: EngineCode, rows: list[Row]) -> list[str]:
-    """The engine's answer, one ``<quantity> = <JSON text>`` line per quantity (a scene's:
-    :func:`crosscheck.studies.repro.measures.answer_lines`)."""
+    """The engine's answer, one ``<quantity> = <JSON text>`` line per printed quantity (a
+    scene's measures it does not print: a comment)."""
+    lines = [f'print("{q} = " + encode({q}))' for q in printed(case)]
     if isinstance(case, SceneCase):
-        return measures.answer_lines(case, rows)
-    lines = [f'print("{q} = " + encode({q}))' for q in quantities_of(case.kind_enum)]
+        return [*lines, f"print({_scene_note(case, rows)!r})"]
     if engine.resolved_at:
         lines.append('print("# resolved at (centres of A and B):", resolved_at)')
     return lines
@@ -260,22 +277,18 @@ def _adapter(engine: str) -> Adapter | None:
 
 def scripted(adapter: Adapter) -> bool:
     """Whether ``crosscheck repro`` writes scripts for ``adapter``: its engine calls are a
-    module (a :class:`~crosscheck.core.contract.CallsAdapter`, a plug-in's too), or, until
-    its scenes are calls too, it has an old writer."""
-    return isinstance(adapter, CallsAdapter) or writer_for(adapter) is not None
+    module (a :class:`~crosscheck.core.contract.CallsAdapter`, a plug-in's too)."""
+    return isinstance(adapter, CallsAdapter)
 
 
 def engine_part(adapter: Adapter, case: AnyCase,
                 hung: frozenset[str] = frozenset()) -> EngineCode:
     """The engine part of ``case``'s script on ``adapter``: its calls module's
-    (:func:`~crosscheck.studies.repro.calls.calls_code`), or for a kind not yet made as
-    calls, the old writer's; :class:`NoScene` if neither."""
-    if has_call(adapter, case):
-        return calls_code(adapter, case, hung)
-    writer = writer_for(adapter)
-    if writer is None:
-        raise NoScene(f"{adapter.name} has no call for {case.kind}")
-    return writer(adapter, case, hung)
+    (:func:`~crosscheck.studies.repro.calls.calls_code`); :class:`ReproError` when it makes
+    no call for the case's kind."""
+    if not has_call(adapter, case):
+        raise ReproError(f"{adapter.name} has no call for {case.kind}")
+    return calls_code(adapter, case, hung)
 
 
 def hung(rows: list[Row]) -> frozenset[str]:
@@ -302,10 +315,7 @@ def build(runs: RunRows, case_id: str, engine: str) -> Script:
     if adapter is None:
         raise ReproError(f"no repro script writer for engine {engine!r} (crosscheck repro "
                          "writes scripts for the built-in engines only)")
-    try:
-        code = engine_part(adapter, case, hung(rows))
-    except NoScene as exc:
-        raise ReproError(str(exc)) from None
+    code = engine_part(adapter, case, hung(rows))
     textbook = runs.rows(case_id, "reference")
     text = script_text(case, code, runs.engine_info(engine), rows,
                        textbook if _ran(textbook) else [], runs.stored.info.run_id)

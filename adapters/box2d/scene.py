@@ -1,25 +1,25 @@
-"""Box2D 2.3.0 (pybox2d 2.3.10) stepping a 2-D scene of N discs, for comparison with an exact run.
+"""Box2D 2.3.0 (pybox2d 2.3.10) stepping a 2-D scene of N discs: the variants' settings, measured.
 
-What it is for: the scene runners step a whole scene (N discs, one restitution, in open
-space or with gravity and static walls, :class:`adapters.scene.Surroundings`) with a fixed
-``dt`` and return the final state, to be scored against the exact event-driven reference;
-:mod:`adapters.box2d` answers single pair cases instead.  Types and input checks are
-shared with the other runners in :mod:`adapters.scene`; the world and its discs are built by
-:mod:`adapters.box2d_world`, as the pair adapter's responses are.
-Box2D is 2-D: a 3-D scene raises ``ValueError``.
+What it is for: a scene (N discs, one restitution, in open space or with gravity and static
+walls) is stepped with a fixed ``dt`` by the scene calls of :mod:`adapters.box2d.calls`
+(``scene``, ``step_scene``, ``release_scene``; worlds and discs built as responses are, by
+:mod:`adapters.box2d.calls`).  Here: what a variant sets (:class:`Variant`), its inputs to
+the scene calls (:func:`scene_settings`), its gravity-and-walls conventions
+(:func:`with_walls`) and what was measured with those calls.  Box2D is 2-D: a 3-D scene
+raises ``ValueError``.
 
-Building (``prepare_scene``, untimed): a new ``b2World`` per scene (the scene's gravity, 0 in
+Building (``scene``, untimed): a new ``b2World`` per scene (the scene's gravity, 0 in
 open space; sleeping as the variant says, with ``SetAllowSleeping``); per wall a static body
 with a box fixture (below); per disc a dynamic body at its centre with its
 velocity and one circle fixture of restitution e, its mass set exactly through ``massData``
-(``add_disc``); only the declared bodies and walls.  ``run_scene`` times only ``world.Step(dt,
-velocity_iterations, position_iterations)`` in a loop (``adapters.scene.step_and_record``, a
+(``disc``); only the declared bodies and walls.  ``step_scene`` times only ``world.Step(dt,
+velocity_iterations, position_iterations)`` in a loop (``adapters.shared.scene.step_and_record``, a
 ``functools.partial`` step) and reads ``body.position`` / ``body.linearVelocity`` after it
 (and every ``record_every`` steps, untimed; float32 values, widened); ``release_scene`` destroys the
 bodies.  Velocity iterations: the scene's ``iterations`` if given, else the variant's 8;
 position iterations 3 (``Step`` has no defaults: the pybox2d testbed's values).
 
-Variants (``tuning``, passed in by the adapter: a ``box2d_world.Variant`` or None): tuned
+Variants (``tuning``, passed in by the adapter: a :class:`Variant` or None): tuned
 (``box2d``) passes the pair adapter's variant (its dt replaced by the scene's): friction 0,
 ``fixedRotation``, sleeping off.  Default (``box2d-default``) passes None: friction (0.2),
 rotation free with the disc's moment, sleeping allowed; only dt, masses, radii, velocities,
@@ -33,7 +33,7 @@ between two of them gets a time of impact, a sub-step to it and a velocity solve
 restitution.  Compiled-in constants no variant can change: ``b2_velocityThreshold`` (1 m/s),
 ``b2_maxTranslation`` (2 m a step), ``b2_linearSlop`` (0.005 m) and the position solver.
 
-Conventions, measured with this module (sources as cited in ``adapters.box2d.SOURCES``):
+Conventions, measured with the scene calls (sources as cited in ``adapters.box2d.SOURCES``):
 
 - restitution: Box2D mixes the fixtures' restitutions by ``max`` [b2Contact.h]; every
   fixture gets e, so every pair gets e.  Measured: masses 1 and 2 head-on at 1 and -1 with e
@@ -89,9 +89,9 @@ Conventions, measured with this module (sources as cited in ``adapters.box2d.SOU
 Gravity and walls (``surroundings``; declared per variant by :func:`with_walls`):
 
 - a wall is what Box2D's users build for a ground (the manual's "Hello Box2D": a static body
-  with a ``SetAsBox`` polygon): a static body with one box fixture (``add_wall``), 1000 x the
-  largest radius thick on the solid side and 1e4 x the scene's extent sideways
-  (:mod:`adapters.wall_boxes`).  Float32: the body sits on the wall's surface sideways at the
+  with a ``SetAsBox`` polygon): a static body with one box fixture (``_wall`` of the calls),
+  1000 x the largest radius thick on the solid side and 1e4 x the scene's extent sideways
+  (:mod:`adapters.shared.wall_boxes`).  Float32: the body sits on the wall's surface sideways at the
   scene's centre and the box is ``SetAsBox(hx, hy, centre, 0)`` in its frame, so the face a
   disc touches is at exactly 0 there and the face's separation (``b2Dot(normal, cLocal -
   v)`` with an axis normal, b2CollideCircle.cpp) does not involve the box's size; a box
@@ -137,32 +137,17 @@ Gravity and walls (``surroundings``; declared per variant by :func:`with_walls`)
   exactly 3 over 10 s (17 bounces), every variant.
 - friction of a wall: the variant's for the discs (tuned 0; default ``b2FixtureDef``'s 0.2),
   mixed as ``sqrt(fA fB)`` (b2MixFriction).
-Measured outside the suite with this module: ``prepare_scene([((0, 0.1), 0.1, 1, (0, 0))], 2,
-e, dt, None, tuning, Surroundings((0, -9.81), (Wall((0, 1), 0),)))`` (the drop: centre at
-1.1, e 1), then ``run_scene(p, round(10 / dt), record_every=1)`` and its samples.
+Measured outside the suite with the scene calls (the drop: a disc of radius 0.1 at 1.1 above
+the ground, e 1, 10 s, every step recorded).
 """
 
 from __future__ import annotations
 
-import time
-from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from functools import partial
 from typing import Any
 
 import numpy as np
 
-from adapters.box2d_world import Variant, add_disc, add_wall, new_world, xy
-from adapters.scene import (
-    Body,
-    SceneRun,
-    State,
-    Surroundings,
-    check_scene,
-    check_surroundings,
-    step_and_record,
-)
-from adapters.wall_boxes import slabs
 from crosscheck.core.contract import Conventions
 
 LINEAR_SLOP = float(np.float32(0.005))
@@ -178,75 +163,41 @@ WALL_RESTITUTION = (
     "m/s; slower approaches are inelastic); the approach speed is read after the step's "
     "gravity (b2Island.cpp), so a bounce leaves up to |g| dt faster than it arrived")
 
-__all__ = ["Body", "SceneRun", "prepare_scene", "release_scene", "run_scene"]
+@dataclass(frozen=True, slots=True)
+class Variant:
+    """What a variant sets (None: Box2D's default)."""
+
+    polygon_radius: float | None
+    use_radii: bool
+    dt: float
+    friction: float | None
+    fixed_rotation: bool
+    sleep: bool
+    velocity_iterations: int = 8
+    position_iterations: int = 3
+    bullet: bool = False
+    """Every disc a bullet (``b2BodyDef.bullet``): Box2D's continuous collision (time of
+    impact) then acts between it and other dynamic bodies too, not only static ones."""
+
 
 DEFAULTS = Variant(polygon_radius=None, use_radii=True, dt=0.0, friction=None,
                    fixed_rotation=False, sleep=True)
 """What a scene of the default variant is built with: Box2D's defaults (dt: the scene's)."""
 
 
-@dataclass(frozen=True, eq=False)
-class Prepared:
-    """A built scene: its world, the variant with the scene's dt and iterations, the bodies
-    and the walls' static bodies."""
+def scene_settings(tuning: Variant | None) -> dict[str, Any]:
+    """A variant's inputs to the scene calls besides the scene (None: Box2D's defaults, as
+    :data:`DEFAULTS`); a scene's ``iterations``, if given, replace the velocity iterations.
 
-    world: Any
-    variant: Variant
-    bodies: tuple[Any, ...]
-    walls: tuple[Any, ...] = ()
-
-
-def scene_variant(dt: float, iterations: int | None, tuning: Variant | None) -> Variant:
-    """The variant a scene is stepped with: ``tuning`` (None: Box2D's defaults) with the
-    scene's dt and, if given, its iterations as velocity iterations.
-
-    >>> v = scene_variant(1e-3, 20, None)
-    >>> v.dt, v.velocity_iterations, v.position_iterations, v.sleep, v.friction
-    (0.001, 20, 3, True, None)
+    >>> s = scene_settings(None)
+    >>> s["velocity_iterations"], s["position_iterations"], s["sleep"], s["friction"]
+    (8, 3, True, None)
     """
-    base = DEFAULTS if tuning is None else tuning
-    its = base.velocity_iterations if iterations is None else iterations
-    return replace(base, dt=dt, velocity_iterations=its)
-
-
-def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuning: Variant | None,
-                  surroundings: Surroundings | None = None) -> Any:
-    """Build the scene in a new world (untimed).  Box2D is 2-D: ``dim`` 3 raises.
-
-    ``tuning``: the variant's settings, or None for Box2D's defaults; ``surroundings``:
-    gravity and walls, None for open space (gravity 0, no walls).
-    """
-    if dim != 2:
-        raise ValueError(f"box2d is a 2-D engine: no {dim}-D scenes")
-    check_scene(bodies, dim, restitution, dt)  # Box2D reads a mass <= 0 as 1
-    around = check_surroundings(surroundings, dim)
-    variant = scene_variant(dt, iterations, tuning)
-    world = new_world(variant.sleep, around.gravity)
-    walls = tuple(add_wall(world, slab, restitution, variant)
-                  for slab in slabs(bodies, around.walls))
-    made = tuple(add_disc(world, center, velocity, radius, mass, restitution, variant)
-                 for center, radius, mass, velocity in bodies)
-    return Prepared(world, variant, made, walls)
-
-
-def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_counter,
-              record_every: int = 0) -> SceneRun:
-    """Step the scene ``steps`` times (only the stepping is timed, read from ``clock`` just
-    before and just after each run of steps) and read its final state; with ``record_every``
-    > 0 also the state every that many steps (:func:`adapters.scene.step_and_record`)."""
-    scene: Prepared = prepared
-    v = scene.variant
-
-    def read() -> State:
-        return ([xy(b.position) for b in scene.bodies],
-                [xy(b.linearVelocity) for b in scene.bodies])
-
-    step = partial(scene.world.Step, v.dt, v.velocity_iterations, v.position_iterations)
-    wall, samples = step_and_record(step, read, steps, record_every, clock)
-    positions, velocities = read()
-    return SceneRun(tuple(map(tuple, positions)), tuple(map(tuple, velocities)), wall, steps,
-                    samples)
+    v = DEFAULTS if tuning is None else tuning
+    return {"polygon_radius": v.polygon_radius, "friction": v.friction,
+            "fixed_rotation": v.fixed_rotation, "sleep": v.sleep,
+            "velocity_iterations": v.velocity_iterations,
+            "position_iterations": v.position_iterations, "bullet": v.bullet}
 
 
 def with_walls(conventions: Conventions, variant: Variant) -> Conventions:
@@ -256,10 +207,3 @@ def with_walls(conventions: Conventions, variant: Variant) -> Conventions:
     skin = POLYGON_RADIUS if variant.polygon_radius is None else variant.polygon_radius
     return replace(conventions, rest_gap=(-LINEAR_SLOP, skin), rest_sink_steps=REST_SINK_STEPS,
                    rest_sink_s2=0.0, sleeps=variant.sleep, wall_restitution=WALL_RESTITUTION)
-
-
-def release_scene(prepared: Any) -> None:
-    """Destroy the scene's bodies and walls (their fixtures and contacts go with them)."""
-    scene: Prepared = prepared
-    for body in (*scene.bodies, *scene.walls):
-        scene.world.DestroyBody(body)

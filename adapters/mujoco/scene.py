@@ -1,10 +1,89 @@
-"""Gravity and static walls of MuJoCo scenes: plane geoms, and how deep a resting sphere sinks.
+"""MuJoCo 4.0.0 stepping a scene of N spheres: the scene's model, its walls, and what was measured.
 
-What it is for: :mod:`adapters.mujoco_scene` builds a scene's :class:`adapters.scene.Wall`
-as MuJoCo's users model a ground, and :mod:`adapters.mujoco` declares each variant's
+What it is for: a scene (N spheres, one restitution, in open space or under gravity between
+static walls) is stepped with a fixed ``dt`` by the scene calls of :mod:`adapters.mujoco.calls`
+(``scene``, ``step_scene``).  Here: the variant's settings (:class:`Tuning`), the scene's
+model (:func:`scene_model`, MJCF, and :func:`stiff_solref`), the walls and their resting
+conventions (:class:`Rest`), and what was measured with those calls.  Checks and recording
+are shared (:mod:`adapters.shared.scene`).
+
+Building (``scene``, untimed): one model per scene, compiled from MJCF
+(``adapters.mujoco.calls.scene_mjcf``: the pair's world, one free body with an explicit
+inertial and one sphere geom per body, and one static ``plane`` geom per wall,
+below),
+``opt.gravity`` the scene's (open space: 0, the model unchanged), its ``MjData`` given the
+centres (2-D: z = 0) and velocities (2-D: vz = 0, no spin).  ``step_scene`` times only
+``mj_step`` through ``adapters.shared.scene.step_and_record``: without recording the whole
+run is its one step (one call with ``nstep`` = steps x substeps, as before); with ``record_every``
+each scene step is one call of ``substeps``, the state read (untimed) between them.  A
+MuJoCo warning (a bad value makes ``mj_step`` reset the state) is raised; ``release_scene``
+drops the model.
+
+MuJoCo has no coefficient of restitution (see :mod:`adapters.mujoco_response`): a contact is
+a soft constraint, a spring-damper acting over many steps.
+
+Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None):
+
+- tuned (``mujoco``, :class:`Tuning`): the stiff contact of the response adapter
+  (``mujoco_response.tune_stiff_model``: frictionless ``condim`` 1, RK4, solver tolerance
+  1e-15, ``solimp`` flat at mjMAXIMP, geom margin 2^-1022 so a touching contact is active)
+  with one direct ``solref`` (-w0^2, -2 zeta w0) for every geom: zeta gives the scene's e
+  (``mujoco_response.damping_ratio``; e = 0 and e > 1 have no spring-dashpot and are
+  refused), and ``w0`` makes a contact last exactly one scene step dt, so an impact is over
+  within the step it starts in, as an impulse engine resolves it.  The restitution of a
+  linear spring-dashpot does not depend on speed or masses, so every pair gets e.  MuJoCo's
+  time step is dt / ``substeps`` (:data:`SUBSTEPS` RK4 steps per contact): a scene step is
+  ``substeps`` calls of ``mj_step``, the pattern of MuJoCo users' "control step" (MuJoCo has
+  no sub-step option).  Inertia = mass: no rotation takes part without friction.
+- default (``mujoco-default``, None): only what the scene declares: the time step dt
+  (``opt.timestep``, one ``mj_step`` per scene step), ``opt.iterations`` if given (else
+  MuJoCo's 100), masses (inertia 2/5 m r^2, a solid sphere's), radii, velocities.  The
+  scene's e is not read: MuJoCo's default soft contact (solref 0.02 1, solimp 0.9 0.95 0.001
+  0.5 2), friction 1, condim 3, Euler.
+
+Conventions, measured with the scene calls on 4.0.0 (sources in ``adapters.mujoco.SOURCES``):
+
+- 2-D: spheres at z = 0 with vz = 0 on free joints; contact normals between centres in the
+  plane lie in it, but the solver works in all 6 N degrees of freedom and leaves rounding
+  noise in z (measured: -6e-18 in a default 5-ball cradle at dt 1e-3, friction acting; the
+  tuned head-on pair stays exactly at 0).  Noise within ``PLANE`` (2^-40, as
+  ``mujoco_response``) x the scene's scale (largest |coordinate| + radius for positions,
+  largest speed for velocities) is dropped; beyond it ``step_scene`` raises (left the plane).
+- restitution, tuned: the equal-mass head-on pair of the suite (speeds 1) at e = 1 leaves
+  within 5.1e-4 of the exchanged velocities at every dt from 1e-5 to 0.1 (declared
+  :data:`TUNED_RTOL` 1e-3; 16 sub-steps: 2.7e-5, 32: 1.5e-6); at e = 0.5 within 2.8e-2
+  (the contact starts inside a sub-step, so its damping starts late: first order in the
+  sub-step).  Momentum is kept to rounding (equal and opposite constraint forces; 1e-12
+  pinned in tests/adapters/test_mujoco.py).  Default: e is not read; that pair leaves at
+  +-0.1353 (e = 1 and e = 0.25 alike, bit for bit).
+- no restitution threshold (the spring-dashpot acts at any speed), no speed cap (MuJoCo
+  has none), no damping (joint damping, viscosity, density 0 by default), no sleeping:
+  sleeping is the opt-in enable flag ``mjENBL_SLEEP`` (``opt.enableflags`` 0 by default,
+  read on 4.0.0), never set here.
+- touching at the start: tuned, a contact (margin 2^-1022: distance 0 is active); a ball
+  at 1 touching a ball at rest hands over its velocity within the first scene step (left
+  at 1.0e-4 and 0.9999 after it, dt 1e-3), a touching pair moving together at 0.3 stays
+  together (velocities within 5e-13 after 100 steps).  Default: no force at distance 0
+  (margin 0: ``exclude`` = distance >= margin, engine_collision_driver.c): after step 1
+  the velocities are unchanged (1, 0), the push comes once they overlap.
+- simultaneous contacts are solved together: 5-ball cradle (equal masses, e = 1, striker
+  at 1, dt 1e-3, 1 s): tuned, striker -0.5999, the four +0.3998 to +0.4001, one elastic hit
+  on a mass-4 block, as PyBullet's; energy kept to 2.3e-4.  Default: 0.075, 0.209, 0.227,
+  0.240, 0.248 (momentum 1 to rounding, energy 0.22 of it).  Not the textbook cradle.
+- soft contact: a contact lasts one scene step (tuned) or the default solref's 0.02 s time
+  constant (default), so centres lag the exact run by about the closing speed x that time.
+- walls and gravity (below): a wall is an infinite plane geom (a
+  half-space for collisions) with the spheres' contact parameters in each variant (tuned:
+  the scene's e, frictionless; default: MuJoCo's defaults); a resting sphere sinks by the
+  soft contact's steady penetration, declared from MuJoCo's solref/solimp formulas.  A 2-D
+  scene's plane check scales with the larger of the start's and the current in-plane
+  magnitudes (gravity speeds bodies up); 2-D walls have their normal in the plane.
+
+Gravity and static walls: plane geoms, and how deep a resting sphere sinks.  A scene's wall
+is built as MuJoCo's users model a ground, and :mod:`adapters.mujoco` declares each variant's
 resting-contact conventions from the rules written here.
 
-A wall is a ``plane`` geom of the world body (``adapters.shared.mujoco.SCENE_PLANE``):
+A wall is a ``plane`` geom of the world body (``adapters.mujoco.calls.SCENE_PLANE``):
 MuJoCo's plane is "infinite for collision detection purposes" [XMLreference, body-geom-type] and a
 half-space: ``mjraw_PlaneSphere`` (engine_collision_primitive.c) gives a contact at
 ``dist = (c - pos) . n - r`` however deep the centre is, with ``n`` the plane's local z axis.
@@ -22,7 +101,7 @@ gives the sphere geoms, and MuJoCo mixes the two geoms' ``solref`` / ``solimp`` 
 [modeling.rst, Contact parameters]; so a sphere-wall contact is a sphere-sphere contact:
 
 - tuned (``mujoco``): ``condim`` 1, margin 2^-1022, flat ``solimp`` mjMAXIMP and the direct
-  ``solref`` (-w0^2, -2 zeta w0) giving the scene's e (``mujoco_scene.stiff_solref``): a wall
+  ``solref`` (-w0^2, -2 zeta w0) giving the scene's e (:func:`stiff_solref`): a wall
   bounces with the scene's e.  Friction 0 (frictionless contact).
 - default (``mujoco-default``): the plane keeps MuJoCo's defaults like the spheres
   (solref 0.02 1, solimp 0.9 0.95 0.001 0.5 2, friction 1, condim 3, margin 0): the
@@ -74,15 +153,80 @@ relative (refsafe included), and the tuned variant's stays within its declared s
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import product
+from typing import Any
 
-from adapters.mujoco_response import MARGIN, MAXIMP, damping_dashpot
-from adapters.scene import Wall
-from adapters.shared.mujoco import Plane
+from adapters.mujoco.calls import MARGIN, MAXIMP, PLANE, Mass, Plane, scene_mjcf
+from adapters.mujoco_response import damping_dashpot
 
-__all__ = ["DEFAULT_REST", "TUNED_REST", "Rest", "plane_of", "plane_quat", "soft_rest_sink",
-           "stiff_sink_steps"]
+SUBSTEPS = 8
+"""MuJoCo steps per scene step in the tuned variant (the RK4 steps of one contact)."""
+TUNED_RTOL = 1e-3
+"""The tuned variant's restitution precision on an isolated head-on pair (measured)."""
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """The tuned variant's settings; ``None`` instead of a Tuning: MuJoCo's defaults.
+
+    ``substeps``: MuJoCo steps per scene step (each contact lasts one scene step).
+    """
+
+    substeps: int = SUBSTEPS
+
+
+WALLED_PLANE = 2.0**-30
+"""A 2-D scene with gravity or walls keeps to z = 0 within this share of its scales: resting
+contacts and wall bounces, solved in all 6 N degrees of freedom for many steps, leave
+rounding noise in z far above :data:`PLANE` (measured on 4.0.0: 1.5e-13 m/s in a resting
+column at dt 1/60).  It is a bound, not a cure: on free joints the noise grows, and a 60 s
+gas in a box leaves it (2e-9 m/s in z): that run is an error, the scene left its plane
+(slide joints would hold it; not done here)."""
+
+
+def stiff_solref(restitution: float, dt: float) -> tuple[float, float]:
+    """Direct solref (-w0^2, -2 zeta w0) of a spring-dashpot with restitution e lasting dt.
+
+    >>> k, b = stiff_solref(1.0, 0.5)  # undamped: half a period is pi / w0 = dt
+    >>> round((-k) ** 0.5 * 0.5 / 3.141592653589793, 12), b
+    (1.0, -0.0)
+    """
+    if not 0.0 < restitution <= 1.0:
+        raise ValueError(f"restitution {restitution!r} outside (0, 1]: MuJoCo's direct solref "
+                         "has no spring-dashpot for it")
+    zeta, duration = damping_dashpot(restitution)
+    w0 = duration / dt
+    return -w0 * w0, -2.0 * zeta * w0
+
+
+def scene_model(bodies: Sequence[Any], walls: Sequence[Any], tuning: Tuning | None) -> str:
+    """The scene's MJCF: one free sphere per body (the tuned variant: inertia equal to the mass,
+    condim 1, frictionless through the centres; default: a solid sphere's 2/5 m r^2), one plane
+    geom per wall with the spheres' contact attributes."""
+    def mass(radius: float, m: float) -> Mass:
+        return (m, (m,) * 3) if tuning is not None else (m, (0.4 * m * radius * radius,) * 3)
+
+    extra = ' condim="1"' if tuning is not None else ""
+    spheres = [(radius, mass(radius, m)) for _, radius, m, _ in bodies]
+    try:
+        planes = [plane_of(normal, offset) for normal, offset in walls]
+    except ValueError:  # a wall the scene calls refuse before compiling (check_surroundings)
+        planes = []
+    return scene_mjcf(spheres, extra, planes, extra)
+
+
+def scene_settings(case_plane: bool, restitution: float, dt: float,
+                   tuning: Tuning | None) -> dict[str, Any]:
+    """The variant's inputs to the scene calls besides the scene and its model: stiff or not,
+    substeps, the direct solref (tuned), and the 2-D plane check's bound (``case_plane``:
+    the scene has gravity or walls)."""
+    stiff = tuning is not None and 0.0 < dt < math.inf  # else the scene calls refuse the dt
+    return {"stiff": tuning is not None, "substeps": tuning.substeps if tuning else 1,
+            "solref": stiff_solref(restitution, dt) if stiff else None,
+            "plane_bound": WALLED_PLANE if case_plane else PLANE}
+
 
 Quat = tuple[float, float, float, float]
 DEFAULT_SOLREF = (0.02, 1.0)
@@ -116,11 +260,11 @@ def plane_quat(normal: tuple[float, float, float]) -> Quat:
     raise ValueError(f"not a unit axis vector: {normal}")
 
 
-def plane_of(wall: Wall) -> Plane:
+def plane_of(normal: tuple[float, ...], offset: float) -> Plane:
     """The plane geom of a wall: position ``offset x normal``, local z along the normal
     (2-D walls get z = 0)."""
-    nx, ny, nz = (*(float(n) for n in wall.normal), 0.0)[:3]
-    off = float(wall.offset)
+    nx, ny, nz = (*(float(n) for n in normal), 0.0)[:3]
+    off = float(offset)
     return (nx * off + 0.0, ny * off + 0.0, nz * off + 0.0), plane_quat((nx, ny, nz))
 
 

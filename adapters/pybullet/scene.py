@@ -1,13 +1,14 @@
-"""PyBullet 3.2.7 stepping a scene of N spheres, for comparison with an exact event-driven run.
+"""PyBullet 3.2.7 stepping a scene of N spheres: the variants' settings, and what was measured.
 
-What it is for: the scene runners step a whole scene (N spheres, one restitution, in open
-space or in :class:`adapters.scene.Surroundings`: gravity and static walls) with a fixed
-``dt`` and return the final state (and, with ``record_every``, the trajectory), to be scored
-against the exact reference; :mod:`adapters.pybullet` answers single pair cases
-instead.  Types and input checks are shared with :mod:`adapters.pymunk_scene` in
-:mod:`adapters.scene`.
+What it is for: a scene (N spheres, one restitution, in open space or with gravity and static
+walls) is stepped with a fixed ``dt`` by the scene calls of :mod:`adapters.pybullet.calls`
+(``scene``, ``step_scene``, ``release_scene``), which return the final state (and the
+trajectory), to be scored against the exact reference.  Here: each variant's
+:class:`Tuning` and the inputs it gives the calls (:func:`scene_settings`), and the
+conventions as measured with those calls.  Checks and recording are shared
+(:mod:`adapters.shared.scene`).
 
-Building (``prepare_scene``, untimed): a DIRECT client of its own per scene (``connect`` of
+Building (``scene``, untimed): a DIRECT client of its own per scene (``connect`` of
 :mod:`adapters.pybullet.calls`, never the pooled clients of its pairs; the same
 module's ``engine()`` and ``quiet()`` import pybullet and keep its C-level output off
 stdout/stderr), gravity 0 (the scene's gravity, ``setGravity``, when it has one: open
@@ -17,13 +18,13 @@ speed 1 is at 1.0000000000000007 after 1000 steps of 1e-3) and ``numSolverIterat
 given (else pybullet's 50, read back with ``getPhysicsEngineParameters``).  One base-only
 multibody per sphere (``createCollisionShape(GEOM_SPHERE)``, shared per radius, and
 ``createMultiBody``), its velocity set with ``resetBaseVelocity`` (no spin); only the
-declared bodies, and one static body per wall (below).  ``run_scene`` times only
+declared bodies, and one static body per wall (below).  ``step_scene`` times only
 ``stepSimulation`` (a ``functools.partial``: no Python frame per step) through
-``adapters.scene.step_and_record`` and reads ``getBasePositionAndOrientation`` /
+``adapters.shared.scene.step_and_record`` and reads ``getBasePositionAndOrientation`` /
 ``getBaseVelocity`` after it (and between recorded runs of steps, untimed);
 ``release_scene`` empties the client with ``resetSimulation`` (bodies and shapes go with it)
 and keeps it for the next scene of the same world settings, which sets gravity 0 and those
-settings again (:data:`IDLE_CLIENTS` kept in all, the least recently used disconnected: a
+settings again (``SCENE_IDLE_CLIENTS`` kept in all, the least recently used disconnected: a
 connect costs 30-50 ms here, and well over 200 ms once a process holds 16 clients; a reset
 0.2 ms).  A scene runs bit for bit the same in a reset client as in a new one: the
 scene suite's PyBullet rows were compared both ways when this was introduced.
@@ -37,7 +38,7 @@ nothing tunnels through it, with no size to choose and no float32 concern (Bulle
 here).  A 2-D wall is the plane with the wall's in-plane normal (z component 0).  Static
 bodies get StaticFilter, whose mask excludes static bodies: walls never collide with each
 other.  The wall's restitution is sqrt(e), like every sphere's, so the product rule gives
-the pair e; its friction is what the variant gives spheres (``wall_settings``: tuned
+the pair e; its friction is what the variant gives spheres (the friction keys of ``body``: tuned
 lateral/rolling/spinning 0, default pybullet's 0.5 lateral, no rolling or spinning), no
 damping to set.  Margins, slop and sleeping stay the variant's:
 
@@ -82,10 +83,9 @@ damping to set.  Margins, slop and sleeping stay the variant's:
 - 2-D: gravity and wall normals lie in the plane, so z stays 0 (measured with friction,
   default variant, 25 discs in a walled box under gravity for 20 s).
 
-Measured outside the suite with throwaway scripts calling this module, e.g. the resting
-sphere: ``p = prepare_scene([((0, 0, 0.1), 0.1, 1.0, (0, 0, 0))], 3, e, dt, None, tuning,
-Surroundings((0, 0, -9.81), (Wall((0, 0, 1), 0.0),)))`` then ``run_scene(p, round(10 / dt),
-record_every=1).samples`` (likewise the drop, a column, a ball between two walls, a gas).
+Measured outside the suite with throwaway scripts stepping the scene as these calls do, e.g.
+the resting sphere (radius 0.1 on the ground z = 0, gravity -9.81, 10 s, every step recorded;
+likewise the drop, a column, a ball between two walls, a gas).
 
 Variants (``tuning``, passed in by the adapter: a :class:`Tuning` or None): tuned
 (``pybullet``) passes ``Tuning(TUNED_WORLD, TUNED_BODY)`` of ``adapters.pybullet``, the world
@@ -105,7 +105,7 @@ predictive contact and a motion clamp at the first hit) runs over rigid bodies o
 [btDiscreteDynamicsWorld.cpp, ``createPredictiveContactsInternal`` and
 ``integrateTransformsInternal``].
 
-Conventions, measured with this module (sources as cited in ``adapters.pybullet.SOURCES``):
+Conventions, measured with the scene calls (sources as cited in ``adapters.pybullet.SOURCES``):
 
 - restitution: Bullet combines the two bodies' restitutions by their product
   [btManifoldResult.cpp]; measured: bodies set to 0.5 and 0.8 bounce with 0.4 (not the
@@ -113,7 +113,7 @@ Conventions, measured with this module (sources as cited in ``adapters.pybullet.
   ulp; e = 0.25, 0.5, 0.81 measured exactly in the tuned variant).
 - 2-D: spheres at z = 0 with vz = 0.  Contact normals between centres in the plane lie in
   it, so z and vz stay exactly 0 (measured over 3 s of 16 colliding spheres, oblique
-  contacts, default friction 0.5 included); ``run_scene`` returns 2-tuples and raises if
+  contacts, default friction 0.5 included); ``step_scene`` returns 2-tuples and raises if
   a 2-D scene ever leaves the plane.
 - touching at the start (distance exactly 0) is a contact: collision detection runs on
   the positions at the start of a step, and touching spheres make a point at distance 0.
@@ -159,38 +159,9 @@ Conventions, measured with this module (sources as cited in ``adapters.pybullet.
 
 from __future__ import annotations
 
-import functools
-import math
-import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
-
-from adapters.scene import (
-    Body,
-    SceneRun,
-    Surroundings,
-    Wall,
-    check_scene,
-    check_surroundings,
-    in_scene_dim,
-    step_and_record,
-)
-from adapters.shared.pybullet import connect, engine, quiet
-from crosscheck.core.geometry import Vec3, to3
-
-__all__ = ["Body", "SceneRun", "Tuning", "body_settings", "drop_idle_clients", "idle_clients",
-           "prepare_scene", "release_scene", "run_scene", "wall_settings"]
-
-ZERO: Vec3 = (0.0, 0.0, 0.0)
-
-IDLE_CLIENTS = 6
-"""Emptied clients kept for the next scenes, whatever their settings (the suite's scenes use
-a dozen settings per variant; two of them are most scenes')."""
-
-Settings = tuple[tuple[str, float], ...]
-_IDLE: list[tuple[Settings, int]] = []
-"""Emptied clients and their world settings, least recently released first."""
 
 
 @dataclass(frozen=True)
@@ -211,190 +182,17 @@ class Tuning:
     ccd: float = 0.0
 
 
-def body_settings(radius: float, tuning: Tuning | None) -> dict[str, float]:
-    """The ``changeDynamics`` settings of a sphere of ``radius`` (restitution apart).
+def scene_settings(tuning: Tuning | None) -> dict[str, Any]:
+    """A variant's inputs to the scene calls besides the scene: its ``world`` settings
+    (``world_settings``), per-sphere ``body`` settings, ``maximal`` and ``ccd`` (None: engine
+    defaults, nothing set).
 
-    >>> body_settings(0.5, Tuning({}, {"linearDamping": 0.0}, maximal=True, ccd=0.9))
-    {'linearDamping': 0.0, 'ccdSweptSphereRadius': 0.45}
-    >>> body_settings(0.5, None)
-    {}
+    >>> scene_settings(Tuning({"contactSlop": 0.0}, {"linearDamping": 0.0}, ccd=0.9))["ccd"]
+    0.9
+    >>> scene_settings(None)
+    {'world_settings': {}, 'body': {}, 'maximal': False, 'ccd': 0.0}
     """
-    settings: dict[str, float] = dict(tuning.body) if tuning is not None else {}
-    if tuning is not None and tuning.ccd > 0.0:
-        settings["ccdSweptSphereRadius"] = tuning.ccd * radius
-    return settings
-
-
-def wall_settings(tuning: Tuning | None) -> dict[str, float]:
-    """The ``changeDynamics`` settings of a wall (restitution apart): the variant's
-    friction settings (tuned: 0; default: pybullet's own), nothing else (a static body
-    has no damping or CCD to set).
-
-    >>> wall_settings(Tuning({}, {"lateralFriction": 0.0, "linearDamping": 0.0}))
-    {'lateralFriction': 0.0}
-    >>> wall_settings(None)
-    {}
-    """
-    body = tuning.body if tuning is not None else {}
-    return {key: value for key, value in body.items() if key.endswith("Friction")}
-
-
-@dataclass(frozen=True, eq=False)
-class Prepared:
-    """A built scene: its own DIRECT client, the body ids (scene order), the dimension
-    and the static walls' body ids."""
-
-    cid: int
-    dim: int
-    bodies: tuple[int, ...]
-    walls: tuple[int, ...] = ()
-    settings: Settings = ()
-    """The client's world settings (its ``setPhysicsEngineParameter`` arguments)."""
-
-
-def _client(settings: dict[str, float]) -> int:
-    """The most recently emptied client of these world settings, or a new one."""
-    key = tuple(sorted(settings.items()))
-    for k in range(len(_IDLE) - 1, -1, -1):
-        if _IDLE[k][0] == key:
-            return _IDLE.pop(k)[1]
-    return connect(settings)
-
-
-def world_settings(dt: float, iterations: int | None,
-                   tuning: Tuning | None) -> dict[str, float]:
-    """The ``setPhysicsEngineParameter`` arguments of a scene.
-
-    >>> world_settings(1e-3, None, None)
-    {'fixedTimeStep': 0.001, 'numSubSteps': 0}
-    >>> from adapters.pybullet import TUNED_BODY, TUNED_WORLD
-    >>> tuned = world_settings(1e-3, 20, Tuning(TUNED_WORLD, TUNED_BODY))
-    >>> sorted(tuned)  # doctest: +NORMALIZE_WHITESPACE
-    ['contactERP', 'contactSlop', 'fixedTimeStep', 'numSolverIterations', 'numSubSteps',
-     'restitutionVelocityThreshold']
-    >>> tuned["fixedTimeStep"], TUNED_WORLD["fixedTimeStep"] == 1 / 240
-    (0.001, True)
-    """
-    settings: dict[str, float] = dict(tuning.world) if tuning is not None else {}
-    settings.update(fixedTimeStep=dt, numSubSteps=0)
-    if iterations is not None:
-        settings["numSolverIterations"] = iterations
-    return settings
-
-
-def add_sphere(cid: int, shapes: dict[float, int], body: Body, restitution: float,
-               tuning: Tuning | None) -> int:
-    """One sphere of the scene with its velocity, restitution sqrt(e) and variant settings."""
-    bt = engine()
-    center, radius, mass, velocity = body
-    extra = body_settings(radius, tuning)
-    maximal = tuning is not None and tuning.maximal
-    with quiet():
-        if radius not in shapes:
-            shapes[radius] = bt.createCollisionShape(bt.GEOM_SPHERE, radius=radius,
-                                                     physicsClientId=cid)
-        uid: int = bt.createMultiBody(baseMass=mass, baseCollisionShapeIndex=shapes[radius],
-                                      basePosition=to3(center), useMaximalCoordinates=maximal,
-                                      physicsClientId=cid)
-        bt.changeDynamics(uid, -1, restitution=math.sqrt(restitution), **extra,
-                          physicsClientId=cid)
-    bt.resetBaseVelocity(uid, to3(velocity), ZERO, physicsClientId=cid)
-    return uid
-
-
-def add_wall(cid: int, wall: Wall, restitution: float, tuning: Tuning | None) -> int:
-    """One static wall: a ``GEOM_PLANE`` (``btStaticPlaneShape``, plane constant 0) with the
-    wall's normal, on a mass-0 base at ``offset x normal``, restitution sqrt(e)."""
-    bt = engine()
-    normal = to3(wall.normal)
-    maximal = tuning is not None and tuning.maximal
-    with quiet():
-        shape = bt.createCollisionShape(bt.GEOM_PLANE, planeNormal=normal, physicsClientId=cid)
-        uid: int = bt.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=shape,
-                                      basePosition=tuple(wall.offset * n for n in normal),
-                                      useMaximalCoordinates=maximal, physicsClientId=cid)
-        bt.changeDynamics(uid, -1, restitution=math.sqrt(restitution),
-                          **wall_settings(tuning), physicsClientId=cid)
-    return uid
-
-
-def prepare_scene(bodies: Sequence[Body], dim: int, restitution: float, dt: float,
-                  iterations: int | None, tuning: Tuning | None,
-                  surroundings: Surroundings | None = None) -> Any:
-    """Build the scene in a new DIRECT client (untimed); ``release_scene`` disconnects it.
-
-    ``tuning``: the variant's settings (see :class:`Tuning`), or None for engine defaults;
-    ``surroundings``: gravity and static walls (None: open space, gravity 0, no walls).
-    """
-    check_scene(bodies, dim, restitution, dt)
-    around = check_surroundings(surroundings, dim)
-    settings = world_settings(dt, iterations, tuning)
-    cid = _client(settings)
-    key = tuple(sorted(settings.items()))
-    shapes: dict[float, int] = {}
-    try:
-        if any(around.gravity):
-            engine().setGravity(*to3(around.gravity), physicsClientId=cid)
-        walls = tuple(add_wall(cid, wall, restitution, tuning) for wall in around.walls)
-        ids = tuple(add_sphere(cid, shapes, body, restitution, tuning) for body in bodies)
-    except Exception:
-        release_scene(Prepared(cid, dim, (), settings=key))
-        raise
-    return Prepared(cid, dim, ids, walls, key)
-
-
-def state(prepared: Any) -> tuple[list[Vec3], list[Vec3]]:
-    """The 3-D centres and linear velocities of the scene's bodies, in scene order."""
-    scene: Prepared = prepared
-    bt, cid = engine(), scene.cid
-    positions = [bt.getBasePositionAndOrientation(b, physicsClientId=cid)[0]
-                 for b in scene.bodies]
-    velocities = [bt.getBaseVelocity(b, physicsClientId=cid)[0] for b in scene.bodies]
-    return positions, velocities
-
-
-def run_scene(prepared: Any, steps: int, clock: Callable[[], float] = time.perf_counter,
-              record_every: int = 0) -> SceneRun:
-    """Step the scene ``steps`` times (only the stepping is timed, read from ``clock``
-    around each run of steps) and read its final state; with ``record_every > 0`` also
-    the state at the start and every ``record_every`` steps (``SceneRun.samples``)."""
-    scene: Prepared = prepared
-    # one stepSimulation call per step, as a C partial: no Python frame in the timed loop
-    step = functools.partial(engine().stepSimulation, physicsClientId=scene.cid)
-
-    def read() -> tuple[tuple[tuple[float, ...], ...], tuple[tuple[float, ...], ...]]:
-        positions, velocities = state(scene)
-        return (in_scene_dim(scene.dim, positions, "position"),
-                in_scene_dim(scene.dim, velocities, "velocity"))
-
-    wall, samples = step_and_record(step, read, steps, record_every, clock)
-    positions, velocities = read()
-    return SceneRun(positions, velocities, wall, steps, samples)
-
-
-def idle_clients() -> int:
-    """How many emptied clients are kept for the next scenes."""
-    return len(_IDLE)
-
-
-def drop_idle_clients() -> None:
-    """Disconnect every kept client (the next scene connects a new one)."""
-    with quiet():
-        while _IDLE:
-            engine().disconnect(physicsClientId=_IDLE.pop()[1])
-
-
-def release_scene(prepared: Any) -> None:
-    """Empty the scene's client (its bodies and shapes go with it) and keep it for a next
-    scene of the same settings, with gravity 0 and those settings set again; past
-    :data:`IDLE_CLIENTS` kept, the least recently released is disconnected."""
-    scene: Prepared = prepared
-    bt, cid = engine(), scene.cid
-    with quiet():
-        bt.resetSimulation(physicsClientId=cid)
-        bt.setGravity(0.0, 0.0, 0.0, physicsClientId=cid)
-        if scene.settings:
-            bt.setPhysicsEngineParameter(**dict(scene.settings), physicsClientId=cid)
-        _IDLE.append((scene.settings, cid))
-        if len(_IDLE) > IDLE_CLIENTS:
-            bt.disconnect(physicsClientId=_IDLE.pop(0)[1])
+    if tuning is None:
+        return {"world_settings": {}, "body": {}, "maximal": False, "ccd": 0.0}
+    return {"world_settings": dict(tuning.world), "body": dict(tuning.body),
+            "maximal": tuning.maximal, "ccd": tuning.ccd}
