@@ -20,13 +20,11 @@ __all__ = ["Engine", "Ran", "SuiteView"]
 
 @dataclass(frozen=True)
 class Engine:
-    """One engine the options name: its adapter, whether it is a built-in, and whether
-    ``crosscheck repro`` writes scripts for it."""
+    """One engine the options name: its adapter and whether it is a built-in."""
 
     name: str
     adapter: Adapter
     builtin: bool
-    scripted: bool
 
 
 @dataclass(frozen=True)
@@ -39,7 +37,8 @@ class Ran:
 
 class SuiteView(Protocol):
     """What an engine's collector reads of the suite: each case's position and quantities,
-    its case file, the baseline file and the run (made once, on first use)."""
+    its case file, the baseline file, whether a finding has a repro script, and the run
+    (made once, on first use)."""
 
     order: dict[str, tuple[int, tuple[str, ...]]]
     sources: dict[str, str]
@@ -47,4 +46,8 @@ class SuiteView(Protocol):
 
     def ran(self) -> Ran:
         """The run, made on first use."""
+        ...
+
+    def scripted(self, engine: Engine, case: str) -> bool:
+        """Whether ``crosscheck repro`` writes a script of ``case`` on ``engine``."""
         ...

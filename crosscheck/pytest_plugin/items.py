@@ -56,8 +56,8 @@ def repro_command(run_dir: Path, finding: Finding, case_file: str, scripted: boo
         return shlex.join(["crosscheck", "repro", str(run_dir), finding.case,
                            "--engine", finding.engine])
     again = shlex.join(["crosscheck", "run", case_file or "CASES", "--engine", finding.engine])
-    return (f"{again} (case {finding.case}; crosscheck repro writes scripts for the "
-            f"built-in engines only)")
+    return (f"{again} (case {finding.case}; no repro script: crosscheck repro writes one "
+            f"where the engine makes the case as calls of its module)")
 
 
 def finding_text(finding: Finding, run_dir: Path, baseline: str, case_file: str = "",
@@ -175,7 +175,7 @@ class EngineCollector(pytest.Collector):
             found.append(FindingItem.from_parent(
                 self, name=f"{finding.case}::{finding.quantity}", finding=finding,
                 run_dir=ran.directory, baseline=baseline, case_file=case_file,
-                scripted=self.engine.scripted,
+                scripted=self.suite.scripted(self.engine, finding.case),
                 nodeid=f"{self.nodeid}/{finding.case}::{finding.quantity}",
                 path=Path(file).resolve() if file else self.path))
         return found

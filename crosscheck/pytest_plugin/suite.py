@@ -58,7 +58,7 @@ def engine(name: str) -> Engine:
         reason = f"it fails: {type(exc).__name__}: {exc}"
     if reason:
         raise _usage(option, f"{entry.describe()} {entry.verdict}: {reason}")
-    return Engine(name, adapter, entry.builtin, scripted(adapter))
+    return Engine(name, adapter, entry.builtin)
 
 
 def case_paths(given: list[str], here: Path) -> list[Path]:
@@ -108,6 +108,7 @@ class Suite:
         self.order = {case.id: (i, quantities_of(Kind(case.kind))) for i, case in enumerate(suite)}
         """Each case's place in the suite and its kind's quantities, in order, by id."""
         self._ran: Ran | BaseException | None = None
+        self._by_id = {case.id: case for case in suite}
 
     @classmethod
     def from_config(cls, config: pytest.Config) -> Suite:
@@ -131,6 +132,12 @@ class Suite:
         return cls(config, engines, suite, files, baseline, out)
 
     # --- the run ----------------------------------------------------------------------------
+
+    def scripted(self, engine: Engine, case: str) -> bool:
+        """Whether ``crosscheck repro`` writes a script of ``case`` on ``engine`` (its calls
+        are a module and it makes this case as calls)."""
+        known = self._by_id.get(case)
+        return known is not None and scripted(engine.adapter, known)
 
     def ran(self) -> Ran:
         """The run and its findings: made the first time it is asked for, for every engine."""

@@ -3,10 +3,11 @@ when the run folder holds one.
 
 A run writes no repro scripts: ``crosscheck repro RUN CASE --engine ENGINE`` prints one on
 demand, and ``crosscheck repro RUN --all`` writes every breaking pair's into ``RUN/repro/``.
-The report cannot ask which engines have a script writer (it imports neither the studies nor
-the adapters), so it gives the command for every breaking row; the command itself says so
-when an engine (a plug-in) has none.  A run folder that holds ``repro/<name>.py`` (a run made
-when every run wrote them, or one after ``repro --all``) keeps the link to it.
+The report cannot ask which engines make their calls as a module (it imports neither the
+studies nor the adapters), so it gives the command for every breaking row; the command
+itself says so when an engine's calls are not a module.  A run folder that holds
+``repro/<name>.py`` (a run made when every run wrote them, or one after ``repro --all``)
+keeps the link to it.
 
 The page builds the command itself from the run folder (one value for the page) and each
 row's case and engine, quoting as :func:`command` does (``reproCommand`` in

@@ -180,7 +180,8 @@ def test_a_regression_against_the_baseline_fails_its_item_alone_also_in_junit(
     assert "expected (baseline " in text and "baseline.jsonl): agree, error 0" in text
     assert "got (this run): skip" in text
     assert (f"reproduce: crosscheck run {project / 'cases.toml'} --engine {ENGINE} (case "
-            "boxes-apart; crosscheck repro writes scripts for the built-in engines only)") in text
+            "boxes-apart; no repro script: crosscheck repro writes one where the engine makes "
+            "the case as calls of its module)") in text  # a skip: no call made
     assert folder.is_dir()
     assert text in ran.stdout and "Traceback" not in ran.stdout  # its text, no traceback
 

@@ -204,10 +204,11 @@ def test_repro_all_writes_every_breaking_pairs_script_and_the_report_links_them(
     assert f'href="{REPRO_DIR}/{repro_name(case, engine)}.py"' in html
 
 
-def test_the_command_the_report_gives_says_so_for_an_engine_without_a_writer(
+def test_the_command_the_report_gives_says_so_for_an_engine_without_a_calls_module(
         tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """The report gives every breaking row the command; on an engine without a script writer
-    (a plug-in, here a fake) it refuses with the reason, and ``--all`` leaves it out."""
+    """The report gives every breaking row the command; on an engine whose calls are not a
+    module (here a fake with its own prepare and query) it refuses with the reason, and
+    ``--all`` leaves it out."""
     run = tmp_path / "run"
     cases, engines = [sphere(0.0, 2.0, id="s0")], [fakes.OffByOne()]
     options = RunOptions(quick=True, isolate=False)
@@ -216,7 +217,7 @@ def test_the_command_the_report_gives_says_so_for_an_engine_without_a_writer(
     assert breaking_pairs(RunRows(read_run(run))) == [("s0", "fake-off")]
     assert main(["repro", str(run), "s0", "--engine", "fake-off"]) == 2
     said = " ".join(capsys.readouterr().err.split())
-    assert "no repro script writer for engine 'fake-off'" in said and "built-in" in said
+    assert "engine 'fake-off' makes no calls of a module" in said and "calls.py" in said
     assert main(["repro", str(run), "--all"]) == 0
     assert "0 script(s) written" in " ".join(capsys.readouterr().out.split())
     assert not (run / REPRO_DIR).exists()

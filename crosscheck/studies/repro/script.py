@@ -87,7 +87,8 @@ def encode(value):
 
 
 class ReproError(ValueError):
-    """No script for this case x engine (unknown, skipped or no script writer)."""
+    """No script for this case x engine (unknown, skipped, or an engine whose calls are not a
+    module)."""
 
 
 @dataclass(frozen=True)
@@ -275,9 +276,13 @@ def _adapter(engine: str) -> Adapter | None:
     return adapter if scripted(adapter) else None
 
 
-def scripted(adapter: Adapter) -> bool:
+def scripted(adapter: Adapter, case: AnyCase | None = None) -> bool:
     """Whether ``crosscheck repro`` writes scripts for ``adapter``: its engine calls are a
-    module (a :class:`~crosscheck.core.contract.CallsAdapter`, a plug-in's too)."""
+    module (a :class:`~crosscheck.core.contract.CallsAdapter`, a plug-in's too); given a
+    ``case``, also that it runs the case (no skip) and makes it as calls
+    (:func:`~.calls.has_call`)."""
+    if case is not None:
+        return adapter.unsupported(case) is None and has_call(adapter, case)
     return isinstance(adapter, CallsAdapter)
 
 
@@ -313,8 +318,9 @@ def build(runs: RunRows, case_id: str, engine: str) -> Script:
         raise ReproError(f"{engine} did not run {case_id}: {rows[0]['reason']}")
     adapter = _adapter(engine)
     if adapter is None:
-        raise ReproError(f"no repro script writer for engine {engine!r} (crosscheck repro "
-                         "writes scripts for the built-in engines only)")
+        raise ReproError(f"engine {engine!r} makes no calls of a module (crosscheck repro "
+                         "writes scripts for engines whose calls are a module: "
+                         "adapters/<engine>/calls.py)")
     code = engine_part(adapter, case, hung(rows))
     textbook = runs.rows(case_id, "reference")
     text = script_text(case, code, runs.engine_info(engine), rows,
@@ -343,7 +349,7 @@ def engines_for(runs: RunRows, case_id: str) -> tuple[list[str], bool]:
     """Engines to script for a case, and whether they are the ones that disagree: those with a
     row that is neither agree nor skip, else (False) every engine that ran it.
 
-    Only engines that ran the case and have a script writer count.
+    Only engines that ran the case and make it as calls of their module count.
     """
     ran = [e for e in runs.stored.info.engine_names
            if _ran(runs.rows(case_id, e)) and _adapter(e) is not None]
@@ -358,7 +364,7 @@ def scripts(stored: Run, case_id: str, engine: str | None = None) -> list[Script
     _case(stored, case_id)
     names = [engine] if engine else engines_for(runs, case_id)[0]
     if not names:
-        raise ReproError(f"no engine of this run ran case {case_id!r} with a script writer")
+        raise ReproError(f"no engine of this run ran case {case_id!r} as calls of its module")
     return [build(runs, case_id, name) for name in names]
 
 
@@ -374,7 +380,7 @@ def write_run_scripts(directory: Path, out: Path | None = None) -> list[Path]:
     ``directory`` into ``out`` (default: the run's ``repro/``, where the report links them);
     the paths.  A run writes none: ``crosscheck repro RUN_DIR --all`` calls this.
 
-    Pairs without a script (an engine without a writer: a plug-in) are left out.
+    Pairs without a script (an engine whose calls are not a module) are left out.
     """
     runs = RunRows(read_run(directory))
     written = []

@@ -4,7 +4,8 @@ The shared test venv has setuptools 65 without ``wheel`` (so ``setuptools.build_
 cannot build a wheel there) and the test installs with ``--no-build-isolation``, which
 downloads nothing.  This backend builds a pure-Python wheel from ``pyproject.toml``'s
 ``[project]`` table (name, version, dependencies, entry points) and the project's
-top-level ``*.py`` modules.  A real plug-in uses setuptools, hatchling or flit instead.
+``*.py`` files outside ``backend/`` (top-level modules and packages).  A real plug-in
+uses setuptools, hatchling or flit instead.
 """
 
 from __future__ import annotations
@@ -41,7 +42,8 @@ def build_wheel(wheel_directory: str, config_settings: Any = None,
     """Write ``<name>-<version>-py3-none-any.whl`` into ``wheel_directory``; its file name."""
     project = tomllib.loads(Path("pyproject.toml").read_text(encoding="utf-8"))["project"]
     stem = f"{project['name'].replace('-', '_')}-{project['version']}"
-    files = {p.name: p.read_bytes() for p in sorted(Path().glob("*.py"))}
+    files = {p.as_posix(): p.read_bytes() for p in sorted(Path().rglob("*.py"))
+             if p.parts[0] != "backend" and "__pycache__" not in p.parts}
     files |= {f"{stem}.dist-info/{k}": v.encode() for k, v in _metadata(project).items()}
     record = [_record(path, data) for path, data in files.items()]
     record.append(f"{stem}.dist-info/RECORD,,")
