@@ -40,7 +40,7 @@ def test_every_field_of_an_observation_is_a_quantity_or_an_extra_of_some_kind() 
     assert carried == {f.name for f in fields(Observation)}
 
 
-@pytest.mark.parametrize("kind", SPECS, ids=str)
+@pytest.mark.parametrize("kind", SPECS, ids=lambda s: str(s.kind))
 def test_the_quantities_a_spec_names_are_its_own(kind: KindSpec) -> None:
     named = [*kind.required, *kind.charted, *([kind.fallback] if kind.fallback else [])]
     if kind.speed is not None:
@@ -58,7 +58,7 @@ def test_a_quantity_is_the_same_in_every_kind_that_scores_it() -> None:
         q.name for q in every_quantity() if q.error_column}
 
 
-@pytest.mark.parametrize("kind", SPECS, ids=str)
+@pytest.mark.parametrize("kind", SPECS, ids=lambda s: str(s.kind))
 def test_the_schema_class_a_spec_names_is_of_its_kind(kind: KindSpec) -> None:
     case_class = schema.case_class(kind.kind)
     assert case_class.__name__ == kind.case

@@ -10,7 +10,7 @@ from crosscheck.testing import samples
 from crosscheck.truth import oracle, scene_measures, scenes, score
 
 
-@pytest.mark.parametrize("kind", SPECS, ids=str)
+@pytest.mark.parametrize("kind", SPECS, ids=lambda s: str(s.kind))
 def test_the_truth_and_judge_a_spec_names_are_registered(kind: KindSpec) -> None:
     assert kind.truth in oracle.TRUTHS
     assert kind.judge in score.JUDGES
