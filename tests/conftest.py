@@ -9,6 +9,7 @@ import gzip
 import json
 import os
 import re
+import signal
 import tempfile
 import time
 from collections.abc import Callable
@@ -100,6 +101,22 @@ def wait_until(condition: Callable[[], bool], what: str, timeout_s: float = 60.0
 def lines_in(path: Path) -> int:
     """The number of lines in ``path`` so far (0 while it does not exist)."""
     return path.read_text(encoding="utf-8").count("\n") if path.exists() else 0
+
+
+def ctrl_c_delivered() -> None:
+    """For a child process, before it starts (``Popen(preexec_fn=...)``): Ctrl-C acts as in a
+    terminal (its default action), also when the tests were started with SIGINT ignored (a
+    background job of a non-interactive shell, whose children inherit the ignoring)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+@pytest.fixture
+def ctrl_c_raises() -> Any:
+    """Ctrl-C raises KeyboardInterrupt in this process for the test's duration (Python's own
+    handler), also when the tests were started with SIGINT ignored; restored afterwards."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
 
 
 def wait_for_rows(path: Path, rows: int = 1) -> None:

@@ -20,7 +20,7 @@ from crosscheck.results.counts import FILE as COUNTS
 from crosscheck.results.counts import read_counts
 from crosscheck.results.run import read_results
 from crosscheck.run import callgrind
-from tests.conftest import ROOT, wait_for_rows
+from tests.conftest import ROOT, ctrl_c_delivered, wait_for_rows
 
 pytestmark = pytest.mark.engine
 
@@ -37,7 +37,8 @@ def ctrl_c_and_resume(tmp_path: Path, files: tuple[str, ...], extra: tuple[str, 
     args = [*CLI, "run", *map(str, paths), "--engine", "reference", "--engine", "pymunk",
             "--min-sample", "0.01", "--out", str(out), *extra]
     process = subprocess.Popen(args, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True, start_new_session=True)
+                               text=True, start_new_session=True,
+                               preexec_fn=ctrl_c_delivered)
     wait_for_rows(out / "results.jsonl", rows=20)
     os.killpg(process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole group
     _, stderr = process.communicate(timeout=60)
@@ -116,7 +117,8 @@ def test_ctrl_c_while_counting_keeps_the_counts_stops_valgrind_and_resume_counts
             "--engine", "pymunk", "--samples", "3", "--min-sample", "0.001",
             "--timing-cases", "3", "--timer", "instructions", "--out", str(out)]
     process = subprocess.Popen(args, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True, start_new_session=True)
+                               text=True, start_new_session=True,
+                               preexec_fn=ctrl_c_delivered)
     wait_for_rows(out / COUNTS, rows=1)
     os.killpg(process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole group
     _, stderr = process.communicate(timeout=60)

@@ -29,7 +29,7 @@ from crosscheck.results.store import ResultsStore
 from crosscheck.run.lanes import LocalLanes
 from crosscheck.run.runner import run
 from tests import fakes
-from tests.conftest import ROOT, lines_in, sphere, wait_until
+from tests.conftest import ROOT, ctrl_c_delivered, lines_in, sphere, wait_until
 
 CASES = [sphere(0.0, 2.0, id="before"), sphere(0.0, 1.5, id="boom"), sphere(0.0, 3.0, id="after")]
 SKIPPED = "declared known hang, not run in-process (--no-isolation has no time limit to stop it): "
@@ -103,6 +103,7 @@ def test_fcl_in_process_skips_its_hanging_signed_distance_and_answers_the_rest(
 
 
 @pytest.mark.parametrize("jobs", [1, 2])
+@pytest.mark.usefixtures("ctrl_c_raises")
 def test_ctrl_c_stops_in_process_lanes_between_items(jobs: int) -> None:
     started: list[int] = []
     lock = threading.Lock()
@@ -168,7 +169,8 @@ def test_ctrl_c_stops_an_in_process_run_with_a_declared_hang_and_resume_finishes
     process = subprocess.Popen([*cli, str(cases), "--engine", "fake-slow", "--no-isolation",
                                 "--jobs", "2", "--quick", "--out", str(out)],
                                env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                               text=True, start_new_session=True, cwd=ROOT)
+                               text=True, start_new_session=True,
+                               preexec_fn=ctrl_c_delivered, cwd=ROOT)
     try:
         wait_for_lines(out / "results.jsonl", 3 * 8)  # past the declared hang
         os.killpg(process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole group
