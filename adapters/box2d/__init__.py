@@ -169,6 +169,7 @@ from crosscheck.core.contract import (
     Capability,
     Conventions,
     import_problem,
+    pair_inputs,
     refused,
 )
 from crosscheck.core.model import Kind
@@ -374,12 +375,9 @@ class Box2dTuned(SceneCallsAdapter):
         v, why = self.variant, refused(refusal(case))
         if isinstance(case, AabbCase):
             return Call("boxes", "collide", {
-                "a_center": case.a.center, "a_half": case.a.half, "b_center": case.b.center,
-                "b_half": case.b.half, "polygon_radius": v.polygon_radius,
+                **pair_inputs(case), "polygon_radius": v.polygon_radius,
                 "use_radii": v.use_radii}, refusal=why)
-        return Call("circles", "collide", {
-            "a_center": case.a.center, "a_radius": case.a.radius, "b_center": case.b.center,
-            "b_radius": case.b.radius}, refusal=why)
+        return Call("circles", "collide", pair_inputs(case), refusal=why)
 
     def response_call(self, case: ResponseCase) -> Call:
         """Two discs stepped until the contact (sleeping: not doSleep=, see the docstring)."""

@@ -113,6 +113,7 @@ from crosscheck.core.contract import (
     Conventions,
     all_capabilities,
     import_problem,
+    pair_inputs,
 )
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
@@ -258,13 +259,9 @@ class CoalTuned(CallsAdapter):
         bad = non_finite(case)
         tolerance = None if bad else self.tolerance(case)
         why = f"coal answers non-finite input wrongly without complaint: {bad}" if bad else ""
-        if isinstance(case, AabbCase):
-            return Call("boxes", "collide_and_distance", {
-                "a_center": case.a.center, "a_half": case.a.half, "b_center": case.b.center,
-                "b_half": case.b.half, "tolerance": tolerance}, undefined=why)
-        return Call("spheres", "collide_and_distance", {
-            "a_center": case.a.center, "a_radius": case.a.radius, "b_center": case.b.center,
-            "b_radius": case.b.radius, "tolerance": tolerance}, undefined=why)
+        build = "boxes" if isinstance(case, AabbCase) else "spheres"
+        return Call(build, "collide_and_distance", {**pair_inputs(case), "tolerance": tolerance},
+                    undefined=why)
 
 
 class CoalDefault(CoalTuned):

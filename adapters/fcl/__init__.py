@@ -95,6 +95,7 @@ from crosscheck.core.contract import (
     Conventions,
     all_capabilities,
     import_problem,
+    pair_inputs,
     refused,
 )
 from crosscheck.core.model import Kind
@@ -213,13 +214,8 @@ class Fcl(CallsAdapter):
 
     def pair_call(self, case: AabbCase | SphereCase) -> Call:
         """``collide`` and the signed ``distance`` (``partial``: ``collide`` alone)."""
-        if isinstance(case, AabbCase):
-            return Call("boxes", "collide_and_distance", {
-                "a_center": case.a.center, "a_half": case.a.half, "b_center": case.b.center,
-                "b_half": case.b.half}, partial="collide_only")
-        return Call("spheres", "collide_and_distance", {
-            "a_center": case.a.center, "a_radius": case.a.radius, "b_center": case.b.center,
-            "b_radius": case.b.radius}, partial="collide_only")
+        build = "boxes" if isinstance(case, AabbCase) else "spheres"
+        return Call(build, "collide_and_distance", pair_inputs(case), partial="collide_only")
 
     def toi_call(self, case: ToiCase) -> Call:
         """``continuousCollide`` with the variant's solver; refused for inputs FCL would take

@@ -174,7 +174,7 @@ from typing import ClassVar
 import numpy as np
 
 from adapters.stepping import SceneCallsAdapter, scene_inputs
-from crosscheck.core.contract import Call, Capability, Conventions, all_capabilities
+from crosscheck.core.contract import Call, Capability, Conventions, all_capabilities, pair_inputs
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase, SphereCase
 
@@ -314,11 +314,8 @@ class PymunkTuned(SceneCallsAdapter):
         return super().unsupported(case)
 
     def pair_call(self, case: AabbCase | SphereCase) -> Call:
-        if isinstance(case, AabbCase):
-            return Call("boxes", "collide", {"a_center": case.a.center, "a_half": case.a.half,
-                                             "b_center": case.b.center, "b_half": case.b.half})
-        return Call("discs", "collide", {"a_center": case.a.center, "a_radius": case.a.radius,
-                                         "b_center": case.b.center, "b_radius": case.b.radius})
+        return Call("boxes" if isinstance(case, AabbCase) else "discs", "collide",
+                    pair_inputs(case))
 
     def response_call(self, case: ResponseCase) -> Call:
         a, b = case.a, case.b

@@ -140,6 +140,7 @@ from crosscheck.core.contract import (
     Capability,
     Conventions,
     all_capabilities,
+    pair_inputs,
     refused,
 )
 from crosscheck.core.geometry import to3
@@ -358,15 +359,9 @@ class RapierTuned(SceneCallsAdapter):
     def pair_call(self, case: AabbCase | SphereCase) -> Call:
         """The verdict at the variant's prediction, distance and normal past any gap."""
         why, reach = refusal(case), _reach(case)
-        if isinstance(case, AabbCase):
-            return Call("cuboids", "detect", {
-                "a_center": case.a.center, "a_half": case.a.half, "b_center": case.b.center,
-                "b_half": case.b.half, "prediction": self.prediction, "reach": reach},
-                refusal=why)
-        return Call("balls", "detect", {
-            "a_center": case.a.center, "a_radius": case.a.radius, "b_center": case.b.center,
-            "b_radius": case.b.radius, "prediction": self.prediction, "reach": reach},
-            refusal=why)
+        build = "cuboids" if isinstance(case, AabbCase) else "balls"
+        return Call(build, "detect", {**pair_inputs(case), "prediction": self.prediction,
+                                      "reach": reach}, refusal=why)
 
     def response_call(self, case: ResponseCase) -> Call:
         """A new world per ask, stepped to the first step that pushed the pair apart."""

@@ -26,10 +26,18 @@ keeps apart, the engine gives no value by its rule, a ``convention``.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import ClassVar
 
 import crosscheck
-from crosscheck.core.contract import Call, CallsAdapter, Capability, Conventions, all_capabilities
+from crosscheck.core.contract import (
+    Call,
+    CallsAdapter,
+    Capability,
+    Conventions,
+    all_capabilities,
+    pair_inputs,
+)
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import AabbCase, ResponseCase, SphereCase, ToiCase
 from reference_impl.formulas import Precision
@@ -73,14 +81,8 @@ class ReferenceF64(CallsAdapter):
         return crosscheck.__version__
 
     def pair_call(self, case: AabbCase | SphereCase) -> Call:
-        a, b = case.a, case.b
-        if isinstance(case, AabbCase):
-            return Call("given", "aabb", {"a_center": a.center, "a_half": case.a.half,
-                                          "b_center": b.center, "b_half": case.b.half,
-                                          "precision": self.precision})
-        return Call("given", "sphere", {"a_center": a.center, "a_radius": case.a.radius,
-                                        "b_center": b.center, "b_radius": case.b.radius,
-                                        "precision": self.precision})
+        ask = "aabb" if isinstance(case, AabbCase) else "sphere"
+        return Call("given", ask, {**pair_inputs(case), "precision": self.precision})
 
     def response_call(self, case: ResponseCase) -> Call:
         a, b = case.a, case.b
@@ -103,17 +105,11 @@ class ReferenceF32(ReferenceF64):
     name: ClassVar[str] = "reference-f32"
     settings: ClassVar[str] = "textbook formula, float32 (inputs rounded to float32)"
     precision: ClassVar[Precision] = "f32"
-    conventions: ClassVar[Conventions] = Conventions(
+    conventions: ClassVar[Conventions] = replace(
+        ReferenceF64.conventions,
         rtol=2.0**-21,
-        restitution="case value (textbook generalised with e)",
-        time_step=None,
-        damping=0.0,
-        zero_mass="",
-        negative_extents="",
         no_value=("float32-textbook",),
-        toi_samples=2,
         notes="Inputs rounded to float32, every operation in float32; no normal (nor "
               "response) where the rounded centres coincide or the box axes tie. A time of "
               "impact is the discrete test sampled at the interval's two ends.",
-        sources=TEXTBOOK,
     )

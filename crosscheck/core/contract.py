@@ -44,7 +44,8 @@ from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase, S
 __all__ = ["FEATURES", "HANG_PROBE_S", "SPEED_CAP_STAGES", "TEXTBOOK_TOUCHING", "Adapter",
            "Answer", "Call", "CallsAdapter", "Capability", "Conventions", "Impacts", "Nature",
            "Pairs", "Prepared", "Responses", "Scenes", "all_capabilities", "describe",
-           "engine_info", "import_problem", "nature_of", "observation_of", "refused"]
+           "engine_info", "import_problem", "nature_of", "observation_of", "pair_inputs",
+           "refused"]
 
 Capability = tuple[Kind, int]
 
@@ -230,6 +231,16 @@ class Call:
     model: str = ""
     """The engine's own model text among the inputs (MuJoCo's MJCF), shown apart in a bug
     report; '' if none."""
+
+
+def pair_inputs(case: AabbCase | SphereCase) -> dict[str, Any]:
+    """A detection case's bodies as a call's plain inputs: ``a_center`` with ``a_half`` (boxes)
+    or ``a_radius`` (spheres), then B's; an engine adds its own settings beside them."""
+    if isinstance(case, AabbCase):
+        return {"a_center": case.a.center, "a_half": case.a.half,
+                "b_center": case.b.center, "b_half": case.b.half}
+    return {"a_center": case.a.center, "a_radius": case.a.radius,
+            "b_center": case.b.center, "b_radius": case.b.radius}
 
 
 def refused(why: str | None) -> Exception | None:
