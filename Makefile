@@ -1,7 +1,8 @@
 # Two commands on a fresh machine with only python3 and make:
-#   make run    set up .venv from the pinned lock, run the suite, write reports/<run-id>/
+#   make run    set up .venv from the pinned lock, run the standard suite, write reports/<run-id>/
 #               (with --repeat-check: disagreeing pairs asked again in a fresh worker;
 #               ARGS="--timer instructions" also counts the timed cases' instructions)
+#               (make run-deep: the deep tier, cases/ and cases-deep/)
 #   make test   set up .venv, then lint, type-check, build the docs and run the tests
 #               (make test-long: all tests)
 # make docs builds the site (docs/, mkdocs.yml) into build/site/; make docs-figures RUN=DIR
@@ -12,7 +13,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 BUNDLE := $(VENV)/.plotly-bundle
 
-.PHONY: run test test-long lint venv clean browser valgrind docs docs-figures cli-page
+.PHONY: run run-deep test test-long lint venv clean browser valgrind docs docs-figures cli-page
 
 $(STAMP): requirements.lock pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -29,6 +30,11 @@ venv: $(STAMP) $(BUNDLE)
 
 run: $(STAMP) $(BUNDLE) valgrind
 	$(BIN)/crosscheck run --repeat-check $(ARGS)
+
+# The deep tier (cases/ and cases-deep/: finer time steps, minute-long gases, strength-3
+# designs); ARGS="--scheduler tcp://host:8786" sends it to a Dask cluster.
+run-deep: $(STAMP) $(BUNDLE) valgrind
+	$(BIN)/crosscheck run --deep --repeat-check $(ARGS)
 
 lint: $(STAMP) $(BUNDLE)
 	$(BIN)/ruff check crosscheck adapters reference_impl tests tools

@@ -98,8 +98,9 @@ def _render(run: Run) -> bool:
     return True
 
 
-CHANGES_THE_RUN = ("paths", "engine", "out", "quick", "timing_cases", "timing_seed", "samples",
-                   "min_sample", "scene_repeats", "no_pin", "timeout", "jobs", "no_isolation",
+CHANGES_THE_RUN = ("paths", "deep", "engine", "out", "quick", "timing_cases", "timing_seed",
+                   "samples", "min_sample", "scene_repeats", "no_pin", "timeout", "jobs",
+                   "no_isolation",
                    "scheduler", "worker_memory", "repeat_check", "timer",
                    "junit", "markdown", "baseline")  # outputs: check a resumed run with check
 """The options of ``run`` that ``--resume`` refuses: a resumed run keeps those it started with."""
@@ -128,11 +129,12 @@ def start(args: argparse.Namespace) -> int:
     from crosscheck.results.store import ResultsStore, StoreError
     from crosscheck.run.launch import new_info
 
-    problem = _pinned_problem(args) or _path_problem(args.paths) or _timer_problem(args)
+    problem = (_deep_problem(args) or _pinned_problem(args) or _path_problem(args)
+               or _timer_problem(args))
     if problem:
         fail(problem)
         return 2
-    loaded = load_paths(args.paths or [Path("cases")])
+    loaded = load_paths(_paths(args))
     report_case_errors(loaded)
     if not loaded.cases:
         fail("no valid case in the case files (see the errors above): nothing to run")
@@ -156,6 +158,22 @@ def start(args: argparse.Namespace) -> int:
     return code or (1 if loaded.errors else 0)
 
 
+def _paths(args: argparse.Namespace) -> list[Path]:
+    """The case paths of the run: those given, else the tier's folders."""
+    from crosscheck.cases.tiers import tier_paths
+
+    return list(args.paths) or tier_paths(args.deep)
+
+
+def _deep_problem(args: argparse.Namespace) -> str | None:
+    """Why ``--deep`` cannot go with these options, or None."""
+    if args.deep and args.paths:
+        return ("--deep runs the deep tier's folders (cases/ and cases-deep/); with case "
+                f"paths given ({', '.join(map(str, args.paths))}) name cases-deep/ among "
+                "them instead")
+    return None
+
+
 def _pinned_problem(args: argparse.Namespace) -> str | None:
     """Why a pinned ``--engine NAME@VERSION`` cannot run with these options, or None."""
     if not any("@" in name for name in args.engine or ()):
@@ -165,16 +183,17 @@ def _pinned_problem(args: argparse.Namespace) -> str | None:
             f"cannot be combined with {other}") if other else None
 
 
-def _path_problem(paths: Sequence[Path]) -> str | None:
-    """Why these case paths (none: ``cases/``) hold no case file to run, or None."""
+def _path_problem(args: argparse.Namespace) -> str | None:
+    """Why the run's case paths (none given: the tier's folders) hold no case file, or None."""
     from crosscheck.cases.load import case_files
 
-    missing = [str(p) for p in paths if not p.exists()]
+    missing = [str(p) for p in args.paths if not p.exists()]
     if missing:
         return f"no such case file or folder: {', '.join(missing)}"
-    searched = list(paths) or [Path("cases")]
+    searched = _paths(args)
     if not case_files(p for p in searched if p.exists()):
-        where = ", ".join(f"{p}/" if p.is_dir() or not paths else str(p) for p in searched)
+        where = ", ".join(f"{p}/" if p.is_dir() or not args.paths else str(p)
+                          for p in searched)
         return f"no case files found under {where}: run from the project root or pass a path"
     return None
 
@@ -268,6 +287,10 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                         "--engine pymunk@6.11.1 --engine pymunk")
     p.add_argument("--out", metavar="DIR",
                    help=f"output folder (default: reports/<run-id>/; {OUT_RULE})")
+    p.add_argument("--deep", action="store_true",
+                   help="run the deep tier: cases/ and cases-deep/ (finer time steps, "
+                        "minute-long gases at 1/240 s, strength-3 covering designs; "
+                        "docs/coverage.md)")
     p.add_argument("--quick", action="store_true",
                    help="no timing phase; scenes over 1,000 steps skipped")
     p.add_argument("--timing-cases", type=_number(int, 0, True), metavar="N",

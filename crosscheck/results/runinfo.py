@@ -115,6 +115,13 @@ class RunInfo:
     (those whose answer changed), ``seconds`` it took (summed over a resumed run's parts)."""
 
     @property
+    def tier(self) -> str:
+        """The suite's tier the run holds (:func:`crosscheck.cases.tiers.tier_of`)."""
+        from crosscheck.cases.tiers import tier_of
+
+        return tier_of(self.case_files)
+
+    @property
     def engine_names(self) -> list[str]:
         """The engines of the run, in run order."""
         return [str(e["name"]) for e in self.engines]
@@ -133,7 +140,8 @@ class RunInfo:
                 "started": self.started, "finished": self.finished,
                 "resumed": list(self.resumed), "options": self.options.to_json(),
                 "machine": self.machine, "engines": list(self.engines),
-                "case_files": list(self.case_files), "cases_run": self.cases_run,
+                "case_files": list(self.case_files), "tier": self.tier,
+                "cases_run": self.cases_run,
                 "case_errors": list(self.case_errors), "timing": self.timing,
                 "repeat_check": self.repeat_check}
 

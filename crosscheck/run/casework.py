@@ -11,7 +11,7 @@ skips long scenes without running them.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 from crosscheck.core.contract import HANG_PROBE_S, Adapter
@@ -46,16 +46,18 @@ def execute_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
 
 
 def execute_cases(items: Sequence[tuple[AnyCase, Pairs]], adapters: Sequence[Adapter],
-                  executor: Executor, options: RunOptions) -> list[Executed]:
+                  executor: Executor, options: RunOptions,
+                  truth: Callable[[AnyCase], Observation] = oracle.truth) -> list[Executed]:
     """:func:`execute_case` of each ``(case, done pairs)``, the pairs run together: every
     pair without a declared hang in one :func:`~crosscheck.run.execute.run_calls`, then
-    those with one, each probed on its own."""
+    those with one, each probed on its own.  ``truth`` gives a case's exact truth (the
+    oracle's, or a caller's memo of it)."""
     truths: list[Observation] = []
     slots: list[list[tuple[int, Outcome | int | None]]] = []
     calls: list[tuple[Adapter, AnyCase, RunOptions, bool, frozenset[str]]] = []
     for case, done in items:
         skipped = _quick_skip(case, options)
-        truths.append(oracle.truth(case) if skipped is None else Observation())
+        truths.append(truth(case) if skipped is None else Observation())
         mine: list[tuple[int, Outcome | int | None]] = []
         for k, adapter in enumerate(adapters):
             if (case.id, adapter.name) in done:

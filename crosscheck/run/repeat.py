@@ -3,45 +3,56 @@ whose answer depends on something outside the case.
 
 ``crosscheck run --repeat-check`` runs it after the verdict pass and before the timing
 phase (:func:`crosscheck.run.launch.launch`).  Every case x engine pair with a row in
-:data:`REASKED` (``disagree``, ``error``, ``crash``) is asked again, once, in a worker
-process started for that pair alone (:func:`~crosscheck.run.worker.fresh_worker`; in this
-process under ``--no-isolation``), and its second answer is scored as the first was.  A
-pair whose answer changed (any quantity's value text or status differs,
-:func:`~crosscheck.results.repeats.changed`) is ``nondeterministic``.
+:data:`REASKED` (``disagree``, ``error``, ``crash``) is asked again, once, and its second
+answer is scored as the first was.  A pair whose answer changed (any quantity's value text
+or status differs, :func:`~crosscheck.results.repeats.changed`) is ``nondeterministic``.
+
+Where it is asked: in a worker process started for a batch (:class:`RepeatJob`): the pairs
+of one engine library (its variants share a worker, as in the verdict pass), at most
+:data:`BATCH_CASES` cases of them, in a worker started for that batch alone and stopped
+after it (in this process under ``--no-isolation``), the cases in the reverse of the run's
+order.  The second answer thus comes from a process with another history than the first
+(other addresses, other cases asked before it): what an answer depends on beyond its case
+shows as a change.  (Before, one worker per pair cost a process start per pair, ten
+minutes of a full run.  FCL's answers on some deep sphere overlaps differ from one process
+to the next at random; batches flag them as a worker per pair did.)  A pair that crashes
+its worker is asked in the next one the pool starts, so a crash of the case is still told
+from one the worker's history caused.
 
 Not asked again: agreeing pairs (the check is about the disagreements a report shows and a
-repro script must reproduce: each costs a worker start, so agreement is not re-asked), and pairs
-with a ``timeout`` row (whether an answer comes in time depends on the machine's load as
-much as on the engine, and asking again costs the whole time limit).  A ``crash`` is asked
-again: a fresh worker tells a crash of the case from one that the worker's history caused.
-A second asking that runs out of time flags nothing, for the same reason as a first.
+repro script must reproduce), and pairs with a ``timeout`` row (whether an answer comes in
+time depends on the machine's load as much as on the engine, and asking again costs the
+whole time limit).  A second asking that runs out of time flags nothing, for the same
+reason as a first.
 
-Each pair's :class:`~crosscheck.results.repeats.RepeatRecord` is appended to
-``repeats.jsonl`` as it comes back, so an interrupted check keeps every answer received; a
-resumed run asks only the pairs not in that file yet.
+Each batch's :class:`~crosscheck.results.repeats.RepeatRecord` lines are appended to
+``repeats.jsonl`` as the batch comes back, so an interrupted check keeps every answer
+received; a resumed run asks only the pairs not in that file yet.  The exact truth of each
+case is computed once per lane, not once per batch (:class:`RepeatJob` keeps it).
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable, Collection, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from crosscheck.core.contract import Adapter
-from crosscheck.core.model import Record, Status
+from crosscheck.core.model import Observation, Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.results.repeats import Answer, RepeatRecord, changed, read_repeats
 from crosscheck.results.run import Run
 from crosscheck.results.store import ResultsStore
-from crosscheck.run.casework import execute_case
+from crosscheck.run.casework import execute_cases
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, execute
 from crosscheck.run.lanes import LocalLanes
 from crosscheck.run.runner import score_outcome
-from crosscheck.run.worker import fresh_worker
+from crosscheck.run.worker import WorkerPool
+from crosscheck.truth import oracle
 
 REASKED = frozenset({Status.DISAGREE, Status.ERROR, Status.CRASH})
 """A pair with a row of one of these statuses (and none :data:`NOT_REASKED`) is asked again."""
@@ -74,24 +85,44 @@ def answers_of(records: Sequence[Record]) -> Answers:
     return {r.quantity: (r.value, str(r.status)) for r in records}
 
 
+BATCH_CASES = 400
+"""Cases of one engine library asked again in one fresh worker, at most."""
+
+Batch = tuple[tuple[AnyCase, frozenset[Pair]], ...]
+"""One batch: each case with its pairs *not* to ask again (the other engines', the agreeing)."""
+
+
 @dataclass(frozen=True)
 class RepeatJob:
-    """Ask one case again on the named engines, each in a fresh worker: picklable (a Dask
-    task gets the adapters' classes, as :class:`~crosscheck.run.runner.CaseJob` does)."""
+    """Ask one batch again in a worker started for it alone: picklable (a Dask task gets the
+    adapters' classes, as :class:`~crosscheck.run.runner.CaseJob` does)."""
 
     adapters: tuple[Adapter, ...]
     options: RunOptions
+    truths: dict[str, Observation] = field(default_factory=dict, compare=False)
+    """Each case's exact truth, computed once (lanes are threads of one process)."""
 
-    def __call__(self, item: tuple[AnyCase, frozenset[str]],
-                 executor: Executor) -> list[list[Record]]:
-        """The scored records of the second answer, one list per engine asked (the lane's own
+    def truth(self, case: AnyCase) -> Observation:
+        """The exact truth of ``case``, from :attr:`truths` once computed."""
+        if case.id not in self.truths:
+            self.truths[case.id] = oracle.truth(case)
+        return self.truths[case.id]
+
+    def __call__(self, batch: Batch, executor: Executor) -> list[list[Record]]:
+        """The scored records of the second answers, one list per pair asked (the lane's own
         ``executor`` is not used: its workers have answered other cases)."""
-        case, names = item
-        fresh: Executor = fresh_worker if self.options.isolate else execute
-        others = frozenset((case.id, a.name) for a in self.adapters if a.name not in names)
-        executed = execute_case(case, self.adapters, fresh, self.options, others)
-        return [score_outcome(case, self.adapters[k], outcome, executed.truth)
-                for k, outcome in executed.outcomes]
+        if not self.options.isolate:
+            return self._ask(batch, execute)
+        pool = WorkerPool(self.options)
+        try:
+            return self._ask(batch, pool)
+        finally:
+            pool.close(at_once=True)  # it will answer nothing else: its exit would only cost time
+
+    def _ask(self, batch: Batch, fresh: Executor) -> list[list[Record]]:
+        executed = execute_cases(batch, self.adapters, fresh, self.options, self.truth)
+        return [score_outcome(e.case, self.adapters[k], outcome, e.truth)
+                for e in executed for k, outcome in e.outcomes]
 
     def __reduce__(self) -> tuple[Any, ...]:
         return _repeat_job, (tuple(type(a) for a in self.adapters), self.options)
@@ -99,6 +130,27 @@ class RepeatJob:
 
 def _repeat_job(classes: Sequence[type[Adapter]], options: RunOptions) -> RepeatJob:
     return RepeatJob(tuple(cls() for cls in classes), options)
+
+
+def batches(firsts: Collection[Pair], cases: dict[str, AnyCase],
+            engines: Sequence[Adapter]) -> list[Batch]:
+    """The pairs to ask again as batches: per engine library (in run order), its cases in
+    the reverse of the run's order (so a case's history in the batch is not the one it had in
+    the verdict pass), in runs of at most :data:`BATCH_CASES`, each with the pairs not to
+    ask."""
+    libraries: dict[str, dict[str, None]] = {}
+    library = {a.name: a.engine for a in engines}
+    for case_id, name in firsts:
+        libraries.setdefault(library[name], {})[case_id] = None
+    found: list[Batch] = []
+    for engine in dict.fromkeys(a.engine for a in engines):
+        ids = [c for c in reversed(cases) if c in libraries.get(engine, {})]
+        for i in range(0, len(ids), BATCH_CASES):
+            found.append(tuple(
+                (cases[c], frozenset((c, a.name) for a in engines
+                                     if a.engine != engine or (c, a.name) not in firsts))
+                for c in ids[i:i + BATCH_CASES]))
+    return found
 
 
 def pending_repeats(store: ResultsStore, run: Run,
@@ -118,15 +170,11 @@ def repeat_check(store: ResultsStore, run: Run, engines: Sequence[Adapter], opti
     interrupted, added; the time of a part interrupted during the check is not counted)."""
     began = time.monotonic()
     firsts = pending_repeats(store, run, engines)
-    by_case: dict[str, set[str]] = {}
-    for case_id, engine in firsts:
-        by_case.setdefault(case_id, set()).add(engine)
-    items = [(case, frozenset(by_case[case.id])) for case in run.cases.values()
-             if case.id in by_case]
     progress = start(len(firsts)) if start else None
     lanes: Lanes = DaskLanes(options) if options.scheduler else LocalLanes(options)
     with lanes:
-        for result in lanes.map(RepeatJob(tuple(engines), options), items):
+        for result in lanes.map(RepeatJob(tuple(engines), options),
+                                batches(firsts, run.cases, engines)):
             for records in result:
                 _record(store, records, firsts)
             if progress:

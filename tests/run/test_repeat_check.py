@@ -57,15 +57,19 @@ def test_an_engine_answering_from_its_process_count_is_flagged_with_both_answers
     info, frame = run_with(tmp_path / "run", [fakes.DriftsWithEachQuery()])
     rows = distances(frame, "fake-drifts")
     assert len(rows) == len(CASES)
+    order = [c.id for c in CASES]
     for row in rows.to_dict("records"):
-        truth = oracle.truth(next(c for c in CASES if c.id == row["case_id"])).distance
+        k = order.index(row["case_id"])
+        truth = oracle.truth(CASES[k]).distance
         assert isinstance(truth, float)
-        # asked again in a worker that answered nothing before: its first query
-        assert float(row["repeat_value"]) == truth + fakes.DriftsWithEachQuery.STEP
+        # asked again in a worker started for the batch (the fake's cases, in the reverse of
+        # the run's order): the case's place in the batch is its query count there
+        place = len(CASES) - k
+        assert float(row["repeat_value"]) == truth + place * fakes.DriftsWithEachQuery.STEP
         assert row["repeat_status"] == Status.DISAGREE
         assert row["nondeterministic"] == (row["value"] != row["repeat_value"])
     flagged = rows[rows["nondeterministic"]]
-    assert len(flagged) >= len(CASES) - 1  # the first case was also its worker's first query
+    assert len(flagged) >= len(CASES) - 1  # one case may meet its first count again
     # every row of a flagged pair carries the flag, its other quantities their second answer
     pairs = frame[frame["case_id"].isin(flagged["case_id"])]
     assert pairs["nondeterministic"].all() and (pairs["repeat_status"] != "").all()
@@ -105,7 +109,8 @@ def test_a_timeout_is_not_asked_again(tmp_path: Path) -> None:
 
 class HangsWhenFresh(fakes.OffByOne):
     """Wrong by 1.0 on the distance; on the case :data:`SLOW`, asked first in its process (as
-    the repeat check asks it), it never returns."""
+    the repeat check asks it: the last case of the run, first in its reversed batch), it
+    never returns."""
 
     name: ClassVar[str] = "fake-hangs-when-fresh"
     asked: ClassVar[int] = 0
