@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import math
 import textwrap
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING
@@ -101,21 +102,48 @@ PHASES = {"verdicts": "case x engine", "timing": "timing (rounds, steps)",
 
 
 class PlainProgress:
-    """Progress as plain lines on stderr, for a log or a pipe: one at the start, then one
-    each tenth of the way."""
+    """Progress as plain lines on stderr, for a log or a pipe: one at the start, then one each
+    tenth of the way and at least every :data:`QUIET_S` seconds, each with the time taken and
+    an estimate of the time left (at the rate so far)."""
 
     def __init__(self, label: str, total: int, clock: Callable[[], float] = time.monotonic):
         self.label, self.total, self.done, self.clock = label, total, 0, clock
         self.started, self.next = clock(), 0.1
+        self.said = self.started
+        self.lock = threading.Lock()
         say(f"{label}: {total} to go", stderr)
 
     def __call__(self, n: int) -> None:
-        self.done += n
-        if self.total and self.done / self.total >= self.next:
-            self.next = math.floor(10 * self.done / self.total) / 10 + 0.1
-            say(f"{self.label}: {self.done}/{self.total} "
-                f"({100 * self.done / self.total:.0f}%, {self.clock() - self.started:.0f} s)",
-                stderr)
+        with self.lock:
+            self.done += n
+            if self.total and self.done / self.total >= self.next:
+                self.next = math.floor(10 * self.done / self.total) / 10 + 0.1
+                self._say(self.clock())
+        self.beat()
+
+    def beat(self) -> None:
+        """Say where the phase is when nothing was said for :data:`QUIET_S` seconds (a long
+        case in flight advances nothing; :func:`phase_bars` calls this every second)."""
+        with self.lock:
+            now = self.clock()
+            if self.done < self.total and now - self.said >= QUIET_S:
+                self._say(now)
+
+    def _say(self, now: float) -> None:
+        self.said = now
+        say(f"{self.label}: {self.done}/{self.total} "
+            f"({100 * self.done / max(self.total, 1):.0f}%, {now - self.started:.0f} s"
+            f"{self.left(now)})", stderr)
+
+    def left(self, now: float) -> str:
+        """``, about N s left`` at the rate so far (nothing once done or before any)."""
+        if not 0 < self.done < self.total:
+            return ""
+        return f", about {(now - self.started) * (self.total - self.done) / self.done:.0f} s left"
+
+
+QUIET_S = 10.0
+"""The longest a plain progress log stays silent while a phase advances."""
 
 
 @contextlib.contextmanager
@@ -123,7 +151,27 @@ def phase_bars() -> Iterator[Callable[[str, int], Callable[[int], None]]]:
     """Progress per phase of a run (verdicts, timing) on stderr: transient bars on a
     terminal, plain lines every tenth of the way when stderr is a log or a pipe."""
     if not stderr.is_terminal:
-        yield lambda name, total: PlainProgress(PHASES.get(name, name), total)
+        made: list[PlainProgress] = []
+        stop = threading.Event()
+
+        def beats() -> None:
+            while not stop.wait(1.0):
+                for progress in list(made):
+                    progress.beat()
+
+        def start_plain(name: str, total: int) -> Callable[[int], None]:
+            for earlier in made:  # a new phase: the earlier ones are over
+                earlier.done = earlier.total
+            made.append(PlainProgress(PHASES.get(name, name), total))
+            return made[-1]
+
+        beating = threading.Thread(target=beats, name="progress", daemon=True)
+        beating.start()
+        try:
+            yield start_plain
+        finally:
+            stop.set()
+            beating.join()
         return
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
                TimeElapsedColumn(), TimeRemainingColumn())

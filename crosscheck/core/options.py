@@ -49,14 +49,14 @@ class RunOptions:
     """
 
     quick: bool = False
-    min_sample_s: float = 0.0025
-    samples: int = 20
+    min_sample_s: float = 0.001
+    samples: int = 10
     timeout_s: float = 5.0
     isolate: bool = True
     jobs: int = 1
-    timing_cases: int = 30
+    timing_cases: int = 12
     timing_seed: int = 0
-    scene_repeats: int = 10
+    scene_repeats: int = 5
     pin: bool = True
     scheduler: str | None = None
     worker_memory_mb: float = 2048.0
