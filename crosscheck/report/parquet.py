@@ -22,11 +22,15 @@ decoded, once per run (:attr:`crosscheck.results.run.Run.decoded`): nothing is p
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 
+from crosscheck.results import stored
 from crosscheck.results.run import DECODED
 
 KINDS = ("bool", "float", "vector")
@@ -66,9 +70,17 @@ def typed_frame(frame: pd.DataFrame, values: pd.DataFrame) -> pd.DataFrame:
 
 
 def write_parquet(frame: pd.DataFrame, values: pd.DataFrame, directory: Path) -> Path:
-    """Write ``results.parquet`` (pyarrow) from a results DataFrame and its decoded values."""
-    path = directory / "results.parquet"
-    typed_frame(frame, values).to_parquet(path, index=False, engine="pyarrow")
+    """Write ``results.parquet`` (pyarrow) from a results DataFrame (the run's whole table) and
+    its decoded values, stamped (:func:`crosscheck.results.stored.stamp`) so that a later
+    reader takes the table from it instead of parsing ``results.jsonl``; written whole or not
+    at all (a temporary file renamed)."""
+    path = directory / stored.FILE
+    table = pa.Table.from_pandas(typed_frame(frame, values), preserve_index=False)
+    table = table.replace_schema_metadata({**(table.schema.metadata or {}),
+                                           **stored.stamp(directory, frame)})
+    partial = path.with_suffix(".parquet.tmp")
+    pq.write_table(table, partial)
+    os.replace(partial, path)
     return path
 
 

@@ -17,6 +17,7 @@ from crosscheck.report.parquet import write_parquet
 from crosscheck.report.sections import SECTIONS, RunView
 from crosscheck.report.style import packed_plotly_js, templates
 from crosscheck.report.summary_tables import markdown_summary
+from crosscheck.results import stored
 from crosscheck.results.run import Run, read_run
 from crosscheck.results.store import write_csv
 
@@ -39,11 +40,18 @@ def render_html(view: RunView) -> str:
 
 def render(run: Run | Path) -> dict[str, Path]:
     """Write results (CSV and typed Parquet), summary, disagreements, asymmetries and
-    metamorphic CSV files and report.html into the run's folder (a folder: read first)."""
+    metamorphic CSV files and report.html into the run's folder (a folder: read first).
+    ``results.csv`` and ``results.parquet`` are written only when missing or stale: when the
+    run's table was read from its up-to-date Parquet file
+    (:attr:`~crosscheck.results.run.Run.from_stored`), neither is rewritten unless
+    ``results.csv`` is older than the files the table is built from."""
     view = RunView(run if isinstance(run, Run) else read_run(run))
     directory = view.stored.directory
-    paths = {"results": write_csv(view.stored.results, directory),
-             "parquet": write_parquet(view.stored.results, view.stored.decoded, directory)}
+    paths = {"results": directory / "results.csv", "parquet": directory / stored.FILE}
+    if not view.stored.from_stored:  # else the table was read from the up-to-date parquet
+        write_parquet(view.stored.results, view.stored.decoded, directory)
+    if not (view.stored.from_stored and stored.up_to_date(directory, paths["results"])):
+        write_csv(view.stored.results, directory)
     for name, table in (("summary", view.summary), ("disagreements", view.disagreements),
                         ("asymmetries", view.asymmetries),
                         ("metamorphic", view.metamorphic)):

@@ -31,7 +31,7 @@ import pandas as pd
 from crosscheck.core.model import COLUMNS, Kind, quantities_of
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from crosscheck.core.values import decode, upgrade
-from crosscheck.results import counts, jsonlines, legacy, repeats
+from crosscheck.results import counts, jsonlines, legacy, repeats, stored
 from crosscheck.results.runinfo import FORMAT_VERSION, FormatError, RunInfo
 from crosscheck.results.store import StoreError, written_repros
 from crosscheck.results.timings import read_timings
@@ -83,8 +83,21 @@ class Run:
     @functools.cached_property
     def results(self) -> pd.DataFrame:
         """The results table (``results.csv``): :attr:`rows` with the timing phase's medians,
-        the instruction counts and the repeat check's columns joined."""
+        the instruction counts and the repeat check's columns joined; read from the stored
+        columns (:func:`crosscheck.results.stored.read_results`) when they are up to date and
+        the rows were not parsed already."""
+        if "rows" not in self.__dict__:
+            kept = stored.read_results(self.directory)
+            if kept is not None:
+                self.__dict__["_from_stored"] = True
+                return kept
         return _joined(self.rows.copy(), self.directory)
+
+    @property
+    def from_stored(self) -> bool:
+        """Whether :attr:`results` came from the up-to-date stored columns (the files written
+        from them need no rewrite)."""
+        return bool(self.__dict__.get("_from_stored", False))
 
     @functools.cached_property
     def decoded(self) -> pd.DataFrame:
@@ -104,6 +117,7 @@ class Run:
         data = _run_json(self.directory)
         self.info, self.format_version = _info(self.directory, data), int(data["format_version"])
         self.__dict__.pop("results", None)  # its value and truth texts, so decoded, stay
+        self.__dict__.pop("_from_stored", None)
 
     def with_results(self, results: pd.DataFrame) -> Run:
         """This run with another results table (some of its rows, other columns: a what-if)."""
@@ -122,7 +136,11 @@ def read_run(directory: Path) -> Run:
 
 def read_results(directory: Path) -> pd.DataFrame:
     """The results table of a run folder (:attr:`Run.results`) without validating its cases:
-    for the readers that need no more (``check``, ``compare``'s changes)."""
+    for the readers that need no more (``check``, ``compare``'s changes); from the stored
+    columns when they are up to date."""
+    kept = stored.read_results(directory)
+    if kept is not None:
+        return kept
     case_ids = [str(case["id"]) for case in jsonlines.parse_lines(directory / "cases.jsonl")]
     engines = ([e["name"] for e in _run_json(directory).get("engines", [])]
                if (directory / "run.json").exists() else [])

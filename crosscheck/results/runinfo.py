@@ -112,7 +112,8 @@ class RunInfo:
     counted)."""
     repeat_check: dict[str, Any] | None = None
     """The repeat check (format 5; None: not run): ``pairs`` asked again, ``nondeterministic``
-    (those whose answer changed), ``seconds`` it took (summed over a resumed run's parts)."""
+    (those whose answer changed), ``seconds`` it took (summed over a resumed run's parts),
+    ``scenes`` (whether scene pairs were asked: the deep tier only; absent before)."""
 
     @property
     def tier(self) -> str:

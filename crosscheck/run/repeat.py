@@ -19,6 +19,11 @@ to the next at random; batches flag them as a worker per pair did.)  A pair that
 its worker is asked in the next one the pool starts, so a crash of the case is still told
 from one the worker's history caused.
 
+Scene pairs are asked again in the deep tier only (``crosscheck run --deep``): asking every
+disagreeing scene again costs as much as stepping the scenes did, a large share of a
+standard run, and no scene has answered differently in the full runs so far (the engines
+step deterministically from the same inputs); the summary's ``scenes`` says which.
+
 Not asked again: agreeing pairs (the check is about the disagreements a report shows and a
 repro script must reproduce), and pairs with a ``timeout`` row (whether an answer comes in
 time depends on the machine's load as much as on the engine, and asking again costs the
@@ -42,7 +47,7 @@ from typing import Any
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Observation, Record, Status
 from crosscheck.core.options import RunOptions
-from crosscheck.core.schema import AnyCase
+from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.results.repeats import Answer, RepeatRecord, changed, read_repeats
 from crosscheck.results.run import Run
 from crosscheck.results.store import ResultsStore
@@ -153,11 +158,21 @@ def batches(firsts: Collection[Pair], cases: dict[str, AnyCase],
     return found
 
 
+def scenes_asked(run: Run) -> bool:
+    """Whether the check asks scene pairs again: in the deep tier only (see the module's
+    docstring)."""
+    return run.info.tier == "deep"
+
+
 def pending_repeats(store: ResultsStore, run: Run,
                     engines: Sequence[Adapter]) -> dict[Pair, Answers]:
     """The first answers of the pairs of ``run`` the repeat check has still to ask in
-    ``store``."""
-    return first_answers(run, {a.name for a in engines}, store.repeated)
+    ``store`` (scene pairs only when :func:`scenes_asked`)."""
+    firsts = first_answers(run, {a.name for a in engines}, store.repeated)
+    if scenes_asked(run):
+        return firsts
+    return {pair: answers for pair, answers in firsts.items()
+            if not isinstance(run.cases[pair[0]], SceneCase)}
 
 
 def repeat_check(store: ResultsStore, run: Run, engines: Sequence[Adapter], options: RunOptions,
@@ -180,7 +195,7 @@ def repeat_check(store: ResultsStore, run: Run, engines: Sequence[Adapter], opti
             if progress:
                 progress(len(result))
     seconds = time.monotonic() - began + float((previous or {}).get("seconds", 0.0))
-    return summary(store.directory, seconds)
+    return {**summary(store.directory, seconds), "scenes": scenes_asked(run)}
 
 
 def _record(store: ResultsStore, records: Sequence[Record], firsts: dict[Pair, Answers]) -> None:
@@ -190,7 +205,8 @@ def _record(store: ResultsStore, records: Sequence[Record], firsts: dict[Pair, A
 
 
 def summary(directory: Path, seconds: float) -> dict[str, Any]:
-    """The check's summary for run.json, counted from the run's ``repeats.jsonl``."""
+    """The check's summary for run.json, counted from the run's ``repeats.jsonl`` (the
+    caller adds ``scenes``: whether scene pairs were asked)."""
     records = read_repeats(directory).values()
     return {"pairs": len(records), "nondeterministic": sum(r.nondeterministic for r in records),
             "seconds": round(seconds, 3)}

@@ -74,7 +74,8 @@ def test_an_engine_answering_from_its_process_count_is_flagged_with_both_answers
     pairs = frame[frame["case_id"].isin(flagged["case_id"])]
     assert pairs["nondeterministic"].all() and (pairs["repeat_status"] != "").all()
     assert info.repeat_check == {"pairs": len(CASES), "nondeterministic": len(flagged),
-                                 "seconds": info.repeat_check["seconds"]}  # type: ignore[index]
+                                 "seconds": info.repeat_check["seconds"],  # type: ignore[index]
+                                 "scenes": False}
 
 
 def test_in_process_the_pair_is_asked_again_in_this_process(tmp_path: Path) -> None:
@@ -166,3 +167,28 @@ def test_the_repeat_job_travels_to_a_dask_worker_as_the_adapters_classes() -> No
     copy = pickle.loads(pickle.dumps(job))
     assert [type(a) for a in copy.adapters] == [fakes.OffByOne, fakes.DriftsWithEachQuery]
     assert copy.options == job.options
+
+
+FAST = [c for c in load_paths([ROOT / "cases" / "fast.toml"]).cases
+        if c.id.startswith("fast-head-on.dt=0.0166667.step_travel=0.5,")][:2]
+
+
+@pytest.mark.parametrize("files, asked", [(["cases/fast.toml"], False),
+                                          (["cases/fast.toml", "cases-deep/scenes.toml"], True)])
+def test_scene_pairs_are_asked_again_in_the_deep_tier_only(
+        tmp_path: Path, files: list[str], asked: bool) -> None:
+    from crosscheck.cli.engines import select
+
+    engines = select(["pymunk"])
+    chosen = RunOptions(repeat_check=True, timing_cases=0)
+    folder = tmp_path / "run"
+    info = launch(ResultsStore(folder), FAST, engines, chosen,
+                  new_info(folder, "test", chosen, engines, FAST, files)).info
+    frame = read_run(folder).results
+    disagreeing = frame[frame["status"] == Status.DISAGREE]["case_id"].nunique()
+    assert disagreeing == len(FAST)  # the fast head-on pass-through: pymunk misses it
+    assert info.tier == ("deep" if asked else "standard")
+    assert info.repeat_check is not None and info.repeat_check["scenes"] is asked
+    assert info.repeat_check["pairs"] == (len(FAST) if asked else 0)
+    assert ((frame["repeat_status"] != "").all() if asked
+            else (frame["repeat_status"] == "").all())
