@@ -12,8 +12,9 @@ capability: FCL 0.7.0 computes neither for two spheres (``continuousCollide`` re
 
 FCL answers collision and distance queries; it has no dynamics, so ``sphere_response`` is
 unsupported.  A case becomes two ``CollisionObject`` s (a ``Box`` or ``Sphere`` at the
-case's centre, identity rotation): no world, client or broadphase, and each object owns
-its shape, so ``release`` only drops references.  ``query`` makes two calls, each with
+case's centre, identity rotation): no world, client or broadphase.  Nothing is built per
+case: ``release`` keeps the pair idle, and the next case of its geometry sets its sizes and
+translations (see :mod:`adapters.fcl.calls`).  ``query`` makes two calls, each with
 fresh result objects, so it is repeatable (``query_without(prepared, {"distance"})`` makes
 only the first: the runner's way round the declared hang below):
 
@@ -215,7 +216,8 @@ class Fcl(CallsAdapter):
     def pair_call(self, case: AabbCase | SphereCase) -> Call:
         """``collide`` and the signed ``distance`` (``partial``: ``collide`` alone)."""
         build = "boxes" if isinstance(case, AabbCase) else "spheres"
-        return Call(build, "collide_and_distance", pair_inputs(case), partial="collide_only")
+        return Call(build, "collide_and_distance", pair_inputs(case), release="release",
+                    partial="collide_only")
 
     def toi_call(self, case: ToiCase) -> Call:
         """``continuousCollide`` with the variant's solver; refused for inputs FCL would take

@@ -10,6 +10,14 @@ is ``collide`` (verdict; in collision the contact's normal, A to B) and the sign
 from A's nearest point to B's; else none).  ``collide_only`` leaves the distance out (it
 hangs on coincident sphere centres).
 
+Nothing is built per case once a process has asked one pair of each geometry: ``release``
+puts the pair (two geometries, their objects, the requests) back in an idle pool per
+geometry (``IDLE_LIMIT`` at most), and the next build of that geometry takes it and
+sets the sizes (``Sphere.radius``, ``Box.side``; then ``computeLocalAABB``, as FCL's
+``CollisionObject`` constructor does) and the translations (``setTranslation``, which
+recomputes the world AABB; the rotation stays the identity): the same state a new pair has
+(equivalence checked on the whole suite).  A pair is built anew only when none is idle.
+
 Time of impact: ``continuousCollide`` of the two spheres from their start to their end
 centres (``center + velocity x duration``) with the solver asked; FCL's time is normalised
 to [0, 1] (toi = time_of_contact x duration) and the binding gives no contact normal, so
@@ -21,6 +29,7 @@ import math
 from typing import Any
 
 import fcl
+import numpy as np
 
 from adapters.shared import centre_normal, end_centres, no_contact, to3, z_half
 
@@ -28,25 +37,64 @@ Answer = dict[str, Any]
 Vec = tuple[float, ...]
 
 
-def _objects(shape_a: Any, shape_b: Any, a_center: Vec, b_center: Vec) -> dict[str, Any]:
-    return {"a": fcl.CollisionObject(shape_a, fcl.Transform(list(to3(a_center)))),
-            "b": fcl.CollisionObject(shape_b, fcl.Transform(list(to3(b_center)))),
+IDLE_LIMIT = 4
+"""Idle pairs kept per geometry (a process asks one pair at a time)."""
+_IDLE: dict[str, list[dict[str, Any]]] = {"box": [], "sphere": []}
+
+
+def _new(geometry: str, sizes: tuple[Any, Any], a_center: Vec, b_center: Vec) -> dict[str, Any]:
+    make = fcl.Box if geometry == "box" else fcl.Sphere
+    ga, gb = make(*sizes[0]), make(*sizes[1])
+    return {"geometry": geometry, "shapes": (ga, gb),
+            "a": fcl.CollisionObject(ga, fcl.Transform(list(to3(a_center)))),
+            "b": fcl.CollisionObject(gb, fcl.Transform(list(to3(b_center)))),
             "collision": fcl.CollisionRequest(num_max_contacts=1, enable_contact=True),
             "distance": fcl.DistanceRequest(enable_nearest_points=True,
                                             enable_signed_distance=True),
             "dim": len(a_center)}
 
 
+def _reused(built: dict[str, Any], sizes: tuple[Any, Any], a_center: Vec,
+            b_center: Vec) -> dict[str, Any]:
+    """An idle pair with the case's sizes and centres (what a new pair's constructors set)."""
+    for shape, size, obj, centre in zip(built["shapes"], sizes, (built["a"], built["b"]),
+                                        (a_center, b_center), strict=True):
+        if built["geometry"] == "box":
+            shape.side = size
+        else:
+            shape.radius = size[0]
+        shape.computeLocalAABB()
+        obj.setTranslation(np.array(to3(centre), dtype=np.float64))
+    built["dim"] = len(a_center)
+    return built
+
+
+def _objects(geometry: str, sizes: tuple[Any, Any], a_center: Vec,
+             b_center: Vec) -> dict[str, Any]:
+    """The pair: an idle one of ``geometry`` reset to the case, else a new one."""
+    idle = _IDLE[geometry]
+    if idle:
+        return _reused(idle.pop(), sizes, a_center, b_center)
+    return _new(geometry, sizes, a_center, b_center)
+
+
 def boxes(a_center: Vec, a_half: Vec, b_center: Vec, b_half: Vec) -> dict[str, Any]:
     """Two boxes (side lengths 2 x the half-widths; a 2-D pair gets a z extent)."""
     extra = (z_half(a_half, b_half),) if len(a_center) == 2 else ()
     sa, sb = ([2.0 * h for h in (*half, *extra)] for half in (a_half, b_half))
-    return _objects(fcl.Box(*sa), fcl.Box(*sb), a_center, b_center)
+    return _objects("box", (sa, sb), a_center, b_center)
 
 
 def spheres(a_center: Vec, a_radius: float, b_center: Vec, b_radius: float) -> dict[str, Any]:
     """Two spheres."""
-    return _objects(fcl.Sphere(a_radius), fcl.Sphere(b_radius), a_center, b_center)
+    return _objects("sphere", ([a_radius], [b_radius]), a_center, b_center)
+
+
+def release(built: dict[str, Any]) -> None:
+    """The pair back to its geometry's idle pool (dropped beyond ``IDLE_LIMIT``)."""
+    idle = _IDLE[built["geometry"]]
+    if len(idle) < IDLE_LIMIT and all(built is not other for other in idle):
+        idle.append(built)
 
 
 def _unit(v: list[float]) -> Vec | None:
