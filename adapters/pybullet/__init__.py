@@ -376,8 +376,12 @@ class PyBulletTuned(SceneCallsAdapter):
                 "pooled": ordinary(case, ca, cb, specs)}
 
     def pair_call(self, case: AabbCase | SphereCase) -> Call:
-        return Call("pair", "detect", {**self._pair(case, self.name), "response": False},
-                    release="release")
+        """Boxes: two pooled bodies; spheres: their cached shapes alone, no body."""
+        inputs = self._pair(case, self.name)
+        if isinstance(case, SphereCase):
+            del inputs["pooled"]
+            return Call("sphere_shapes", "closest", inputs)
+        return Call("pair", "detect", {**inputs, "response": False}, release="release")
 
     def response_call(self, case: ResponseCase) -> Call:
         speeds = [abs(x) for x in (*case.a.velocity, *case.b.velocity)]

@@ -6,18 +6,18 @@ Everything that drives pybullet (the pairs, the scenes, the bench) shares the qu
 /dev/null for what prints ``b3Warning`` lines) and ``connect(settings)`` (a DIRECT client,
 gravity 0, the settings), below.
 
-A pair (detection or response) is two base-only multibodies on shapes cached per client,
-taken from a pool of idle bodies per world (a world: a client and its pool, by name); a
-body is new when none of its shape is idle, or when the pair is not ``pooled``.  A detection
-body gets the collision filter a dynamic base gets (a static base's filter excludes
-static-static pairs).  Detection asks ``performCollisionDetection`` then
-``getContactPoints`` (the verdict) and the deepest of ``getClosestPoints`` within ``bound``
-(``contactNormalOnB`` points from B to A: flipped).  A response sets each body's restitution
-(A = e, B = 1: pybullet multiplies them), mass when pooled and the variant's per-body
-settings; each ask resets centres and velocities and steps until the bodies no longer
-approach along the line of centres the step detected from (not above ``tol``), at most
-``max_steps``; ``resolved_at`` is the centres at the start of the first step that reported
-the contact.  A 2-D pair lies in the plane z = 0; a 2-D response that leaves it raises.
+A box pair or a response is two base-only multibodies on shapes cached per client, taken
+from a pool of idle bodies per world (a world: a client and its pool, by name); a body is
+new when none of its shape is idle, or the pair is not ``pooled``.  A detection body gets a
+dynamic base's collision filter (a static base's excludes static-static pairs).  Box
+detection asks ``performCollisionDetection``, ``getContactPoints`` (the verdict) and the
+deepest of ``getClosestPoints`` within ``bound`` (``contactNormalOnB``, B to A: flipped).
+Sphere detection builds no body (``sphere_shapes``, ``closest``: at the end): the deepest of
+``getClosestPoints`` on the two cached shapes, the verdict its distance <= 0.  A response
+sets restitutions (A = e, B = 1: multiplied), mass when pooled and the per-body settings;
+each ask resets centres and velocities and steps until the bodies no longer approach along
+the line of centres the step detected from (not above ``tol``), at most ``max_steps``.  2-D:
+z = 0 (a response leaving it raises); ``resolved_at``: where the first contact step began.
 
 A scene (``sphere_scene``) gets a DIRECT client of its own (never a pair's): gravity 0 (the
 scene's, when it has one), ``fixedTimeStep`` dt, ``numSubSteps`` 0, ``numSolverIterations``
@@ -489,3 +489,44 @@ def release_scene(built: dict[str, Any]) -> None:
         _SCENE_IDLE.append((built["key"], cid))
         if len(_SCENE_IDLE) > SCENE_IDLE_CLIENTS:
             bt.disconnect(physicsClientId=_SCENE_IDLE.pop(0)[1])
+
+
+@dataclass(frozen=True, slots=True)
+class Shapes:
+    """A detection pair of spheres as two cached collision shapes, no body: the client, the
+    shape ids, the 3-D centres and the closest points' bound."""
+
+    cid: int
+    dim: int
+    shapes: tuple[int, int]
+    centres: tuple[Vec3, Vec3]
+    bound: float
+
+
+def sphere_shapes(world_name: str, settings: dict[str, float],
+                  a: tuple[str, tuple[float, ...], float], b: tuple[str, tuple[float, ...], float],
+                  a_center: Vec3, b_center: Vec3, dim: int) -> Shapes:
+    """The shapes of ``a`` and ``b`` (``(geometry, size, mass)``, as :func:`pair` takes them;
+    the mass unused) in the world ``world_name``, replaced first as :func:`pair` does."""
+    w = world(world_name, settings)
+    keys = ((a[0], a[1]), (b[0], b[1]))
+    if not w.busy and len(w.shapes) + 2 > SHAPE_LIMIT and any(k not in w.shapes for k in keys):
+        recycle(w)
+    sids = (shape(w, *keys[0]), shape(w, *keys[1]))
+    return Shapes(w.cid, dim, sids, (a_center, b_center),
+                  1.0 + 2.0 * math.dist(a_center, b_center))
+
+
+def closest(built: Shapes) -> Answer:
+    """The deepest of ``getClosestPoints`` on the shapes (no body): its distance, its normal
+    (flipped: A to B) and the verdict, distance <= 0 (Bullet's sphere-sphere algorithm adds a
+    contact point exactly then, for closest points and contacts alike)."""
+    (sa, sb), (pa, pb) = built.shapes, built.centres
+    points = engine().getClosestPoints(
+        -1, -1, built.bound, collisionShapeA=sa, collisionShapeB=sb,
+        collisionShapePositionA=pa, collisionShapePositionB=pb, physicsClientId=built.cid)
+    if not points:
+        return {"hit": False}
+    deepest = min(points, key=lambda point: point[8])
+    normal = tuple(-float(x) for x in deepest[7][:built.dim])
+    return {"hit": float(deepest[8]) <= 0.0, "distance": float(deepest[8]), "normal": normal}

@@ -18,7 +18,15 @@ from crosscheck.core.contract import HANG_PROBE_S, Adapter
 from crosscheck.core.model import Observation, Status, quantities_of
 from crosscheck.core.options import QUICK_SCENE_STEPS, RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
-from crosscheck.run.execute import Executor, Outcome, case_options, run_calls
+from crosscheck.run.execute import (
+    BatchExecutor,
+    Call,
+    Executor,
+    Judged,
+    Outcome,
+    case_options,
+    run_calls,
+)
 from crosscheck.truth import oracle
 
 Pairs = set[tuple[str, str]] | frozenset[tuple[str, str]]
@@ -47,14 +55,18 @@ def execute_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
 
 def execute_cases(items: Sequence[tuple[AnyCase, Pairs]], adapters: Sequence[Adapter],
                   executor: Executor, options: RunOptions,
-                  truth: Callable[[AnyCase], Observation] = oracle.truth) -> list[Executed]:
+                  truth: Callable[[AnyCase], Observation] = oracle.truth,
+                  scored: bool = False) -> list[Executed]:
     """:func:`execute_case` of each ``(case, done pairs)``, the pairs run together: every
     pair without a declared hang in one :func:`~crosscheck.run.execute.run_calls`, then
     those with one, each probed on its own.  ``truth`` gives a case's exact truth (the
-    oracle's, or a caller's memo of it)."""
+    oracle's, or a caller's memo of it).  ``scored``: on a worker pool, the workers score
+    the pairs they answer (:class:`~crosscheck.run.execute.Judged`: their outcomes carry
+    their rows as ``lines``)."""
+    judged = scored and isinstance(executor, BatchExecutor)
     truths: list[Observation] = []
     slots: list[list[tuple[int, Outcome | int | None]]] = []
-    calls: list[tuple[Adapter, AnyCase, RunOptions, bool, frozenset[str]]] = []
+    calls: list[Call] = []
     for case, done in items:
         skipped = _quick_skip(case, options)
         truths.append(truth(case) if skipped is None else Observation())
@@ -66,7 +78,8 @@ def execute_cases(items: Sequence[tuple[AnyCase, Pairs]], adapters: Sequence[Ada
                 mine.append((k, skipped))  # None: probed below
                 continue
             mine.append((k, len(calls)))
-            calls.append((adapter, case, case_options(case, options), False, frozenset()))
+            task = Judged(case, truths[-1]) if judged else case
+            calls.append((adapter, task, case_options(case, options), False, frozenset()))
         slots.append(mine)
     answered = run_calls(executor, calls)
     return [Executed(case, truth, tuple(

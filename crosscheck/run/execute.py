@@ -50,6 +50,9 @@ class Outcome:
     hung: frozenset[str] = frozenset()
     hang_reason: str = ""
     hang_status: Status = Status.TIMEOUT
+    lines: str | None = None
+    """The pair's rows as JSON lines, when the worker scored it (:class:`Judged`; None: the
+    parent scores it)."""
 
 
 SCENE_TIMEOUT_S = 300.0
@@ -171,6 +174,29 @@ class Step:
 
 
 @dataclass(frozen=True)
+class Judged:
+    """A case to run and score in the worker, as a worker's task: the case with its exact
+    truth (computed once in the parent).  The worker answers the outcome with its rows as
+    JSON lines (``Outcome.lines``, :func:`crosscheck.run.scoring.scored_lines`) and, but for
+    a scene (whose recorded trajectory the parent's energy series read), without its
+    observation: the parent only appends the lines."""
+
+    case: AnyCase
+    truth: Observation
+
+    def answer(self, adapter: Adapter, options: RunOptions, timed: bool,
+               skip: frozenset[str]) -> Outcome:
+        from crosscheck.run.scoring import scored_lines  # the worker's, once (not the parent's)
+
+        outcome = execute(adapter, self.case, options, timed, skip)
+        if outcome.status in (Status.CRASH, Status.TIMEOUT):
+            return outcome  # the pool retries or names these: the parent scores them
+        lines = scored_lines(self.case, adapter, outcome, self.truth)
+        kept = outcome.observation if isinstance(self.case, SceneCase) else None
+        return replace(outcome, observation=kept, lines=lines)
+
+
+@dataclass(frozen=True)
 class Yardstick:
     """The machine yardstick as a worker's task: ``samples`` per workload, with the loops of
     ``calibrated`` (None: calibrated there), see :func:`crosscheck.run.timing.yardstick`."""
@@ -209,9 +235,10 @@ class Executor(Protocol):
                  timed: bool = False, skip: frozenset[str] = frozenset()) -> Outcome: ...
 
 
-Call = tuple[Adapter, "AnyCase | Step", RunOptions, bool, frozenset[str]]
-"""One task for an executor: the adapter, the case (or a step of the timing phase's rounds),
-the case's options, whether to time it, and the quantities to skip."""
+Call = tuple[Adapter, "AnyCase | Judged | Step", RunOptions, bool, frozenset[str]]
+"""One task for an executor: the adapter, the case (or the case to score there, or a step of
+the timing phase's rounds), the case's options, whether to time it, and the quantities to
+skip."""
 
 
 @runtime_checkable
@@ -222,15 +249,19 @@ class BatchExecutor(Executor, Protocol):
     def many(self, calls: Sequence[Call]) -> list[Outcome]: ...
 
 
-def run_calls(executor: Executor,
-              calls: Sequence[tuple[Adapter, AnyCase, RunOptions, bool, frozenset[str]]],
-              ) -> list[Outcome]:
+def run_calls(executor: Executor, calls: Sequence[Call]) -> list[Outcome]:
     """Every call's outcome, in order: all at once on a :class:`BatchExecutor`, one after
     another on any other executor (in-process, or the Dask lanes' per-case calls)."""
     if isinstance(executor, BatchExecutor):
         return executor.many(calls)
-    return [executor(adapter, case, options, timed, skip)
+    return [executor(adapter, _plain(case), options, timed, skip)
             for adapter, case, options, timed, skip in calls]
+
+
+def _plain(case: AnyCase | Judged | Step) -> AnyCase:
+    """The case of a call to a one-at-a-time executor (it is sent no other task)."""
+    assert not isinstance(case, Judged | Step)
+    return case
 
 
 T = TypeVar("T")

@@ -55,7 +55,7 @@ from crosscheck.run.casework import execute_cases
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, execute
 from crosscheck.run.lanes import LocalLanes
-from crosscheck.run.runner import score_outcome
+from crosscheck.run.scoring import score_outcome
 from crosscheck.run.worker import WorkerPool
 from crosscheck.truth import oracle
 

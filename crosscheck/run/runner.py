@@ -26,19 +26,16 @@ as before; ``tests/truth/test_columnar.py`` checks that both write the same rows
 
 from __future__ import annotations
 
-import json
-import math
 import threading
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 from crosscheck.core.contract import Adapter
 from crosscheck.core.model import Observation, Record, quantities_of
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, PairCase, SceneCase, ToiCase
-from crosscheck.core.values import encode
 from crosscheck.results.rows import ColumnLines, line
 from crosscheck.results.scene_facts import facts_of
 from crosscheck.results.series import EXACT, SeriesRecord, series_of
@@ -53,55 +50,8 @@ from crosscheck.run.casework import (
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Lanes, Outcome
 from crosscheck.run.lanes import LocalLanes
-from crosscheck.truth import measure_rules
+from crosscheck.run.scoring import case_fields, record, score_outcome
 from crosscheck.truth.columnar import judge_batch
-from crosscheck.truth.score import Verdict, judge
-
-
-def score_case(case: AnyCase, adapter: Adapter, outcome: Outcome,
-               truth: Observation) -> list[Record]:
-    """The records of one case x engine: one per quantity, judged against the case as declared."""
-    records = []
-    if isinstance(case, SceneCase) and outcome.observation is not None:
-        outcome = replace(outcome, observation=measure_rules.complete(
-            case, outcome.observation, truth))
-    for quantity in quantities_of(case.kind_enum):
-        if outcome.observation is None:
-            assert outcome.status is not None
-            verdict = Verdict(outcome.status, reason=outcome.reason)
-            value = None
-        else:
-            value = outcome.observation.get(quantity)
-            verdict = judge(case, adapter.conventions, quantity, value, truth,
-                            outcome.observation)
-        records.append(_record(case, adapter.name, quantity, value, truth, verdict, outcome))
-    return records
-
-
-def case_fields(case: AnyCase, engine: str, outcome: Outcome) -> dict[str, Any]:
-    """The fields every row of ``case`` on ``engine`` shares
-    (:data:`~crosscheck.results.rows.CASE_FIELDS`: the case, the engine, the timing)."""
-    timing = outcome.timing
-    return {
-        "case_id": case.id, "source": case.source, "kind": case.kind, "dim": int(case.dim),
-        "tags": " ".join(case.tags), "engine": engine, "setup_s": outcome.setup_s,
-        "query_s": timing.median_s if timing else math.nan,
-        "query_iqr_s": timing.iqr_s if timing else math.nan,
-        "loops": int(timing.loops) if timing else 0,
-        "unstable": bool(timing.unstable) if timing else False,
-        "origin": case.origin, "coords": json.dumps(case.coords) if case.coords else "",
-        "twin_of": case.twin_of}
-
-
-def _record(case: AnyCase, engine: str, quantity: str, value: Any, truth: Observation,
-            verdict: Verdict, outcome: Outcome) -> Record:
-    return Record(
-        **case_fields(case, engine, outcome), quantity=quantity,
-        value=encode(value), truth=encode(truth.get(quantity)),
-        error=verdict.error, tolerance=verdict.tolerance, status=verdict.status,
-        category=verdict.category, reason=verdict.reason,
-        error_at_contact=verdict.error_at_contact)
-
 
 Progress = Callable[[int], None]
 """Called with the number of case x engine pairs just finished."""
@@ -120,19 +70,6 @@ def run_case(case: AnyCase, adapters: Sequence[Adapter], executor: Executor,
     executed = execute_case(case, adapters, executor, options, done)
     return [record for k, outcome in executed.outcomes
             for record in score_outcome(case, adapters[k], outcome, executed.truth)]
-
-
-def score_outcome(case: AnyCase, adapter: Adapter, outcome: Outcome,
-                  truth: Observation) -> list[Record]:
-    """:func:`score_case`, with the quantities a declared hang kept from answering
-    (``outcome.hung``) as rows of its ``hang_status`` and reason."""
-    scored = score_case(case, adapter, outcome, truth)
-    if outcome.hung:
-        stuck = Outcome(None, outcome.hang_status, outcome.hang_reason)
-        timeouts = score_case(case, adapter, stuck, truth)
-        scored = [t if r.quantity in outcome.hung else r
-                  for r, t in zip(scored, timeouts, strict=True)]
-    return scored
 
 
 _instances: dict[type[Adapter], Adapter] = {}
@@ -164,7 +101,7 @@ class CaseJob:
     def __call__(self, item: Sequence[tuple[AnyCase, Pairs]],
                  executor: Executor) -> list[list[Record]] | list[Executed]:
         if self.columnar:
-            return execute_cases(item, self.adapters, executor, self.options)
+            return execute_cases(item, self.adapters, executor, self.options, scored=True)
         return [run_case(case, self.adapters, executor, self.options, done)
                 for case, done in item]
 
@@ -257,11 +194,33 @@ class _Chunk:
         for k, adapter in enumerate(self.adapters):
             mine = [(e.case, outcome, e.truth) for e in pending for j, outcome in e.outcomes
                     if j == k]
-            if mine:
-                cases, outcomes, truths = zip(*mine, strict=True)
-                text = score_lines(cases, adapter, outcomes, truths)
+            text = "".join(_lines(adapter, run) for run in _runs(mine))
+            if text:
                 self.store.append_lines(text)
                 self.count += text.count("\n")
+
+
+Scoring = tuple[AnyCase, Outcome, Observation]
+"""A case, an engine's outcome on it, and its truth."""
+
+
+def _runs(mine: list[Scoring]) -> list[list[Scoring]]:
+    """``mine`` in runs of consecutive pairs scored alike: by their worker, or here."""
+    runs: list[list[Scoring]] = []
+    for scoring in mine:
+        if runs and (runs[-1][0][1].lines is None) == (scoring[1].lines is None):
+            runs[-1].append(scoring)
+        else:
+            runs.append([scoring])
+    return runs
+
+
+def _lines(adapter: Adapter, run: list[Scoring]) -> str:
+    """The JSON lines of a run of :func:`_runs`: as the worker scored them, or scored here."""
+    if run[0][1].lines is not None:
+        return "".join(outcome.lines or "" for _, outcome, _ in run)
+    cases, outcomes, truths = zip(*run, strict=True)
+    return score_lines(cases, adapter, outcomes, truths)
 
 
 def energy_series(executed: Executed, adapters: Sequence[Adapter]) -> list[SeriesRecord]:
@@ -315,7 +274,7 @@ def score_records(cases: Sequence[AnyCase], adapter: Adapter, outcomes: Sequence
             continue
         observation = _observed(outcomes[k])
         for quantity in quantities_of(case.kind_enum):
-            records.append(_record(case, adapter.name, quantity, observation.get(quantity),
+            records.append(record(case, adapter.name, quantity, observation.get(quantity),
                                    truths[k], columns.verdict(row), outcomes[k]))
             row += 1
     return records

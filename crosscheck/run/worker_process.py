@@ -27,11 +27,12 @@ from crosscheck.core.model import Status
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase
 from crosscheck.run.envs import PinnedEnv
-from crosscheck.run.execute import Outcome, Step, Yardstick, execute, probe_binding
+from crosscheck.run.execute import Judged, Outcome, Step, Yardstick, execute, probe_binding
 from crosscheck.run.processes import CONTEXT, SPAWN, Resident, death, quiet_child, start
 
-PRELOAD = ("crosscheck.run.execute", "crosscheck.run.worker_process")
-"""Every worker imports these: imported once in the forkserver, no worker start pays for them."""
+PRELOAD = ("crosscheck.run.execute", "crosscheck.run.worker_process", "crosscheck.run.scoring")
+"""Every worker imports these: imported once in the forkserver, no worker start pays for them
+(the scoring too: a worker scores the verdict pass's cases, :class:`Judged`)."""
 CONTEXT.set_forkserver_preload(list(PRELOAD))
 
 
@@ -44,9 +45,10 @@ def preload(adapters: Iterable[Adapter]) -> None:
     CONTEXT.set_forkserver_preload([*PRELOAD, *modules])
 
 BINDING = "binding"
-Task = tuple[type[Adapter] | None, AnyCase | Step | Yardstick | str | None, RunOptions, bool,
-             frozenset[str]]
-"""What a worker is sent: a case to run (whether to time it, the quantities to skip),
+Task = tuple[type[Adapter] | None, AnyCase | Judged | Step | Yardstick | str | None, RunOptions,
+             bool, frozenset[str]]
+"""What a worker is sent: a case to run (whether to time it, the quantities to skip) or
+to run and score (:class:`~crosscheck.run.execute.Judged`),
 ``None`` to warm up, :data:`BINDING` to time the cheapest call into the engine, a step of
 the timing phase's rounds, or the yardstick (no adapter)."""
 
@@ -75,6 +77,8 @@ def serve(conn: Connection) -> None:
         adapter = adapters.setdefault(cls, cls())
         if isinstance(case, Step):
             conn.send(case.take(adapter, options))
+        elif isinstance(case, Judged):
+            conn.send(case.answer(adapter, options, timed, skip))
         elif case is None:  # warm-up: import the engine and connect, outside any case's time
             adapter.available()
             conn.send(None)

@@ -15,7 +15,7 @@ from crosscheck.results.run import read_cases, read_results
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.execute import Outcome
 from crosscheck.run.launch import launch, new_info
-from crosscheck.run.runner import score_case
+from crosscheck.run.scoring import score_case
 from crosscheck.run.timing_phase import timing_sample
 from crosscheck.truth import oracle
 from tests import fakes

@@ -20,7 +20,7 @@ from crosscheck.core.model import Kind, Observation, Record
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import CASE_ADAPTER, AabbCase, AnyCase
 from crosscheck.run.execute import Outcome, execute
-from crosscheck.run.runner import score_case
+from crosscheck.run.scoring import score_case
 from crosscheck.run.worker import WorkerPool
 from crosscheck.studies.fuzz import campaign
 from crosscheck.studies.fuzz.findings import Signature

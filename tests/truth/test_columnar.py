@@ -21,7 +21,7 @@ from crosscheck.core.model import PAIR_KINDS, Observation, Status, Undefined
 from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, PairCase, SceneCase, SphereBody
 from crosscheck.results.store import ResultsStore
-from crosscheck.run import runner
+from crosscheck.run import runner, scoring
 from crosscheck.run.execute import Outcome, execute
 from crosscheck.run.timing import Timing
 from crosscheck.truth import oracle
@@ -200,7 +200,7 @@ def test_scored_outcomes_equal_records() -> None:
     assert any(o.status is Status.ERROR for o in outcomes)
     lines = runner.score_lines(cases, adapter, outcomes, truths)
     records = [r for c, o, t in zip(cases, outcomes, truths, strict=True)
-               for r in runner.score_case(c, adapter, o, t)]
+               for r in scoring.score_case(c, adapter, o, t)]
     assert lines == "".join(json.dumps(r.row()) + "\n" for r in records)
     kept = runner.score_records(cases, adapter, outcomes, truths)
     assert lines == "".join(json.dumps(r.row()) + "\n" for r in kept)

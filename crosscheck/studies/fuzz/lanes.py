@@ -43,7 +43,7 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.run.distributed import DaskLanes
 from crosscheck.run.execute import Executor, Outcome, execute
 from crosscheck.run.processes import CONTEXT, death, quiet_child, start
-from crosscheck.run.runner import score_case
+from crosscheck.run.scoring import score_case
 from crosscheck.studies.fuzz import generator
 from crosscheck.studies.fuzz.findings import Row, finding_row
 from crosscheck.truth import oracle
