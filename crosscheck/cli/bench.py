@@ -28,7 +28,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
         say(str(exc))
         return 2
     figures = measure(args.quick, progress=say, full_runs=args.full_runs,
-                      campaign=args.campaign)
+                      campaign=args.campaign, deep=args.deep)
     stdout.print(_table(figures, args.quick))
     stamp = time.strftime("%Y%m%d-%H%M%S")
     path = write(figures, chosen(args.out) or ROOT / "reports" / f"bench-{stamp}", args.quick)
@@ -88,6 +88,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
     p.add_argument("--full-runs", type=_at_least(1), default=3, metavar="N",
                    help="times the full make run is timed; its figure is their median "
                         "(default 3)")
+    p.add_argument("--deep", action="store_true",
+                   help="also time make run-deep once (recorded, not judged) and its report")
     p.add_argument("--campaign", type=_at_least(1_000), metavar="CASES",
                    help="fuzz campaign cases (default 1,000,000; 2,000 with --quick); under a "
                         "million the figure is extrapolated and only recorded")

@@ -246,13 +246,15 @@ def dask_figure(quick: bool) -> Figure:
 
 
 def measure(quick: bool, progress: Callable[[str], None] | None = None,
-            full_runs: int = suite.RUNS, campaign: int | None = None) -> list[Figure]:
+            full_runs: int = suite.RUNS, campaign: int | None = None,
+            deep: bool = False) -> list[Figure]:
     """Every figure, in order; ``progress`` is told as each group starts and ends.
 
     ``full_runs``: how many times the full ``make run`` is timed (its figure is their
     median); ``campaign``: the fuzz campaign's cases (default 2,000 with ``quick``, else
-    :data:`MILLION`; under a million the figure is extrapolated and only recorded)."""
-    whole, help_, render = suite.figures(quick, full_runs)
+    :data:`MILLION`; under a million the figure is extrapolated and only recorded); ``deep``:
+    also time ``make run-deep`` once and render its report."""
+    whole, help_, render = suite.figures(quick, full_runs, deep)
     cases = campaign if campaign is not None else 2_000 if quick else MILLION
     steps: list[tuple[str, Callable[[], list[Figure]]]] = [
         ("batch oracle, 1M pairs", lambda: batch_figures(1_000_000)),  # the target's size
