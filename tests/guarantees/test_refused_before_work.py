@@ -105,3 +105,12 @@ def test_new_case_refuses_malformed_and_inapplicable_options(
                        "--file", str(target)], capsys)
     assert expected in " ".join(message.split())
     assert not target.exists()
+
+
+def test_deep_with_case_paths_is_refused_before_any_folder(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    out = tmp_path / "run"
+    message = refused(["run", "--deep", SPHERES, "--engine", "reference", "--out", str(out)],
+                      capsys)
+    assert "--deep" in message and SPHERES in message and "cases-deep/" in message
+    assert not out.exists()
