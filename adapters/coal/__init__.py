@@ -7,7 +7,9 @@ coal answers collision and distance queries; it has no dynamics, so ``sphere_res
 and the ``ComputeCollision`` and ``ComputeDistance`` functors of the pair (they keep the
 narrow-phase solver between calls instead of building one per call: measured here, a call
 costs 0.75 to 0.87 of ``coal.collide`` / ``coal.distance``'s; the geometries are kept with
-them, as the functors hold bare pointers).  ``query`` makes two calls, each with a
+them, as the functors hold bare pointers).  Nothing is built per case: ``release`` keeps
+the pair idle, and the next case of its geometry sets its sizes, translations and tolerance
+(see :mod:`adapters.coal.calls`).  ``query`` makes two calls, each with a
 fresh result (coal appends to a result, and stops early on one that is already satisfied),
 so it is repeatable:
 
@@ -261,7 +263,7 @@ class CoalTuned(CallsAdapter):
         why = f"coal answers non-finite input wrongly without complaint: {bad}" if bad else ""
         build = "boxes" if isinstance(case, AabbCase) else "spheres"
         return Call(build, "collide_and_distance", {**pair_inputs(case), "tolerance": tolerance},
-                    undefined=why)
+                    release="release", undefined=why)
 
 
 class CoalDefault(CoalTuned):

@@ -3,10 +3,13 @@
 Each variant has two DIRECT clients per process (no GUI), connected lazily, gravity 0, no
 ground plane: one for detection cases, one for responses (world settings are global to a
 client, so the variants never share one; detection worlds never step, so their idle bodies
-cost response steps nothing).  A case is two base-only multibodies on collision shapes
-cached per client by (geometry, size): for detection static ones (mass 0, no visual shape:
-what a user making a pure collision query builds; a static body's AABB is never checked for
-overflow, see below), for responses dynamic ones with the case's masses.
+cost response steps nothing).  Collision shapes are cached per client by (geometry, size).
+A sphere detection case builds no body: ``getClosestPoints`` takes the two cached shapes and
+their positions directly (``collisionShapeA``/``B`` [pybullet.c]: no body, so no pool, filter
+or release).  Any other case is two base-only multibodies on the cached shapes: for box
+detection static ones (mass 0, no visual shape: what a user making a pure collision query
+builds; a static body's AABB is never checked for overflow, see below), for responses
+dynamic ones with the case's masses.
 
 Bodies are pooled per client, by shape.  ``prepare`` takes an idle body of the shape
 (creating one, ``createMultiBody``, only when none is idle; a pair of equal shapes takes
@@ -37,9 +40,10 @@ for good (see below).  A shape once used by a body can never be removed
 ``SHAPE_LIMIT`` shapes is disconnected and replaced by a new one between cases (~5
 ms).  Costs measured here: ``createMultiBody`` ~0.6 ms and ``removeBody`` ~0.05 ms (~2 ms
 among 2,000 bodies; each create and remove also leaks ~1 KB); a reset or a filter call ~1
-us.  A pooled sphere detection case costs ~32 us (prepare, query, release) against ~11 us
+us.  A pooled sphere pair on bodies cost ~32 us (prepare, query, release) against ~11 us
 for the bare engine calls (two resets, detection, contact and closest points) and ~1.3 ms
-with a body created and removed per case; memory stays flat.  The banner and ``b3Warning``
+with a body created and removed per case (before spheres moved to shapes alone, which
+also spares the suite's many sizes a body each); memory stays flat.  The banner and ``b3Warning``
 lines go to the C-level stdout/stderr, so import, connect, creating and removing shapes and
 bodies, and ``changeDynamics`` run with file descriptors 1 and 2 on /dev/null (a redirect
 costs ~8 us); resets, filter calls and ``query`` print nothing and run without.  The calls,
@@ -50,10 +54,20 @@ Detection: ``hit`` is the engine's verdict, "contact points exist" after
 ``performCollisionDetection`` (stale until then); Bullet's sphere-sphere and box-box
 algorithms only add points at distance <= 0 (measured), so the breaking threshold plays no
 part.  ``distance`` and ``normal``: the deepest point of ``getClosestPoints(A, B,
-1 + 2|cB - cA|)`` (a bound above any possible gap), normal flipped.  2-D: discs are spheres
-at z = 0; a 2-D box gets the z half-width 2 x the case's largest half-width (1 if all are
-0), both centred at z = 0, so the z overlap exceeds any x or y overlap: z is never the axis
-of least overlap nor a gap, and the 3-D answers are the 2-D ones (returned as 2-tuples).
+1 + 2|cB - cA|)`` (a bound above any possible gap), normal flipped.  Spheres: the same
+closest points on the shapes alone, and ``hit`` is their deepest distance <= 0: the very
+verdict, since contacts and closest points of two spheres both come from
+btSphereSphereCollisionAlgorithm, which adds a point exactly when ``len <= r0 + r1``, i.e.
+distance ``len - (r0 + r1) <= 0`` [btDefaultCollisionConfiguration.cpp,
+btSphereSphereCollisionAlgorithm.cpp] (checked on every sphere case of the suite: hit,
+distance, normal and errors identical to two bodies').  Boxes keep bodies: their closest
+points come from GJK (btConvexConvexAlgorithm), their contacts from btBoxBoxDetector, and
+"deepest closest point <= 0" is not their verdict (it differs on 577 of the suite's box
+cases, face-touching unit cubes among them: closest points 1.7e-18 apart, in contact).
+2-D: discs are spheres at z = 0; a 2-D box gets the z half-width 2 x the case's largest
+half-width (1 if all are 0), both centred at z = 0, so the z overlap exceeds any x or y
+overlap: z is never the axis of least overlap nor a gap, and the 3-D answers are the 2-D
+ones (returned as 2-tuples).
 2 x, not more, keeps the box small (see the size limits below).
 
 Response: ``query`` resets centres (``resetBasePositionAndOrientation``) and velocities
@@ -182,6 +196,7 @@ SOURCES = (
     "https://docs.google.com/document/d/10sXEhzFRSnvFcl3XxNGhnD4N2SedqwdAvK3dsihxVUA",
     GH + "examples/pybullet/pybullet.c",
     GH + "src/BulletCollision/CollisionDispatch/btSphereSphereCollisionAlgorithm.cpp",
+    GH + "src/BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.cpp",
     GH + "src/BulletCollision/CollisionDispatch/btBoxBoxDetector.cpp",
     GH + "src/BulletCollision/CollisionDispatch/btCollisionWorld.cpp",
     GH + "src/BulletCollision/CollisionShapes/btBoxShape.h",
@@ -368,20 +383,23 @@ class PyBulletTuned(SceneCallsAdapter):
         bt, cid = engine(), client(self.name, self.world)
         return lambda: bt.getNumBodies(physicsClientId=cid)
 
-    def _pair(self, case: PairCase, world_name: str) -> dict[str, Any]:
+    def _shapes(self, case: PairCase, world_name: str) -> dict[str, Any]:
         specs = body_specs(case)
-        ca, cb = to3(case.a.center), to3(case.b.center)
         return {"world_name": world_name, "settings": self.world, "a": specs[0],
-                "b": specs[1], "a_center": ca, "b_center": cb, "dim": case.dim,
-                "pooled": ordinary(case, ca, cb, specs)}
+                "b": specs[1], "a_center": to3(case.a.center), "b_center": to3(case.b.center),
+                "dim": case.dim}
+
+    def _pair(self, case: PairCase, world_name: str) -> dict[str, Any]:
+        inputs = self._shapes(case, world_name)
+        pooled = ordinary(case, inputs["a_center"], inputs["b_center"], (inputs["a"], inputs["b"]))
+        return {**inputs, "pooled": pooled}
 
     def pair_call(self, case: AabbCase | SphereCase) -> Call:
         """Boxes: two pooled bodies; spheres: their cached shapes alone, no body."""
-        inputs = self._pair(case, self.name)
         if isinstance(case, SphereCase):
-            del inputs["pooled"]
-            return Call("sphere_shapes", "closest", inputs)
-        return Call("pair", "detect", {**inputs, "response": False}, release="release")
+            return Call("sphere_shapes", "closest", self._shapes(case, self.name))
+        return Call("pair", "detect", {**self._pair(case, self.name), "response": False},
+                    release="release")
 
     def response_call(self, case: ResponseCase) -> Call:
         speeds = [abs(x) for x in (*case.a.velocity, *case.b.velocity)]

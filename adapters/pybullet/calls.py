@@ -40,7 +40,7 @@ What the pairs, responses and scenes share:
 - ``connect(settings)``: a new DIRECT client (no GUI) with gravity 0 and ``settings``.
 
 (Longer than 400 lines: one module is what a repro script holds verbatim; the pooled pairs
-and the scenes' reused clients are each about 150 lines.)
+and the scenes' reused clients are about 150 lines each, the sphere shapes about 45.)
 """
 
 import contextlib
@@ -494,7 +494,8 @@ def release_scene(built: dict[str, Any]) -> None:
 @dataclass(frozen=True, slots=True)
 class Shapes:
     """A detection pair of spheres as two cached collision shapes, no body: the client, the
-    shape ids, the 3-D centres and the closest points' bound."""
+    shape ids, the 3-D centres and the closest points' bound.  Nothing is out, so a later
+    build may replace the client (:func:`recycle`): ask before building the next pair."""
 
     cid: int
     dim: int

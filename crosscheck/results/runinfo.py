@@ -65,6 +65,7 @@ from dataclasses import dataclass, field, replace
 from datetime import UTC, datetime
 from typing import Any
 
+from crosscheck.cases.tiers import tier_of
 from crosscheck.core.options import RunOptions
 
 FORMAT_VERSION = 7
@@ -118,8 +119,6 @@ class RunInfo:
     @property
     def tier(self) -> str:
         """The suite's tier the run holds (:func:`crosscheck.cases.tiers.tier_of`)."""
-        from crosscheck.cases.tiers import tier_of
-
         return tier_of(self.case_files)
 
     @property

@@ -177,23 +177,12 @@ class Step:
 class Judged:
     """A case to run and score in the worker, as a worker's task: the case with its exact
     truth (computed once in the parent).  The worker answers the outcome with its rows as
-    JSON lines (``Outcome.lines``, :func:`crosscheck.run.scoring.scored_lines`) and, but for
+    JSON lines (``Outcome.lines``, :func:`crosscheck.run.scoring.answer_judged`) and, but for
     a scene (whose recorded trajectory the parent's energy series read), without its
     observation: the parent only appends the lines."""
 
     case: AnyCase
     truth: Observation
-
-    def answer(self, adapter: Adapter, options: RunOptions, timed: bool,
-               skip: frozenset[str]) -> Outcome:
-        from crosscheck.run.scoring import scored_lines  # the worker's, once (not the parent's)
-
-        outcome = execute(adapter, self.case, options, timed, skip)
-        if outcome.status in (Status.CRASH, Status.TIMEOUT):
-            return outcome  # the pool retries or names these: the parent scores them
-        lines = scored_lines(self.case, adapter, outcome, self.truth)
-        kept = outcome.observation if isinstance(self.case, SceneCase) else None
-        return replace(outcome, observation=kept, lines=lines)
 
 
 @dataclass(frozen=True)

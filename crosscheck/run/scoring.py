@@ -17,11 +17,12 @@ from dataclasses import replace
 from typing import Any
 
 from crosscheck.core.contract import Adapter
-from crosscheck.core.model import Observation, Record, quantities_of
+from crosscheck.core.model import Observation, Record, Status, quantities_of
+from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import AnyCase, SceneCase
 from crosscheck.core.values import encode
 from crosscheck.results.rows import line
-from crosscheck.run.execute import Outcome
+from crosscheck.run.execute import Judged, Outcome, execute
 from crosscheck.truth import measure_rules
 from crosscheck.truth.score import Verdict, judge
 
@@ -88,3 +89,16 @@ def score_outcome(case: AnyCase, adapter: Adapter, outcome: Outcome,
 def scored_lines(case: AnyCase, adapter: Adapter, outcome: Outcome, truth: Observation) -> str:
     """The JSON lines of :func:`score_outcome` (what ``results.jsonl`` holds for the pair)."""
     return "".join(line(r) for r in score_outcome(case, adapter, outcome, truth))
+
+
+def answer_judged(adapter: Adapter, task: Judged, options: RunOptions, timed: bool,
+                  skip: frozenset[str]) -> Outcome:
+    """A worker's answer to :class:`~crosscheck.run.execute.Judged`: the case executed, then
+    scored here (a crash or timeout is left to the pool, which retries or names it, and to
+    the parent's scoring); a pair's observation stays here, a scene's goes back."""
+    outcome = execute(adapter, task.case, options, timed, skip)
+    if outcome.status in (Status.CRASH, Status.TIMEOUT):
+        return outcome
+    lines = scored_lines(task.case, adapter, outcome, task.truth)
+    kept = outcome.observation if isinstance(task.case, SceneCase) else None
+    return replace(outcome, observation=kept, lines=lines)

@@ -29,10 +29,11 @@ from crosscheck.core.schema import AnyCase
 from crosscheck.run.envs import PinnedEnv
 from crosscheck.run.execute import Judged, Outcome, Step, Yardstick, execute, probe_binding
 from crosscheck.run.processes import CONTEXT, SPAWN, Resident, death, quiet_child, start
+from crosscheck.run.scoring import answer_judged
 
-PRELOAD = ("crosscheck.run.execute", "crosscheck.run.worker_process", "crosscheck.run.scoring")
+PRELOAD = ("crosscheck.run.execute", "crosscheck.run.worker_process")
 """Every worker imports these: imported once in the forkserver, no worker start pays for them
-(the scoring too: a worker scores the verdict pass's cases, :class:`Judged`)."""
+(the scoring with them: a worker scores the verdict pass's cases, :class:`Judged`)."""
 CONTEXT.set_forkserver_preload(list(PRELOAD))
 
 
@@ -78,7 +79,7 @@ def serve(conn: Connection) -> None:
         if isinstance(case, Step):
             conn.send(case.take(adapter, options))
         elif isinstance(case, Judged):
-            conn.send(case.answer(adapter, options, timed, skip))
+            conn.send(answer_judged(adapter, case, options, timed, skip))
         elif case is None:  # warm-up: import the engine and connect, outside any case's time
             adapter.available()
             conn.send(None)

@@ -1,9 +1,12 @@
-"""The PyBullet adapters reuse bodies: a reused body answers exactly as a new one.
+"""The PyBullet adapters reuse bodies: a reused body answers exactly as a new one, and sphere
+detection, which builds no body, exactly as two bodies.
 
-``prepare`` takes idle bodies from a per-client pool and ``release`` parks them with
-collision off; these tests pin what that must not change (observations, whatever ran
-before) and what it must bound (bodies and shapes in a client).  The reference is a
-separate process with the pool off (every case on new bodies, as before pooling).
+``prepare`` takes idle bodies from a per-client pool (boxes, responses) and ``release`` parks
+them with collision off; these tests pin what that must not change (observations, whatever
+ran before) and what it must bound (bodies and shapes in a client).  The reference is a
+separate process with the pool off (every case on new bodies, as before pooling).  Sphere
+detection asks ``getClosestPoints`` on the cached shapes: the reference is the body path
+(``pair`` and ``detect``) on the same inputs.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ from adapters import pybullet as pbe
 from adapters.pybullet import PyBulletDefault, PyBulletTuned, engine
 from adapters.pybullet import calls as pool
 from adapters.pybullet import calls as shared_pybullet
-from adapters.pybullet.calls import Pair
+from adapters.pybullet.calls import Pair, Shapes
 from crosscheck.core.model import Observation
 from crosscheck.core.schema import CASE_ADAPTER, AnyCase
 from tests.conftest import ROOT, aabb, response, sphere
@@ -75,7 +78,7 @@ def count(w: pbe.World) -> int:
     return bodies
 
 
-def observe(adapter: PyBulletTuned, case: AnyCase) -> tuple[Observation, Pair]:
+def observe(adapter: PyBulletTuned, case: AnyCase) -> tuple[Observation, Any]:
     prepared = adapter.prepare(case)
     try:
         return adapter.query(prepared), prepared.built
@@ -124,8 +127,10 @@ def test_reused_bodies_answer_as_new_ones_in_any_order(variant: str) -> None:
         idle = set(w.lru)
         obs, pair = observe(adapter, case)
         assert repr(obs) == expected, (case.id, case)
-        reused += len({pair.a, pair.b} & idle)
-    assert reused >= len(runs)  # most runs took both bodies from the pool
+        if isinstance(pair, Pair):  # sphere detection takes no body
+            reused += len({pair.a, pair.b} & idle)
+    bodied = [case for case in runs if case.kind != "sphere"]
+    assert reused >= len(bodied)  # most runs took both bodies from the pool
 
 
 def test_a_case_repeated_after_others_matches_its_first_run() -> None:
@@ -181,10 +186,12 @@ def test_idle_bodies_make_no_contact_with_the_pair() -> None:
     adapter = own("pybullet", "idle")
     w, bt = world_of(adapter), engine()
     for k in range(6):  # overlapping pairs round the origin: idle bodies are left there
-        observe(adapter, sphere(-0.1 * k, 0.2, ra=0.4 + 0.05 * k, rb=0.45 + 0.05 * k))
+        ha, hb = [0.4 + 0.05 * k] * 3, [0.45 + 0.05 * k] * 3
+        observe(adapter, aabb([-0.1 * k, 0.0, 0.0], ha, [0.2, 0.0, 0.0], hb))
     idle = list(w.lru)
-    assert len(idle) >= 6  # 7 radii, 0.4 to 0.7
-    apart = sphere(-0.6, 0.6, ra=0.5, rb=0.5)  # 0.2 apart, straddling the idle bodies
+    assert len(idle) >= 6  # 7 half-widths, 0.4 to 0.7
+    unit = [0.5, 0.5, 0.5]
+    apart = aabb([-0.6, 0.0, 0.0], unit, [0.6, 0.0, 0.0], unit)  # 0.2 apart, among them
     prepared = adapter.prepare(apart)
     try:
         obs = adapter.query(prepared)
@@ -197,7 +204,7 @@ def test_idle_bodies_make_no_contact_with_the_pair() -> None:
         assert bt.getContactPoints(physicsClientId=w.cid) == ()
     finally:
         adapter.release(prepared)
-    prepared = adapter.prepare(sphere(0.0, 0.3, ra=0.5, rb=0.5))  # overlapping, among them
+    prepared = adapter.prepare(aabb([0.0, 0.0, 0.0], unit, [0.3, 0.0, 0.0], unit))  # overlapping
     try:
         assert adapter.query(prepared).hit is True
         pairs = {(p[1], p[2]) for p in bt.getContactPoints(physicsClientId=w.cid)}
@@ -237,7 +244,8 @@ def test_idle_bodies_stay_still_and_out_of_a_response() -> None:
 def test_a_failed_prepare_gives_back_what_it_took(monkeypatch: pytest.MonkeyPatch) -> None:
     adapter = own("pybullet", "fail")
     w = world_of(adapter)
-    observe(adapter, sphere(0.0, 0.75))  # two radius-0.5 bodies idle
+    unit = [0.5, 0.5, 0.5]
+    observe(adapter, aabb([0.0, 0.0, 0.0], unit, [0.75, 0.0, 0.0], unit))  # two bodies idle
     idle, bodies = len(w.lru), count(w)
     taken: list[int] = []
     take = pool.take
@@ -250,21 +258,22 @@ def test_a_failed_prepare_gives_back_what_it_took(monkeypatch: pytest.MonkeyPatc
 
     monkeypatch.setattr(pool, "take", failing)
     with pytest.raises(engine().error):
-        adapter.prepare(sphere(0.0, 0.75))
+        adapter.prepare(aabb([0.0, 0.0, 0.0], unit, [0.75, 0.0, 0.0], unit))
     assert w.busy == 0 and len(w.lru) == idle and count(w) == bodies and taken[0] in w.lru
     taken.clear()
     with pytest.raises(engine().error):  # new bodies (not pooled): removed
-        adapter.prepare(sphere(0.0, 9e5, ra=4e5, rb=4e5))
+        adapter.prepare(aabb([0.0, 0.0, 0.0], [4e5] * 3, [9e5, 0.0, 0.0], [4e5] * 3))
     assert w.busy == 0 and len(w.lru) == idle and count(w) == bodies
 
 
 def test_cases_outside_the_pool_get_new_bodies_removed_on_release() -> None:
     adapter = own("pybullet", "outside")
     w, r = world_of(adapter), world_of(adapter, response_world=True)
-    observe(adapter, sphere(0.0, 0.75))
+    unit = [0.5, 0.5, 0.5]
+    observe(adapter, aabb([0.0, 0.0, 0.0], unit, [0.75, 0.0, 0.0], unit))
     bodies = count(w)
-    for case in (sphere(0.0, 6e5, ra=4e5, rb=4e5),              # AABB overflows
-                 sphere(0.0, 2e12),                             # beyond COORD_LIMIT
+    for case in (aabb([0.0, 0.0, 0.0], [4e5] * 3, [6e5, 0.0, 0.0], [4e5] * 3),  # too large
+                 aabb([0.0, 0.0, 0.0], unit, [2e12, 0.0, 0.0], unit),  # beyond COORD_LIMIT
                  aabb([0.0, 0.0], [0.0, 1.0], [0.5, 0.0], [1.0, 1.0])):  # a 0 half-width
         prepared = adapter.prepare(case)
         assert prepared.built.pooled is False
@@ -281,8 +290,10 @@ def test_cases_outside_the_pool_get_new_bodies_removed_on_release() -> None:
 def test_the_pooled_path_prints_nothing_and_skips_the_redirect(
         monkeypatch: pytest.MonkeyPatch, capfd: pytest.CaptureFixture[str]) -> None:
     adapter = own("pybullet", "quiet")
-    case = sphere(0.0, 0.75)
-    observe(adapter, case)  # connect and make the bodies
+    unit = [0.5, 0.5, 0.5]
+    cases = (sphere(0.0, 0.75), aabb([0.0, 0.0, 0.0], unit, [0.75, 0.0, 0.0], unit))
+    for case in cases:
+        observe(adapter, case)  # connect and make the shapes and bodies
     capfd.readouterr()
     redirects: list[int] = []
     quiet = pool.quiet
@@ -294,8 +305,9 @@ def test_the_pooled_path_prints_nothing_and_skips_the_redirect(
     monkeypatch.setattr(pool, "quiet", counted)
     monkeypatch.setattr(shared_pybullet, "quiet", counted)
     for _ in range(3):
-        obs, _ = observe(adapter, case)
-        assert obs.hit is True and math.isclose(obs.distance or 0.0, -0.25, abs_tol=1e-12)
+        for case in cases:
+            obs, _ = observe(adapter, case)
+            assert obs.hit is True and math.isclose(obs.distance or 0.0, -0.25, abs_tol=1e-12)
     assert redirects == []
     assert capfd.readouterr() == ("", "")
 
@@ -303,10 +315,41 @@ def test_the_pooled_path_prints_nothing_and_skips_the_redirect(
 def test_release_returns_bodies_to_the_pool_and_variants_use_separate_clients() -> None:
     tuned, default = own("pybullet", "clients"), own("pybullet-default", "clients")
     w = world_of(tuned)
-    prepared = tuned.prepare(sphere(0.0, 1.0))
-    other = default.prepare(sphere(0.0, 1.0))
+    unit = [0.5, 0.5, 0.5]
+    case = aabb([0.0, 0.0, 0.0], unit, [1.0, 0.0, 0.0], unit)
+    prepared, other = tuned.prepare(case), default.prepare(case)
     assert prepared.built.cid != other.built.cid and prepared.built.cid == w.cid
     assert count(w) == 2 and w.busy == 2 and not w.lru
     tuned.release(prepared)
     default.release(other)
     assert count(w) == 2 and w.busy == 0 and set(w.lru) == {prepared.built.a, prepared.built.b}
+
+
+SPHERES = [
+    *(case for case in DETECTION if case.kind == "sphere"),
+    sphere(0.0, 0.0, ra=0.5, rb=0.25),                       # coincident centres
+    sphere(0.0, 3.0, ra=0.5, rb=0.5),                        # apart
+    sphere(0.0, 6e5, ra=4e5, rb=4e5),                        # too large for a dynamic body
+    sphere(0.0, 2e12),                                       # beyond COORD_LIMIT
+    CASE_ADAPTER.validate_python({
+        "id": "d2", "description": "d", "kind": "sphere", "dim": 2,
+        "a": {"center": [0.0, 0.0], "radius": 1.0}, "b": {"center": [1.2, 1.6], "radius": 1.0}}),
+]
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_sphere_detection_builds_no_body_and_answers_as_two_bodies(variant: str) -> None:
+    adapter = own(variant, "shapes")
+    w = world_of(adapter)
+    for case in SPHERES:
+        before = count(w)
+        obs, built = observe(adapter, case)
+        assert isinstance(built, Shapes) and count(w) == before and w.busy == 0
+        inputs = adapter.call(case).inputs
+        bodies = pool.pair(inputs["world_name"], inputs["settings"], False, inputs["a"],
+                           inputs["b"], inputs["a_center"], inputs["b_center"], inputs["dim"],
+                           pooled=False)
+        try:
+            assert repr(obs) == repr(adapter.observation(pool.detect(bodies))), case.id
+        finally:
+            pool.release(bodies)
