@@ -31,7 +31,7 @@ from __future__ import annotations
 import itertools
 import random
 from collections import Counter
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 from crosscheck.cases.realize import realize
@@ -234,9 +234,11 @@ def full_plan(space: Space, strength: int) -> Plan:
     return Plan(space, levels, strength, space.strong)
 
 
-def coverage(cases: Iterable[AnyCase], strength: int = 2) -> list[Coverage]:
+def coverage(cases: Iterable[AnyCase], strength: int = 2,
+             cell_of: Callable[[AnyCase], Cell] = classify) -> list[Coverage]:
     """Per space, the tuples of the given strength (3: the strong dimensions' triples only)
-    that ``cases`` cover, placing each case by :func:`classify`."""
+    that ``cases`` cover, placing each case by :func:`classify` (or ``cell_of``: the same
+    cells, remembered)."""
     found: dict[tuple[Kind, int], set[Tuple]] = {}
     counts: Counter[tuple[Kind, int]] = Counter()
     for case in cases:
@@ -246,7 +248,7 @@ def coverage(cases: Iterable[AnyCase], strength: int = 2) -> list[Coverage]:
         key = (space.kind, space.dim)
         counts[key] += 1
         plan = full_plan(space, strength)
-        found.setdefault(key, set()).update(t for t in _within(classify(case), plan)
+        found.setdefault(key, set()).update(t for t in _within(cell_of(case), plan)
                                             if len(t) == strength)
     out = []
     for key, space in _spaces_in_order():

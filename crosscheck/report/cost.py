@@ -114,12 +114,18 @@ class Cost:
 
 def cost_of(rows: pd.DataFrame) -> Cost:
     """The cost of one engine over the cases of ``rows`` (its rows: one value per case)."""
-    per_case = rows.drop_duplicates(["case_id", "engine"])
+    keys = ["case_id", "engine"]
+    per_case = rows.loc[~rows.duplicated(keys),  # the first row of each: the columns it reads
+                        [c for c in rows.columns if c in _COSTS]]
     wall = column(per_case, "query_s").dropna()
     counted = column(per_case, "query_instructions").dropna()
     in_engine = column(per_case, "engine_instructions").dropna()
     return Cost(spread(wall.tolist()), spread(counted.tolist()),
                 float(in_engine.median()) if len(in_engine) else math.nan)
+
+
+_COSTS = frozenset({"query_s", "query_instructions", "engine_instructions"})
+"""The columns :func:`cost_of` reads."""
 
 
 def by_counts(measures: Iterable[Measure]) -> bool:

@@ -41,9 +41,10 @@ import numpy as np
 import pandas as pd
 
 from crosscheck.cases.cover import Tuple, full_plan
-from crosscheck.cases.space import Cell, Space, classify, space_of
+from crosscheck.cases.space import Cell, Space, space_of
 from crosscheck.core.model import Category, Kind, Status
 from crosscheck.core.schema import AnyCase
+from crosscheck.report.cells import cell_of
 from crosscheck.report.speed_points import MEASURES, in_tolerances
 
 CELL_COLUMNS = ("kind", "dim", "dimension_1", "level_1", "dimension_2", "level_2",
@@ -159,7 +160,7 @@ def place(cases: Iterable[AnyCase]) -> Placement:
         if case.bad_input or space_of(case.kind_enum, case.dim) is None:
             continue
         cells = space_cells(case.kind_enum, case.dim)
-        found.setdefault(cells.key, []).append((case.id, order, cells_of(classify(case), cells)))
+        found.setdefault(cells.key, []).append((case.id, order, cells_of(cell_of(case), cells)))
     spaces = tuple(space_cells(*key) for key in sorted(found, key=_space_order))
     parts, offset = [], 0
     for cells in spaces:

@@ -32,9 +32,10 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Collection, Mapping
+from collections.abc import Callable, Collection, Mapping
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 from crosscheck.core.model import Status
@@ -42,6 +43,7 @@ from crosscheck.core.schema import BAD_INPUT_TAG, AnyCase
 from crosscheck.report import repro_links, text
 from crosscheck.report.style import datatables, packed
 from crosscheck.report.summary_tables import case_group
+from crosscheck.results.jsonlines import each_distinct
 
 INPUTS = {"a", "b", "restitution", "tolerance"}
 """The fields of a case shown as its inputs in its details."""
@@ -80,9 +82,11 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
     case_list: list[dict[str, Any]] = []
     rows: dict[tuple[str, str], dict[str, Any]] = {}
     whole: dict[str, list[Any]] = {}  # every column, read only for a case the run lacks
+    columns = [_written(frame, name) if name in _WRITTEN else _column(frame, name)
+               for name in _READ]
     for i, (case_id, engine, quantity, status, category, error, value, truth, tolerance,
             reason, query_s, query_iqr_s, again, repeat_status, repeat_value,
-            twin_of) in enumerate(zip(*(_column(frame, name) for name in _READ), strict=True)):
+            twin_of) in enumerate(zip(*columns, strict=True)):
         case_id, engine = str(case_id), str(engine)
         if case_id not in index:
             index[case_id] = len(case_list)
@@ -100,9 +104,8 @@ def results_data(frame: pd.DataFrame, cases: Mapping[str, AnyCase],
                 "time": None if _number(query_s) is None else text.median_iqr(
                     float(query_s), _number(query_iqr_s)),
                 "folded": False, "twins": []}
-        row["q"][str(quantity)] = [
-            str(status), str(category or ""), _number(error), str(value), str(truth),
-            text.error(_number(tolerance)), str(reason or "")]
+        row["q"][str(quantity)] = [str(status), category, error, str(value), str(truth),
+                                   tolerance, reason]
         if again is True:
             row.setdefault("again", {})[str(quantity)] = [str(repeat_status), str(repeat_value)]
     for row in rows.values():
@@ -154,6 +157,35 @@ _READ = ("case_id", "engine", "quantity", "status", "category", "error", "value"
 _ABSENT = {"tolerance": math.nan, "query_s": math.nan, "query_iqr_s": math.nan,
            "nondeterministic": None, "repeat_status": None, "repeat_value": None, "twin_of": ""}
 """What a column the frame lacks reads as on every row."""
+
+
+def _text(value: Any) -> str:
+    return str(value or "")
+
+
+def _tolerance(value: Any) -> str:
+    return text.error(_number(value))
+
+
+_WRITTEN: dict[str, Callable[[Any], Any]] = {
+    "category": _text, "error": _number, "tolerance": _tolerance, "reason": _text}
+"""The columns the table writes as it reads them (a quantity's category, error, tolerance and
+reason), by the function that writes a value; a column the frame lacks reads as ``_ABSENT``
+says, written on each row."""
+
+
+def _written(frame: pd.DataFrame, name: str) -> list[Any]:
+    """A column of :data:`_WRITTEN` as written, each distinct value once (a number by its
+    bits: -0.0 is not 0.0)."""
+    write = _WRITTEN[name]
+    if name not in frame.columns:
+        return [write(value) for value in _column(frame, name)]
+    column = frame[name]
+    if column.dtype != np.float64:
+        return list(each_distinct(column, write).tolist())
+    codes, bits = pd.factorize(column.to_numpy().view(np.int64))
+    written = [write(float(value)) for value in bits.view(np.float64)]
+    return [written[code] for code in codes]
 
 
 def _column(frame: pd.DataFrame, name: str) -> list[Any]:

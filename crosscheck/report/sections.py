@@ -76,6 +76,12 @@ class RunView:
         return self.frame.join(self.stored.decoded)
 
     @functools.cached_property
+    def plain(self) -> Run:
+        """The stored run with :attr:`frame` (its text as Python objects) as its results, for
+        the sections that read the run itself (the advise answers)."""
+        return self.stored.with_results(self.frame, self.stored.decoded)
+
+    @functools.cached_property
     def missing(self) -> int:
         """Case x engine pairs the run should hold but does not (a run stopped early)."""
         engines = self.info.engine_names
@@ -105,8 +111,14 @@ class RunView:
         return disagreements(self.frame)
 
     @functools.cached_property
+    def mirrored(self) -> pd.DataFrame:
+        """Every swapped twin's answer against its original's (:func:`symmetry.compared`), for
+        the symmetry section and ``asymmetries.csv``."""
+        return symmetry.compared(self.rows)
+
+    @functools.cached_property
     def asymmetries(self) -> pd.DataFrame:
-        return asymmetries(self.rows)
+        return asymmetries(self.rows, self.mirrored)
 
     @functools.cached_property
     def coverage(self) -> CoverageMap:
@@ -253,13 +265,13 @@ def _advise(view: RunView) -> Context:
     quantities = ([str(q) for q in dict.fromkeys(view.frame["quantity"])]
                   if len(view.frame) else [])
     return {"run_id": view.info.run_id,
-            **advise_page.section(view.stored, kinds, quantities)}
+            **advise_page.section(view.plain, kinds, quantities)}
 
 
 def _symmetry(view: RunView) -> Context:
     """The A/B symmetry counts per engine x quantity and each engine's asymmetric answers
     (``asymmetries.csv`` is written from ``view.asymmetries``, every row kept)."""
-    return symmetry.section(view.rows, view.order)
+    return symmetry.section(view.rows, view.order, view.mirrored)
 
 
 def _info(view: RunView) -> Context:

@@ -80,10 +80,11 @@ def compared(frame: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=[*COLUMNS, "mirrors"])
 
 
-def asymmetries(frame: pd.DataFrame) -> pd.DataFrame:
+def asymmetries(frame: pd.DataFrame, pairs: pd.DataFrame | None = None) -> pd.DataFrame:
     """Rows where an engine's swapped answer does not mirror its original answer (those
-    whose truth is undefined included, marked ``truth_undefined``)."""
-    pairs = compared(frame)
+    whose truth is undefined included, marked ``truth_undefined``); ``pairs``: ``frame``'s
+    :func:`compared`, when already made."""
+    pairs = compared(frame) if pairs is None else pairs
     return pairs.loc[~pairs["mirrors"].astype(bool), COLUMNS].reset_index(drop=True)
 
 
@@ -131,10 +132,12 @@ def by_engine(pairs: pd.DataFrame) -> list[dict[str, Any]]:
     return out
 
 
-def section(frame: pd.DataFrame, order: list[str]) -> dict[str, Any]:
+def section(frame: pd.DataFrame, order: list[str],
+            pairs: pd.DataFrame | None = None) -> dict[str, Any]:
     """The report section's context: :func:`summary` and :func:`by_engine` of the run, their
-    engines in ``order`` (the run's)."""
-    pairs = compared(frame)
+    engines in ``order`` (the run's); ``pairs``: ``frame``'s :func:`compared`, when already
+    made."""
+    pairs = compared(frame) if pairs is None else pairs
     rank = {engine: n for n, engine in enumerate(order)}
 
     def ordered(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

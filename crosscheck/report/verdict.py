@@ -195,6 +195,11 @@ def speed_ranks(frame: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=columns).set_index(["engine", "kind"])
 
 
+_MODE_COLUMNS = frozenset({"case_id", "engine", "status", "category", "reason", "tags"})
+"""The columns :func:`failure_modes` reads (``tags``: which rows :mod:`~crosscheck.report.aside`
+sets aside)."""
+
+
 def failure_modes(frame: pd.DataFrame, written: Collection[str] = (),
                   zero_sized: Collection[str] = ()) -> list[Mode]:
     """Every failure mode of every engine, most rows first (ties: in the order first seen).
@@ -204,7 +209,8 @@ def failure_modes(frame: pd.DataFrame, written: Collection[str] = (),
     ``zero_sized`` (:func:`crosscheck.report.aside.zero_size`) are modes of their own,
     marked :attr:`Mode.aside`.
     """
-    bad = frame[frame["status"].isin(Status.members("breaking"))]
+    read = [c for c in frame.columns if c in _MODE_COLUMNS]  # the rest is not carried along
+    bad = frame.loc[frame["status"].isin(Status.members("breaking")).to_numpy(), read]
     if bad.empty:
         return []
     links = [repro_links.link(str(c), str(e), written)

@@ -9,7 +9,9 @@ and the baseline check).  :func:`read_run` builds it from disk, migrating older 
 
 Its rows are read once: ``results.jsonl`` is parsed (by the one reader,
 :func:`crosscheck.results.jsonlines.read_lines`) the first time :attr:`Run.results` is
-asked for, never before (``--resume`` needs only the info and the cases).  The rows of
+asked for, never before (``--resume`` needs only the info and the cases), and not at all when
+the run's ``results.parquet`` is up to date with it and the side files
+(:mod:`crosscheck.results.stored`): the table is then read from those columns.  The rows of
 ``results.jsonl`` are final once the verdict pass has written them; what a later phase
 appends goes to the small side files (``repeats.jsonl``, ``timings.jsonl``,
 ``counts.jsonl``) and :meth:`Run.refresh` reads ``run.json`` and joins them again, without
@@ -119,10 +121,14 @@ class Run:
         self.__dict__.pop("results", None)  # its value and truth texts, so decoded, stay
         self.__dict__.pop("_from_stored", None)
 
-    def with_results(self, results: pd.DataFrame) -> Run:
-        """This run with another results table (some of its rows, other columns: a what-if)."""
+    def with_results(self, results: pd.DataFrame, values: pd.DataFrame | None = None) -> Run:
+        """This run with another results table (some of its rows, other columns: a what-if;
+        or the same rows in other dtypes), with ``values`` as its decoded values when given
+        (:attr:`decoded` of the same rows, in their index)."""
         run = replace(self)
         run.__dict__["results"] = results
+        if values is not None:
+            run.__dict__["decoded"] = values
         return run
 
 

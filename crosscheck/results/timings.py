@@ -86,6 +86,27 @@ def quantiles(values: Sequence[float], at: Sequence[float],
                                           method=method)]
 
 
+def quantile_rows(samples: Sequence[Sequence[float]], at: Sequence[float]) -> np.ndarray:
+    """:func:`quantiles` (linear) of each of many sample lists at once, as rows (one column
+    per share in ``at``; NaN for an empty list): one numpy call per list length, not per list.
+
+    >>> quantile_rows([[1.0, 2.0, 3.0, 4.0], [], [2.0, 4.0, 6.0, 8.0], [5.0]], [0.25, 0.5])
+    array([[1.75, 2.5 ],
+           [ nan,  nan],
+           [3.5 , 5.  ],
+           [5.  , 5.  ]])
+    """
+    out = np.full((len(samples), len(at)), np.nan)
+    by_length: dict[int, list[int]] = {}
+    for i, values in enumerate(samples):
+        if len(values):
+            by_length.setdefault(len(values), []).append(i)
+    for rows in by_length.values():
+        matrix = np.asarray([samples[i] for i in rows], dtype=float)
+        out[rows] = np.quantile(matrix, list(at), axis=1, method="linear").T
+    return out
+
+
 def spread(values: Sequence[float]) -> Spread:
     """The median and quartiles (:func:`quantiles`) of ``values``; NaN if none."""
     q1, median, q3 = quantiles(values, (0.25, 0.5, 0.75))
@@ -187,14 +208,19 @@ def read_timings(directory: Path) -> pd.DataFrame:
 
 
 def _read_timings(path: Path) -> pd.DataFrame:
-    rows: list[dict[str, Any]] = []
-    for line in jsonlines.parse_lines(path):  # a half-written last line is left out
-        data = _upgraded(line)
-        s = spread(data["values"])
-        rows.append(data | {"n": s.n, "median_s": s.median, "q1_s": s.q1, "q3_s": s.q3,
-                            "iqr_s": s.iqr, "unstable": s.unstable,
-                            "normalised_median": spread(normalised(
-                                data["values"], data["yardstick"])).median})
+    """Every line's samples with their spread (:func:`spread`, each line's quartiles and
+    its normalised median taken together: :func:`quantile_rows`)."""
+    lines = [_upgraded(line) for line in jsonlines.parse_lines(path)]  # whole lines only
+    q1, median, q3 = quantile_rows([d["values"] for d in lines], (0.25, 0.5, 0.75)).T
+    (normalised_median,) = quantile_rows(
+        [normalised(d["values"], d["yardstick"]) for d in lines], (0.5,)).T
+    rows = [data | {"n": len(data["values"]), "median_s": float(median[i]),
+                    "q1_s": float(q1[i]), "q3_s": float(q3[i]),
+                    "iqr_s": Spread(float(median[i]), float(q1[i]), float(q3[i]), 0).iqr,
+                    "unstable": Spread(float(median[i]), float(q1[i]), float(q3[i]),
+                                       0).unstable,
+                    "normalised_median": float(normalised_median[i])}
+            for i, data in enumerate(lines)]
     frame = pd.DataFrame(rows, columns=COLUMNS)
     return frame.drop_duplicates(["case_id", "engine"], keep="last").reset_index(drop=True)
 

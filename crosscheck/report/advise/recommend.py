@@ -55,6 +55,7 @@ from crosscheck.report.advise.grade import (
 )
 from crosscheck.report.advise.judge import engine_conventions, judged
 from crosscheck.report.advise.profile import Envelope, EnvelopeError
+from crosscheck.report.cells import cell_of
 from crosscheck.report.cost import by_counts, rank
 from crosscheck.results.run import Run
 
@@ -179,7 +180,9 @@ def advise(run: Run, envelope: Envelope) -> Advice:
     kinds = tuple(k for k in requested_kinds(run, envelope) if k in set(rows["kind"]))
     dims = tuple(sorted(int(d) for d in rows["dim"].unique()))
     cases = int(rows["case_id"].nunique())
-    grades = [grade(run, name, rows[rows["engine"] == name], cases, bad[bad["engine"] == name])
+    rows_of, bad_of = _by_engine(rows), _by_engine(bad)
+    grades = [grade(run, name, rows_of.get(name, rows.iloc[:0]), cases,
+                    bad_of.get(name, bad.iloc[:0]))
               for name in run.info.engine_names]
     contenders = [g for g in grades if not g.baseline and g.tier != UNSUPPORTED
                   and (envelope.float32 or not g.float32)]
@@ -210,11 +213,16 @@ def advise(run: Run, envelope: Envelope) -> Advice:
         cells=cells_of([run.cases[i] for i in rows["case_id"].unique()]))
 
 
+def _by_engine(rows: pd.DataFrame) -> dict[str, pd.DataFrame]:
+    """The rows of each engine, split once (not a mask over every row per engine)."""
+    return {str(engine): group for engine, group in rows.groupby("engine", sort=False)}
+
+
 def cells_of(cases: Sequence[AnyCase]) -> dict[str, tuple[int, int]]:
     """The 2-way cells of the configuration space ``cases`` cover, per kind and dimension
     that holds one of them (scenes have no space)."""
-    return {f"{c.kind.value} {c.dim}-D": (c.covered, c.cells) for c in coverage(cases, 2)
-            if c.cases}
+    return {f"{c.kind.value} {c.dim}-D": (c.covered, c.cells)
+            for c in coverage(cases, 2, cell_of) if c.cases}
 
 
 def _deciding(engine: EngineAdvice) -> tuple[str, ...]:
