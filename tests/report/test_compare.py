@@ -278,7 +278,7 @@ def test_cli_prints_the_differences_as_warnings_then_the_counts(
     captured = capsys.readouterr()
     warnings = captured.err.replace("\n", " ")
     assert "warning: case sets differ: 2 only in A (removed), 0 only in B (added)" in warnings
-    assert "warning: options differ: samples: 20 vs 30" in warnings
+    assert f"warning: options differ: samples: {RunOptions().samples} vs 30" in warnings
     assert "warning: engine versions differ: e1: 1 vs 2" in warnings
     line = captured.out.replace("\n", " ")
     assert "2 verdict changes among the 56 shared rows (0 added, 2 removed)" in line
