@@ -98,7 +98,7 @@ def progress_bar(total: int, label: str = "case x engine") -> Iterator[Callable[
 
 
 PHASES = {"verdicts": "case x engine", "timing": "timing (rounds, steps)",
-          "counting": "counting instructions (cases)"}
+          "counting": "counting instructions (cases)", "report": "report (files, sections)"}
 
 
 class PlainProgress:

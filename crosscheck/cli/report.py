@@ -7,7 +7,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from crosscheck.cli.console import fail, say, stderr
+from crosscheck.cli.console import fail, phase_bars, say, stderr
 from crosscheck.cli.folders import OUT_RULE, chosen
 
 if TYPE_CHECKING:
@@ -31,13 +31,14 @@ lists examples with the repro command of both sides. Exit code 0 once written
 
 
 def cmd_report(args: argparse.Namespace) -> int:
-    from crosscheck.report.render import markdown_summary, render
+    from crosscheck.report.render import STEPS, markdown_summary, render
     from crosscheck.results.run import read_run
     from crosscheck.results.store import StoreError
 
     try:
         run = read_run(args.directory)
-        paths = render(run)
+        with phase_bars() as phases:
+            paths = render(run, phases("report", STEPS))
     except (OSError, StoreError) as exc:
         fail(f"cannot render {args.directory}: {exc}")
         return 2

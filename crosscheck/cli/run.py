@@ -59,8 +59,8 @@ def finish(store: ResultsStore, cases: Sequence[AnyCase], engines: Sequence[Adap
     try:
         with phase_bars() as phases:
             run = launch(store, cases, engines, options, info, phases=phases)
-        _say_repeat_check(run.info)
-        rendered = _render(run)
+            _say_repeat_check(run.info)
+            rendered = _render(run, phases)
     except KeyboardInterrupt:  # in the run, or after its last row (a resume then renders)
         stderr.print(f"interrupted; finished rows are kept. Resume with: {hint}",
                   markup=False, highlight=False)
@@ -83,13 +83,14 @@ def _say_repeat_check(info: RunInfo) -> None:
             f"{check['nondeterministic']} answered differently (nondeterministic)")
 
 
-def _render(run: Run) -> bool:
-    """Render the run's report; on failure say so (the results are kept) and how to retry."""
-    from crosscheck.report.render import render
+def _render(run: Run, phases: Callable[[str, int], Callable[[int], None]]) -> bool:
+    """Render the run's report (its progress a phase of ``phases``); on failure say so (the
+    results are kept) and how to retry."""
+    from crosscheck.report.render import STEPS, render
 
     directory = run.directory
     try:
-        paths = render(run)
+        paths = render(run, phases("report", STEPS))
     except Exception as exc:  # any fault of the report must not cost the run's results
         fail(f"the results are complete in {directory}, but its report failed to render "
              f"({type(exc).__name__}: {exc}); retry with: crosscheck report {directory}")
