@@ -17,6 +17,7 @@ import adapters
 from crosscheck.cases.load import load_paths
 from crosscheck.cli import main
 from crosscheck.cli.console import COUNTS_TITLE, TIMES_TITLE, print_summary, summary_table
+from crosscheck.core.options import RunOptions
 from crosscheck.core.schema import ResponseCase
 from crosscheck.results.run import read_run
 from crosscheck.results.runinfo import FORMAT_VERSION
@@ -212,7 +213,7 @@ def test_help_names_engines_defaults_and_examples(capsys: pytest.CaptureFixture[
     with pytest.raises(SystemExit):
         main(["run", "--help"])
     text = re.sub(r"-\s+", "-", " ".join(capsys.readouterr().out.split()))  # undo wrapping
-    assert "pybullet-default" in text and "default 30)" in text
+    assert "pybullet-default" in text and f"default {RunOptions().timing_cases})" in text
     with pytest.raises(SystemExit):
         main(["--help"])
     assert "examples:" in capsys.readouterr().out
