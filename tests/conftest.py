@@ -29,12 +29,31 @@ def pytest_configure(config: pytest.Config) -> None:
     os.environ.setdefault("CROSSCHECK_CACHE", tempfile.mkdtemp(prefix="crosscheck-test-cache-"))
 
 
+LONG_FILES = (
+    "tests/run/test_cost.py", "tests/pytest_plugin/test_plugin.py",
+    "tests/guarantees/test_ctrl_c.py", "tests/run/test_pinned.py",
+    "tests/report/test_browser.py", "tests/studies/test_repro.py",
+    "tests/studies/test_fuzz.py", "tests/adapters/test_plugins.py",
+    "tests/studies/test_fuzz_campaign.py", "tests/cli/test_output_width.py",
+    "tests/studies/test_bench_counted.py", "tests/guarantees/test_resume.py",
+)
+"""The files that take longest after the whole suite's (each over 20 s on a loaded 2-core
+machine), longest first: started right after it, so that no long file is the last one left
+while the other worker idles.  Only the order depends on this list, never a result."""
+
+
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     """The tests of the whole suite's run (marked ``suite``, all in
-    tests/report/test_page_layout.py) first: under make test's ``pytest -n 2 --dist loadfile
-    --no-loadscope-reorder`` one worker starts that long run at once while the other takes the
-    remaining files, instead of the run being the last file left."""
-    items.sort(key=lambda item: item.get_closest_marker("suite") is None)  # stable
+    tests/report/test_page_layout.py) first, then :data:`LONG_FILES`: under make test's
+    ``pytest -n 2 --dist loadfile --no-loadscope-reorder`` one worker starts that long run at
+    once while the other takes the long files, then both share the short ones (longest
+    first), instead of a long file being the last one left."""
+    def order(item: pytest.Item) -> tuple[bool, int]:
+        file = item.nodeid.split("::", 1)[0]
+        return (item.get_closest_marker("suite") is None,
+                LONG_FILES.index(file) if file in LONG_FILES else len(LONG_FILES))
+
+    items.sort(key=order)  # stable: a file's tests keep their order
 
 
 def sphere(a: float, b: float, ra: float = 0.5, rb: float = 0.5, dim: int = 3,

@@ -74,7 +74,7 @@ def option_differences(a: RunInfo, b: RunInfo) -> list[str]:
     >>> from crosscheck.core.options import RunOptions
     >>> run = RunInfo("r", "c", RunOptions(), {}, (), "t")
     >>> option_differences(run, RunInfo("s", "c", RunOptions(samples=5), {}, (), "t"))
-    ['samples: 20 vs 5']
+    ['samples: 10 vs 5']
     """
     return [f"{f.name}: {getattr(a.options, f.name)!r} vs {getattr(b.options, f.name)!r}"
             for f in fields(a.options)

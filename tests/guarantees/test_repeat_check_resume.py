@@ -14,6 +14,7 @@ from crosscheck.core.options import RunOptions
 from crosscheck.results.repeats import FILE, read_repeats
 from crosscheck.results.run import read_run
 from crosscheck.results.store import ResultsStore
+from crosscheck.run import repeat
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import ROOT
@@ -23,6 +24,13 @@ ENGINES = [fakes.DriftsWithEachQuery(), fakes.OffByOne(), fakes.AlwaysRight()]
 OPTIONS = RunOptions(quick=True, repeat_check=True)
 ASKED = 2
 """Cases whose second answers come back before the interruption."""
+
+
+@pytest.fixture(autouse=True)
+def one_case_a_batch(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each case its own batch (a fresh worker each), so the check comes back case by case
+    and is interrupted between two (a run's batches hold up to BATCH_CASES cases)."""
+    monkeypatch.setattr(repeat, "BATCH_CASES", 1)
 
 
 def interrupting(name: str, total: int) -> Callable[[int], None]:

@@ -8,12 +8,14 @@ from pathlib import Path
 
 import pytest
 
+from crosscheck.cases.tiers import STANDARD
 from crosscheck.cli import main
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
+from crosscheck.results.run import read_run_info
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
-from tests.conftest import sphere
+from tests.conftest import ROOT, sphere
 from tests.fakes import AlwaysRight, OffByOne
 from tests.report.browser import needs_chromium
 
@@ -23,11 +25,15 @@ SUITE_RUN = ["--timing-cases", "5", "--samples", "3", "--min-sample", "0.0005"]
 
 @pytest.fixture(scope="session")
 def suite_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The whole suite (every case file) on every available engine, with a small timing
-    phase, rendered: made once per session for the tests marked ``suite``."""
+    """The standard suite (every case file of cases/, as ``crosscheck run`` and ``make run``
+    run it) on every available engine, with a small timing phase, rendered: made once per
+    session for the tests marked ``suite``.  The folder is named by its full path, so the run
+    is the standard tier wherever pytest was started (``crosscheck run``'s default is
+    ``cases/`` relative to where it runs)."""
     needs_chromium()
     out = tmp_path_factory.mktemp("suite") / "run"
-    assert main(["run", *SUITE_RUN, "--out", str(out)]) == 0
+    assert main(["run", str(ROOT / STANDARD), *SUITE_RUN, "--out", str(out)]) == 0
+    assert read_run_info(out).tier == "standard"
     return out
 
 
