@@ -80,7 +80,7 @@ def test_ctrl_c_after_the_last_row_exits_130_and_a_resume_renders_the_report(
     out = tmp_path / "run"
     real = report.render
 
-    def interrupted(directory: Path) -> dict[str, Path]:
+    def interrupted(directory: Path, progress: object = None) -> dict[str, Path]:
         raise KeyboardInterrupt
 
     monkeypatch.setattr(report, "render", interrupted)

@@ -20,7 +20,7 @@ SPHERES = str(ROOT / "cases" / "sphere.toml")
 def test_a_report_that_fails_to_render_keeps_the_results(
         tmp_path: Path, capsys: pytest.CaptureFixture[str],
         monkeypatch: pytest.MonkeyPatch) -> None:
-    def broken(directory: Path) -> dict[str, Path]:
+    def broken(directory: Path, progress: object = None) -> dict[str, Path]:
         raise ValueError("a fault in the report")
 
     monkeypatch.setattr(cli_run, "render", broken, raising=False)

@@ -161,8 +161,8 @@ def test_crosscheck_run_reads_its_rows_once_and_summarises_without_summary_csv(
     calls = counting(monkeypatch)
     render = render_module.render
 
-    def render_then_drop_summary(run: Any) -> dict[str, Path]:
-        paths = render(run)
+    def render_then_drop_summary(run: Any, progress: Any = None) -> dict[str, Path]:
+        paths = render(run, progress)
         paths["summary"].unlink()  # the CLI's summary must not need the file
         return paths
 
