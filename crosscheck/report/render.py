@@ -28,9 +28,9 @@ __all__ = ["markdown_summary", "render", "render_html"]
 Progress = Callable[[int], None]
 """Told each step of the render done (a file written, a section built): :data:`STEPS` in all."""
 
-FILES = 6
-"""The files :func:`render` writes: the results (CSV and Parquet), four CSV tables (one step)
-and report.html."""
+FILES = 7
+"""The files :func:`render` writes, a step each: the results as Parquet and as CSV, four CSV
+tables (summary, disagreements, asymmetries, metamorphic) and report.html."""
 STEPS = FILES + len(SECTIONS)
 """The steps of :func:`render` a progress bar counts."""
 

@@ -26,6 +26,7 @@ from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import sphere
+from tests.results.parsing import counting
 
 CASES = [sphere(0.0, 1.0 + i / 4, id=f"s{i}") for i in range(4)]
 ENGINES = [fakes.AlwaysRight(), fakes.OffByOne(), fakes.DriftsWithEachQuery()]
@@ -33,19 +34,6 @@ OPTIONS = RunOptions(quick=False, isolate=False, pin=False, repeat_check=True, t
                      samples=2, min_sample_s=1e-4)
 """Every phase that appends after the verdicts: the repeat check (fake-off and fake-drifts
 disagree) and the timing phase (one case per engine, two samples)."""
-
-
-def counting(monkeypatch: pytest.MonkeyPatch) -> Counter[str]:
-    """Count the calls of the one JSON-lines reader, by file name."""
-    calls: Counter[str] = Counter()
-    read = jsonlines.read_lines
-
-    def counted(path: Path) -> list[jsonlines.Line]:
-        calls[path.name] += 1
-        return read(path)
-
-    monkeypatch.setattr(jsonlines, "read_lines", counted)
-    return calls
 
 
 @pytest.fixture(scope="module")

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import os
 import shutil
-from collections import Counter
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -16,12 +15,13 @@ import pytest
 
 from crosscheck.core.options import RunOptions
 from crosscheck.report.render import render
-from crosscheck.results import jsonlines, stored, timings
+from crosscheck.results import stored, timings
 from crosscheck.results.run import Run, read_results, read_run
 from crosscheck.results.store import ResultsStore
 from crosscheck.run.launch import launch, new_info
 from tests import fakes
 from tests.conftest import sphere
+from tests.results.parsing import counting
 
 CASES = [sphere(0.0, 1.0 + i / 4, id=f"s{i}") for i in range(3)]
 ENGINES = [fakes.AlwaysRight(), fakes.OffByOne(), fakes.DriftsWithEachQuery()]
@@ -46,23 +46,10 @@ def copy(run: Run, folder: Path) -> Path:
     return folder
 
 
-def parsed(monkeypatch: pytest.MonkeyPatch) -> Counter[str]:
-    """The files the one JSON-lines reader parses from now on, counted by name."""
-    calls: Counter[str] = Counter()
-    read = jsonlines.read_lines
-
-    def counted(path: Path) -> list[jsonlines.Line]:
-        calls[path.name] += 1
-        return read(path)
-
-    monkeypatch.setattr(jsonlines, "read_lines", counted)
-    return calls
-
-
 def test_an_up_to_date_parquet_gives_the_same_table_without_parsing_a_row(
         rendered: Run, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     folder = copy(rendered, tmp_path / "copy")
-    calls = parsed(monkeypatch)
+    calls = counting(monkeypatch)
     again = read_run(folder)
     pd.testing.assert_frame_equal(again.results, rendered.results)  # values and dtypes
     pd.testing.assert_frame_equal(read_results(folder), rendered.results)
@@ -77,7 +64,7 @@ def test_rows_appended_since_are_read_from_results_jsonl(
     lines = (folder / "results.jsonl").read_text(encoding="utf-8").splitlines(keepends=True)
     (folder / "results.jsonl").write_text("".join(lines[:-3]), encoding="utf-8")
     os.utime(folder / stored.FILE)  # written later, yet it counts more rows than the file
-    calls = parsed(monkeypatch)
+    calls = counting(monkeypatch)
     again = read_run(folder)
     assert len(again.results) == len(rendered.results) - 3
     assert not again.from_stored and calls["results.jsonl"] == 1
