@@ -6,13 +6,15 @@ executed (:mod:`crosscheck.run.execute`) in that engine's worker process
 raises yields ``error`` rows, one that dies ``crash`` rows, one that hangs
 ``timeout`` rows; the run goes on.
 
-Scoring is columnar by default: lanes return the unscored outcomes of each case
-(:class:`Executed`), and the parent judges them in chunks of up to
-:data:`CHUNK_CASES` cases, one engine at a time, with
-:func:`crosscheck.truth.columnar.judge_batch`, then writes their JSON lines straight
-from the columns (:func:`score_lines`, with :class:`crosscheck.results.rows.ColumnLines`,
-which shares the row's one definition with the per-record writer), without a Record per
-row.  A chunk is
+By default the workers score: a lane sends each case with its truth
+(:class:`~crosscheck.run.execute.Judged`), each engine's worker answers the pair's rows as
+JSON lines (:mod:`crosscheck.run.scoring`), and the lanes return the outcomes of each case
+(:class:`Executed`) to the parent, which writes them in chunks of up to
+:data:`CHUNK_CASES` cases, one engine at a time.  What a worker could not score (a crash, a
+timeout, a declared hang's probe; every pair in-process or on Dask) the parent judges in
+columns with :func:`crosscheck.truth.columnar.judge_batch` and writes straight from them
+(:func:`score_lines`, with :class:`crosscheck.results.rows.ColumnLines`, which shares the
+row's one definition with the per-record writer), without a Record per row.  A chunk is
 written when it is full, :data:`FLUSH_S` after the last write, and when the run
 ends or is interrupted, so an interrupted run keeps every outcome it received.  A chunk's
 scene cases first append what their exact run showed to ``scene_facts.jsonl``
@@ -20,8 +22,9 @@ scene cases first append what their exact run showed to ``scene_facts.jsonl``
 report reads it instead of running the reference again) and their recorded energy against
 time to ``series.jsonl`` (:func:`energy_series`; the report's energy charts draw them); the
 per-record path below writes rows only (the report then recomputes the facts).
-``run(..., columnar=False)`` scores record by record in the lanes (:func:`score_case`),
-as before; ``tests/truth/test_columnar.py`` checks that both write the same rows.
+``run(..., columnar=False)`` scores record by record in the lanes (:func:`score_case`);
+``tests/truth/test_columnar.py`` and ``tests/run/test_worker_scoring.py`` check that every
+path writes the same rows.
 """
 
 from __future__ import annotations
