@@ -86,7 +86,9 @@ def test_pybullet_stream_reports_memory_and_bodies(monkeypatch: pytest.MonkeyPat
     assert (stream.detail["raw_us"], stream.detail["engine_path_us"],
             stream.detail["harness_us"]) == pytest.approx((500.0, 1250.0, 1250.0))
     assert len(memory.detail["rss_mb"]) == 10
-    assert memory.detail["bodies_left"] == 0  # sphere detection builds no body any more
+    # sphere detection builds no body: the client holds what it held before the stream
+    # (other tests in this worker may have left idle pooled bodies in the shared client)
+    assert memory.detail["bodies_left"] == memory.detail["bodies_before"]
 
 
 def test_bench_json_round_trips(tmp_path: Path) -> None:

@@ -184,6 +184,8 @@ def pybullet_figures(n: int, clock: Callable[[], float] = time.perf_counter) -> 
     options = RunOptions(quick=True)
     run_slice(0, min(n, 100))  # warm up: connect the client, make the first bodies
     settle()
+    cid = pybullet_engine.client(adapter.name, adapter.world)
+    before = pybullet_engine.engine().getNumBodies(physicsClientId=cid)
     step = max(1, n // 10)
     rss: list[float] = []
     start = clock()
@@ -193,7 +195,6 @@ def pybullet_figures(n: int, clock: Callable[[], float] = time.perf_counter) -> 
         rss.append(rss_mb())
     path_s = clock() - start
     full_s = best_of(lambda: run_slice(0, step), 1) * n / step
-    cid = pybullet_engine.client(adapter.name, adapter.world)
     bodies = pybullet_engine.engine().getNumBodies(physicsClientId=cid)
     ratio = path_s / raw_s
     growth = rss[-1] - rss[min(1, len(rss) - 1)]
@@ -206,8 +207,10 @@ def pybullet_figures(n: int, clock: Callable[[], float] = time.perf_counter) -> 
                      f" us; with records {us['harness_us']:.1f} us")),
         Figure("memory growth over the pybullet stream (after the first fifth)", growth, "MB",
                "< 20 MB (flat), bodies bounded", growth < 20.0 and bodies <= 64,
-               {"rss_mb": [round(x, 1) for x in rss], "bodies_left": bodies},
-               note=f"RSS {rss[0]:.0f} -> {rss[-1]:.0f} MB; {bodies} bodies in the client"),
+               {"rss_mb": [round(x, 1) for x in rss], "bodies_left": bodies,
+                "bodies_before": before},
+               note=(f"RSS {rss[0]:.0f} -> {rss[-1]:.0f} MB; {bodies} bodies in the client"
+                     f" ({before} before the stream)")),
     ]
 
 
