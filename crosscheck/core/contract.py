@@ -30,6 +30,7 @@ from dataclasses import asdict, dataclass, field
 from types import ModuleType
 from typing import Any, ClassVar, Protocol, runtime_checkable
 
+from crosscheck.core.claims import Claim
 from crosscheck.core.conventions import (
     FEATURES,
     SPEED_CAP_STAGES,
@@ -97,6 +98,10 @@ class Adapter(ABC):
     settings: ClassVar[str] = "defaults"
     capabilities: ClassVar[frozenset[Capability]]
     conventions: ClassVar[Conventions]
+    claims: ClassVar[tuple[Claim, ...]] = ()
+    """The engine's published accuracy claims (:mod:`crosscheck.core.claims`): checked
+    against the measurement in the report and ``crosscheck engines --claims``, never used
+    as an allowance."""
     light_import: ClassVar[bool] = False
     """True when importing the adapter's module imports no engine library (the engine is
     imported by :meth:`available` or later): a run's engine workers are then forked from a
