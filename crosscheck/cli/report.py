@@ -11,7 +11,7 @@ from crosscheck.cli.console import fail, phase_bars, say, stderr
 from crosscheck.cli.folders import OUT_RULE, chosen
 
 if TYPE_CHECKING:
-    from crosscheck.compare.changes import Changes
+    from crosscheck.results.changes import Changes
 
 COMPARE_DESCRIPTION = """\
 Two runs (A B): what differs between them (cases, engines, options, versions,
@@ -49,7 +49,7 @@ def cmd_report(args: argparse.Namespace) -> int:
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
-    from crosscheck.compare.changes import side, what_changed, write
+    from crosscheck.results.changes import side, what_changed, write
     from crosscheck.results.store import StoreError
 
     if (args.from_engine is None) != (args.to_engine is None):

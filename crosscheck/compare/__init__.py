@@ -1,5 +1,7 @@
 """Comparing runs.
 
 Two runs' verdicts, timing and cost (`crosscheck compare`), a run against its baseline
-(`changes`, `check`) and the CI outputs (JUnit, markdown).
+(`check`) and the CI outputs (JUnit, markdown).  What changed from one engine version to
+another is :mod:`crosscheck.results.changes`: the report shows it too, and the report sits
+below this package.
 """

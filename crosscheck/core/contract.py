@@ -99,6 +99,11 @@ class Adapter(ABC):
     capabilities: ClassVar[frozenset[Capability]]
     conventions: ClassVar[Conventions]
     claims: ClassVar[tuple[Claim, ...]] = ()
+    supersedes: ClassVar[str] = ""
+    """The variant of the engine's earlier major version this one replaces (``box2d3``:
+    ``box2d``): a run holding both shows what changed from it to this one, by failure mode
+    (the report's version section, ``crosscheck compare RUN --from OLD --to NEW``); "" for
+    none."""
     """The engine's published accuracy claims (:mod:`crosscheck.core.claims`): checked
     against the measurement in the report and ``crosscheck engines --claims``, never used
     as an allowance."""
@@ -200,7 +205,8 @@ def engine_info(adapter: Adapter) -> dict[str, object]:
             "settings": adapter.settings, "available": adapter.available() or "yes",
             "capabilities": describe(adapter.capabilities),
             "conventions": asdict(adapter.conventions),
-            "touching_rule": adapter.conventions.touching_rule()}
+            "touching_rule": adapter.conventions.touching_rule(),
+            "supersedes": adapter.supersedes}
 
 
 Answer = Mapping[str, Any]

@@ -37,6 +37,7 @@ from crosscheck.report import (
     symmetry,
     text,
     verdict,
+    versions,
 )
 from crosscheck.report.advise import page as advise_page
 from crosscheck.report.coverage import CoverageMap, run_map
@@ -274,6 +275,12 @@ def _symmetry(view: RunView) -> Context:
     return symmetry.section(view.rows, view.order, view.mirrored)
 
 
+def _versions(view: RunView) -> Context | None:
+    """What changed from an engine's earlier major version to its next, both in the run
+    (None: no such pair)."""
+    return versions.section(view.frame, view.info.engines, view.stored.directory)
+
+
 def _info(view: RunView) -> Context:
     return {"info": view.info}
 
@@ -303,6 +310,7 @@ SECTIONS: list[Section] = [
     Section("results", 70, "_disagreements.html.j2", _disagreements),
     Section("which engine for my scene", 75, "_advise.html.j2", _advise),
     Section("A/B symmetry", 80, "_symmetry.html.j2", _symmetry),
+    Section("engine versions", 85, "_versions.html.j2", _versions),
     Section("engines and conventions", 90, "_engines.html.j2", _info),
     Section("case details", 100, "_cases.html.j2", _cases),
     Section("environment", 110, "_environment.html.j2", _info),

@@ -1,4 +1,4 @@
-"""What changed from one engine version to another (crosscheck.compare.changes, and
+"""What changed from one engine version to another (crosscheck.results.changes, and
 ``crosscheck compare`` with one run and --from/--to, or two runs).
 
 Runs are written by hand: one engine at two versions, ``e@1.0`` and ``e``, with rows chosen
@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.compare.changes import side, what_changed
+from crosscheck.results.changes import side, what_changed
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
 from crosscheck.results.runinfo import RunInfo
