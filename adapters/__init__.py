@@ -53,9 +53,13 @@ REGISTRY: dict[str, tuple[str, str]] = {
     "box2d": ("adapters.box2d", "Box2dTuned"),
     "box2d-default": ("adapters.box2d", "Box2dDefault"),
     "box2d-bullet": ("adapters.box2d", "Box2dBullet"),
+    "box2d3": ("adapters.box2d3", "Box2d3Tuned"),
+    "box2d3-default": ("adapters.box2d3", "Box2d3Default"),
+    "box2d3-bullet": ("adapters.box2d3", "Box2d3Bullet"),
     "rapier": ("adapters.rapier", "RapierTuned"),
     "rapier-default": ("adapters.rapier", "RapierDefault"),
     "rapier-ccd": ("adapters.rapier", "RapierCcd"),
+    "drake": ("adapters.drake", "Drake"),
 }
 
 ENTRY_POINT_GROUP = "crosscheck.adapters"

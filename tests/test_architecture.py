@@ -32,7 +32,7 @@ from tests.conftest import ROOT
 
 PACKAGES = ("crosscheck", "adapters", "reference_impl")
 OPTIONAL = {"pybullet", "pymunk", "fcl", "coal", "Box2D", "rapier3d", "mujoco", "dask",
-            "distributed"}
+            "distributed", "pydrake", "pyb2d3"}
 """What may be imported inside a function: the optional engines, and Dask (see run/distributed)."""
 CLI_LAZY = ("crosscheck", "pandas")
 """What a CLI command module may import inside a function (not ``crosscheck.cli`` itself)."""

@@ -31,7 +31,8 @@ TEXTBOOK_TOUCHING: dict[str, bool] = {"sphere": False, "face": True, "edge": Tru
 """The textbook's rule: touching boxes overlap (any feature); touching spheres do not collide."""
 FEATURES = tuple(TEXTBOOK_TOUCHING)
 """Where two bodies meet: a sphere, or a box's face, edge or corner."""
-SPEED_CAP_STAGES = ("", "step", "per coordinate", "before restitution")
+SPEED_CAP_STAGES = ("", "step", "per coordinate", "before restitution",
+                    "before the contact solve")
 """Where a declared speed cap acts (see :class:`Conventions`; '': no cap)."""
 TUPLES = ("no_value", "rest_gap", "sources")
 """The fields that are tuples (JSON writes them as lists)."""
@@ -102,8 +103,10 @@ class Conventions:
     speeds): ``"per coordinate"`` on each velocity coordinate at the end of every
     step (a speed, clipped per axis: PyBullet's multibody clamp); ``"step"`` on each
     body's velocity at the end of every step, ``"before restitution"`` after the contact
-    solve and before the bounce is added.  ``sampled_contacts`` is True for an engine
-    that looks for contacts only at the start of each step and pushes only
+    solve and before the bounce is added, ``"before the contact solve"`` on the velocities
+    the contact solve starts from, the bounce then taken from the uncapped approach (Box2D
+    v3: clamped in each sub-step's velocity integration).  ``sampled_contacts`` is True for
+    an engine that looks for contacts only at the start of each step and pushes only
     bodies that overlap there (no continuous or predictive contact): a contact
     shorter than a step can fall between two steps.  ``speculative_contacts`` is True
     for an engine that makes a contact at a step start for any gap the step's motion

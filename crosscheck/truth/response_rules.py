@@ -11,8 +11,10 @@ case, in this order, with its numbers:
   step: Box2D's ``b2_maxTranslation`` per step), ``"per coordinate"`` (each velocity
   coordinate at the end of the step: PyBullet's multibody clamp) or
   ``"before restitution"`` (after the contact solve, before the bounce is added:
-  Rapier's cap after each solver substep, its restitution an end-of-step pass).  It
-  fires only when the answer is that one, within the engine's allowance.
+  Rapier's cap after each solver substep, its restitution an end-of-step pass) or
+  ``"before the contact solve"`` (on the velocities the solve starts from, the bounce
+  taken from the uncapped approach: Box2D v3's clamp in each sub-step's velocity
+  integration).  It fires only when the answer is that one, within the engine's allowance.
 
 :func:`missed` is a time-step rule (category ``timestep``): an engine that looks for
 contacts only at the start of each step and pushes only bodies that overlap there
@@ -126,7 +128,12 @@ def _capped_response(met: ResponseCase, conv: Conventions, cap: float) -> tuple[
         if not (isinstance(done.v1, tuple) and isinstance(done.v2, tuple)):
             return None
         return conv.clip(done.v1, cap), conv.clip(done.v2, cap)
-    plastic = oracle.truth(met.model_copy(update={"restitution": 0.0}))
+    first = met  # "before the contact solve": the solve starts from the capped velocities
+    if conv.max_speed_at == "before the contact solve":
+        first = met.model_copy(update={
+            "a": met.a.model_copy(update={"velocity": conv.clip(met.a.velocity, cap)}),
+            "b": met.b.model_copy(update={"velocity": conv.clip(met.b.velocity, cap)})})
+    plastic = oracle.truth(first.model_copy(update={"restitution": 0.0}))
     ma, mb = met.a.mass, met.b.mass
     line = difference(met.a.center, met.b.center)
     length = norm(line)
@@ -179,7 +186,9 @@ def _speed(conv: Conventions, v: Vec) -> float:
 
 _WHERE = {"step": "on each body's velocity at the end of every step",
           "per coordinate": "on each velocity coordinate at the end of every step",
-          "before restitution": "after the contact solve, before the bounce is added"}
+          "before restitution": "after the contact solve, before the bounce is added",
+          "before the contact solve": "on the velocities the contact solve starts from, the "
+                                      "bounce taken from the uncapped approach"}
 
 
 # --- a contact between two steps -------------------------------------------------------------

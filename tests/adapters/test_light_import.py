@@ -13,7 +13,8 @@ import pytest
 import adapters
 from tests.conftest import ROOT
 
-ENGINE_MODULES = {"pybullet", "pymunk", "mujoco", "fcl", "coal", "Box2D", "rapier3d"}
+ENGINE_MODULES = {"pybullet", "pymunk", "mujoco", "fcl", "coal", "Box2D", "pyb2d3", "rapier3d",
+                  "pydrake"}
 """The engine libraries the built-in adapters import (each in its own worker)."""
 
 LIGHT = sorted({type(adapters.get(name)).__module__ for name in adapters.names()
