@@ -164,6 +164,7 @@ from adapters.box2d.calls import engine
 from adapters.box2d.scene import Variant, scene_settings, with_walls
 from adapters.shared import toi_refusal
 from adapters.stepping import SceneCallsAdapter, scene_inputs
+from crosscheck.core.claims import APART, Claim
 from crosscheck.core.contract import (
     Call,
     Capability,
@@ -328,6 +329,42 @@ _WALL_NOTES = (
     "(b2ContactSolver.cpp position solver, b2Settings.h); sleeping as the variant sets it.")
 
 
+_SLOP = ("b2Settings.h: b2_linearSlop 0.005, \"A small length used as a collision and "
+         "constraint tolerance. Usually it is chosen to be numerically significant, but "
+         "visually insignificant.\"")
+_FLOAT32 = ("b2Settings.h: \"typedef float float32\", the type of every length, and b2_epsilon "
+            "FLT_EPSILON: every input is rounded to float32 and every operation is float32; "
+            "read here as 8 float32 units (2^-24) of the numbers the engine holds (2^-21 x the "
+            "case's largest |coordinate|, radius or half-width, the adapter's rtol)")
+
+
+_TUNED_SIZES = (
+    " The manual (https://github.com/erincatto/box2d/blob/v2.3.0/Box2D/Documentation/"
+    "manual.docx, Units): \"These tolerances have been tuned to work well with "
+    "meters-kilogram-second (MKS) units. In particular, Box2D has been tuned to work well with "
+    "moving shapes between 0.1 and 10 meters.\"")
+SIZES = (0.1, 10.0)
+"""The shapes' sizes Box2D's tolerances are tuned for (the manual's Units)."""
+
+
+def box2d_claims(kinds: tuple[str, ...]) -> tuple[Claim, ...]:
+    """Box2D's collision tolerance and float32 arithmetic on ``kinds`` (2-D), for the sizes
+    its tolerances are tuned for: a verdict right on every pair farther than b2_linearSlop
+    from touching, a distance (reported apart only) within b2_linearSlop, and within 2^-21 of
+    the case's numbers."""
+    source = B2 + "Common/b2Settings.h"
+    return (
+        Claim("hit", kinds, 0.0, _SLOP + "; read here as a verdict right on every pair "
+              "farther than b2_linearSlop from touching." + _TUNED_SIZES, source,
+              size=SIZES, clear_of_touching=LINEAR_SLOP, dims=(2,)),
+        Claim("distance", kinds, LINEAR_SLOP, _SLOP + "; read here as a distance (b2Distance, "
+              "pairs apart) within b2_linearSlop." + _TUNED_SIZES, source, size=SIZES,
+              gap=APART, dims=(2,)),
+        Claim("distance", kinds, RTOL, _FLOAT32 + "." + _TUNED_SIZES, source, size=SIZES,
+              gap=APART, dims=(2,), relative=True, relative_to="length"),
+    )
+
+
 class Box2dTuned(SceneCallsAdapter):
     """Box2D set for accuracy: no polygon skin, small step, no friction, no rotation, no sleep."""
 
@@ -343,6 +380,7 @@ class Box2dTuned(SceneCallsAdapter):
         "restitution A = e, B = 0")
     capabilities: ClassVar[frozenset[Capability]] = CAPABILITIES
     conventions: ClassVar[Conventions] = _conventions(variant, settings)
+    claims: ClassVar[tuple[Claim, ...]] = box2d_claims(("sphere", "aabb"))
     scene_tuning: ClassVar[Variant | None] = variant
     """What scenes are built with (its dt replaced by the scene's; adapters/box2d/scene.py)."""
 
@@ -421,6 +459,8 @@ class Box2dDefault(Box2dTuned):
         "8 velocity / 3 position iterations (pybox2d testbed), friction (0.2), rotation free "
         "(disc moment), sleeping allowed; restitution A = e, B = 0")
     conventions: ClassVar[Conventions] = _conventions(variant, settings)
+    claims: ClassVar[tuple[Claim, ...]] = box2d_claims(("sphere",))
+    """Circles only: its boxes keep the b2_polygonRadius skin, which the claims leave out."""
     scene_tuning: ClassVar[Variant | None] = None
 
 
@@ -439,6 +479,7 @@ class Box2dBullet(Box2dTuned):
         "the box2d variant's settings (scenes: the scene's dt and iterations, friction 0, "
         "fixedRotation, sleeping off); every disc a bullet (b2BodyDef bullet=True)")
     capabilities: ClassVar[frozenset[Capability]] = frozenset({(Kind.SPHERE_SCENE, 2)})
+    claims: ClassVar[tuple[Claim, ...]] = ()  # scenes only: no distance or verdict to claim
     scene_tuning: ClassVar[Variant | None] = variant
     conventions: ClassVar[Conventions] = replace(
         Box2dTuned.conventions,

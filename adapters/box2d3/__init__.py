@@ -220,11 +220,9 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
     ), variant)
 
 
-NEAR_ORIGIN = ("sweep-sphere-3d-gap", "sweep-aabb-3d-gap",
-               "sweep-sphere-3d-overlap", "sweep-aabb-2d-overlap", "sweep-sphere-2d-diagonal-gap")
-"""The detection blocks whose bodies lie near the origin: constants.h warns that "positions
-greater than about 16km will have precision problems" (B2_HUGE), which a claim's regime cannot
-name, so the far-offset sweeps and covering designs are left out by block."""
+WORKING_RANGE = 16e3
+"""How far from the origin Box2D's positions keep their precision (m): constants.h, B2_HUGE:
+"Positions greater than about 16km will have precision problems"."""
 TUNED_FOR = (0.1, 10.0)
 """The sizes Box2D is tuned for (FAQ.md: "moving objects in the range 0.1 - 10 meters")."""
 TUNNELLING = Claim(
@@ -239,19 +237,22 @@ TUNNELLING = Claim(
 PRECISION = Claim(
     "distance", ("sphere", "aabb"), RTOL,
     "float32 throughout (b2Vec2 of float, math_functions.h): a distance is off by a few "
-    "float32 units of the bodies' size, for the sizes Box2D is tuned for (FAQ.md: \"moving "
-    "objects in the range 0.1 - 10 meters\")",
-    B3 + "include/box2d/math_functions.h", dims=(2,), relative=True,
-    gap=(-math.inf, SPECULATIVE_DISTANCE), size=TUNED_FOR, blocks=NEAR_ORIGIN)
+    "float32 units of the numbers it is computed from, for the sizes Box2D is tuned for "
+    "(FAQ.md: \"moving objects in the range 0.1 - 10 meters\") and within the range it "
+    "names (constants.h, B2_HUGE: \"Positions greater than about 16km will have precision "
+    "problems\")",
+    B3 + "include/box2d/math_functions.h", dims=(2,), relative=True, relative_to="length",
+    gap=(-math.inf, SPECULATIVE_DISTANCE), size=TUNED_FOR, offset=WORKING_RANGE)
 SLOP = Claim(
     "settle", ("sphere_scene",), LINEAR_SLOP,
     "B2_LINEAR_SLOP: \"A small length used as a collision and constraint tolerance. Usually "
     "it is chosen to be numerically significant, but visually insignificant\" (0.005 m): a "
     "resting disc's gap to the ground (the suite's settle) within it; the regime: the sizes "
-    "Box2D is tuned for (FAQ.md: \"moving objects in the range 0.1 - 10 meters\") and the "
-    "resting blocks near the origin (a scene 1e7 away is float32's, not the slop's)",
-    B3 + "src/constants.h#L19-L23", blocks=("rest-2d-column", "rest-2d-sphere-scaled"),
-    dims=(2,), size=TUNED_FOR)
+    "Box2D is tuned for (FAQ.md: \"moving objects in the range 0.1 - 10 meters\"), the "
+    "resting blocks, within the range constants.h names (\"Positions greater than about "
+    "16km will have precision problems\")",
+    B3 + "src/constants.h#L19-L23", blocks=("rest-2d",), dims=(2,), size=TUNED_FOR,
+    offset=WORKING_RANGE)
 
 
 class Box2d3Tuned(SceneCallsAdapter):

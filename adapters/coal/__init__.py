@@ -107,6 +107,7 @@ from collections.abc import Callable
 from typing import Any, ClassVar
 
 from crosscheck.core import geometry
+from crosscheck.core.claims import APART, OVERLAP, Claim
 from crosscheck.core.contract import (
     FEATURES,
     Call,
@@ -141,6 +142,33 @@ BOX_RTOL = 2e-10
 """Covers the box inflation (sqrt(3) x 1e-10 of the largest half-width) and the rest."""
 TUNED_REL, TUNED_FLOOR, TUNED_CAP = 1e-12, 1e-12, 1e-3
 """The tuned GJK/EPA tolerance: ``min(max(TUNED_REL x M, TUNED_FLOOR), TUNED_CAP)``."""
+
+
+METRE = (0.1, 10.0)
+"""\"Shapes on the order of the meter\" (narrowphase_defaults.h), read as sizes 0.1 to 10 m."""
+_ORDER_OF_METRE = (
+    "narrowphase_defaults.h: \"if the considered shapes are on the order of the meter, and the "
+    "convergence criterion of GJK is the default VDB criterion, setting a tolerance of 1e-6 on "
+    "the GJK algorithm makes it precise up to the micro-meter. The same is true for EPA.\" "
+    "(GJK_DEFAULT_TOLERANCE = EPA_DEFAULT_TOLERANCE = 1e-6; on the order of the meter read "
+    "here as sizes 0.1 to 10 m)")
+
+
+def _claims(tolerances: str) -> tuple[Claim, ...]:
+    """coal's published precision of the distance, apart (GJK) and in collision (EPA), for a
+    variant whose tolerances are ``tolerances`` (in words)."""
+    return (
+        Claim("distance", ("sphere", "aabb"), DEFAULT_TOLERANCE,
+              "QueryRequest.gjk_tolerance: \"This tolerance determines the precision on the "
+              "estimated distance between two geometries which are not in collision. It is "
+              "recommended to not set this tolerance to less than 1e-6.\" " + _ORDER_OF_METRE
+              + tolerances, COAL + "include/coal/collision_data.h", size=METRE, gap=APART),
+        Claim("distance", ("sphere", "aabb"), DEFAULT_TOLERANCE,
+              "QueryRequest.epa_tolerance: \"This tolerance determines the precision on the "
+              "estimated distance between two geometries which are in collision. It is "
+              "recommended to not set this tolerance to less than 1e-6.\" " + _ORDER_OF_METRE
+              + tolerances, COAL + "include/coal/collision_data.h", size=METRE, gap=OVERLAP),
+    )
 
 
 def engine() -> Any:
@@ -226,6 +254,9 @@ class CoalTuned(CallsAdapter):
     tuned: ClassVar[bool] = True
     conventions: ClassVar[Conventions] = _conventions(
         TUNED_FLOOR, "min(max(1e-12 x M, 1e-12), 1e-3) (M: the case's magnitude)")
+    claims: ClassVar[tuple[Claim, ...]] = _claims(
+        "; this variant sets both to min(max(1e-12 x M, 1e-12), 1e-3), at most 1e-6 at these "
+        "sizes, so the default's 1e-6 is the precision claimed")
 
     calls: ClassVar[str] = "adapters.coal.calls"
 
@@ -279,3 +310,4 @@ class CoalDefault(CoalTuned):
     conventions: ClassVar[Conventions] = _conventions(
         DEFAULT_TOLERANCE, "1e-6 absolute (coal's default: a gap below it reads as a collision "
                            "at distance 0)")
+    claims: ClassVar[tuple[Claim, ...]] = _claims("; this variant keeps the defaults")

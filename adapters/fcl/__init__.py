@@ -88,6 +88,7 @@ from typing import Any, ClassVar
 from adapters.fcl import ccd as fcl_toi
 from adapters.shared import toi_refusal
 from crosscheck.core import geometry
+from crosscheck.core.claims import APART, OVERLAP, Claim
 from crosscheck.core.contract import (
     FEATURES,
     Call,
@@ -128,6 +129,26 @@ TOI_NOTES = (
     "interval). A first touch exactly at the interval's end reads as no contact (toc < 1 "
     "required): declared toi_end_excluded.")
 """``GJKSolver_libccd``'s default ``distance_tolerance`` and ``collision_tolerance``."""
+
+
+CLAIMS = (
+    Claim("distance", ("sphere", "aabb"), GJK_TOLERANCE,
+          "DistanceRequest: \"the distance computation routine computes only the exact positive "
+          "distance when the two objects are not in collision\"; distance_tolerance, \"the "
+          "threshold used in GJK algorithm to stop distance iteration\", defaults to 1e-6 "
+          "(DistanceRequest and GJKSolver_libccd, the GST_LIBCCD solver python-fcl uses)",
+          TREE + "distance_request.h", gap=APART),
+    Claim("distance", ("sphere", "aabb"), GJK_TOLERANCE,
+          "DistanceRequest.enable_signed_distance: \"FCL will perform additional collision "
+          "checking when the two objects are in collision in order to get the exact negative "
+          "distance, which is the negated penetration depth\" (primitive shapes with "
+          "GST_LIBCCD: \"SD_1: Signed distance is computed using convexity based methods\"), "
+          "GJKSignedDistance stopping at distance_tolerance 1e-6",
+          TREE + "distance_request.h", gap=OVERLAP),
+)
+"""FCL's published accuracy of the signed distance (:mod:`crosscheck.core.claims`): its GJK
+distance tolerance, apart and in collision (detail/gjk_solver_libccd-inl.h passes
+``distance_tolerance`` to both ``GJKDistance`` and ``GJKSignedDistance``)."""
 
 
 def engine() -> Any:
@@ -180,6 +201,7 @@ class Fcl(CallsAdapter):
                "half-widths read literally, not as magnitudes (measured here). " + TOI_NOTES),
         sources=SOURCES + fcl_toi.SOURCES,
     )
+    claims: ClassVar[tuple[Claim, ...]] = CLAIMS
 
     calls: ClassVar[str] = "adapters.fcl.calls"
 
@@ -255,6 +277,7 @@ class FclCcdNaive(Fcl):
         "continuousCollide: ContinuousCollisionRequest(ccd_solver_type=CCDC_NAIVE), "
         "otherwise defaults; 2-D: z = 0")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE_TOI)
+    claims: ClassVar[tuple[Claim, ...]] = ()  # times of impact only: no distance to claim
     solver: ClassVar[str] = "naive"
     conventions: ClassVar[Conventions] = _ccd_conventions(
         "naive", "Samples collide() at t = i / 9 of the interval, i = 0..9 (min(10, "

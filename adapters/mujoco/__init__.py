@@ -119,6 +119,7 @@ from adapters.mujoco.scene import (
     scene_settings,
 )
 from adapters.stepping import SceneCallsAdapter, scene_inputs
+from crosscheck.core.claims import APART, OVERLAP, Claim
 from crosscheck.core.contract import (
     Call,
     Capability,
@@ -240,6 +241,24 @@ _RESPONSE_NOTES = (
     "active contact; a warning (bad qpos/qvel/qacc: MuJoCo resets the state) is raised.  ")
 
 
+MARGIN_GAP = ("https://github.com/google-deepmind/mujoco/blob/"
+              "a7255075b003506ff5f34b512d88e02df12a73c6/doc/computation/index.rst#margin-and-gap")
+"""The margin-and-gap rules at the commit the adapter reads (rendered: ``DOCS`` +
+computation/index.html#comargingap)."""
+CLAIMS = (
+    Claim("hit", ("sphere", "aabb"), 0.0,
+          "Computation, margin and gap: \"No contact (distance > margin + gap): The geom "
+          "surfaces, including their gap buffers, are not overlapping. No contact is "
+          "generated.\" With margin and gap 0 (this variant's), a pair apart has no contact",
+          MARGIN_GAP, gap=APART),
+    Claim("hit", ("sphere", "aabb"), 0.0,
+          "Computation, margin and gap: \"Active contact (distance <= margin): The contact is "
+          "active and constraint forces are generated.\" With margin 0 (this variant's), "
+          "every overlapping pair is in contact", MARGIN_GAP, gap=OVERLAP),
+)
+"""MuJoCo's contact rule as a claim on the verdict (margin and gap 0)."""
+
+
 class MujocoDefault(SceneCallsAdapter):
     """MuJoCo as a user gets it: only geometry, masses and velocities are set."""
 
@@ -254,6 +273,7 @@ class MujocoDefault(SceneCallsAdapter):
         "largest half-width")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
         Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE, Kind.SPHERE_SCENE)
+    claims: ClassVar[tuple[Claim, ...]] = CLAIMS
     conventions: ClassVar[Conventions] = _conventions(
         2.0**-50,
         "no coefficient of restitution: MuJoCo's default soft contact (solref 0.02 1, solimp "
@@ -352,6 +372,7 @@ class MujocoStiff(MujocoDefault):
         "rotation takes part)")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE_RESPONSE,
                                                                      Kind.SPHERE_SCENE)
+    claims: ClassVar[tuple[Claim, ...]] = ()  # detection is scored under mujoco-default only
     conventions: ClassVar[Conventions] = _conventions(
         2.0**-50,
         "no coefficient of restitution in MuJoCo: a linear spring-dashpot (direct solref) "

@@ -134,6 +134,7 @@ from adapters.rapier.scene import Tuning, scene_settings
 from adapters.shared import toi_refusal
 from adapters.stepping import SceneCallsAdapter, scene_inputs
 from crosscheck.core import contract
+from crosscheck.core.claims import Claim
 from crosscheck.core.contract import (
     FEATURES,
     Call,
@@ -313,6 +314,29 @@ DEFAULT = replace(
 )
 
 
+F32_CLAIM = Claim(
+    "distance", ("sphere", "aabb"), 2.0**-21,
+    "parry3d, the f32 build rapier3d bundles: Real is f32, \"the scalar type used throughout "
+    "this crate\", and DEFAULT_EPSILON = Real::EPSILON (2^-23), \"the default tolerance used "
+    "for geometric operations\"; read here as a distance within 4 such epsilons of the "
+    "numbers the engine holds (2^-21 x the case's largest |coordinate|, radius or half-width, "
+    "the adapter's rtol)", PARRY + "lib.rs", relative=True, relative_to="length")
+"""float32 arithmetic as a bound on the distance (parry's ``Real`` and ``DEFAULT_EPSILON``)."""
+
+
+def prediction_claim(prediction: float) -> Claim:
+    """No contact beyond the prediction distance: the verdict is right on every pair apart by
+    more than ``prediction`` (the variant's)."""
+    return Claim(
+        "hit", ("sphere", "aabb"), 0.0,
+        "IntegrationParameters::prediction_distance: \"The maximal distance separating two "
+        "objects that will generate predictive contacts\" (documented \"default: 0.002m\"; "
+        f"the code's default is 0.02); this variant detects at {prediction:.3g}, so a pair "
+        "apart by more has no contact (hit false)",
+        RAPIER + "src/dynamics/integration_parameters.rs",
+        gap=(math.nextafter(prediction, math.inf), math.inf))
+
+
 class RapierTuned(SceneCallsAdapter):
     """Rapier set for the textbook rules and accuracy (see the module docstring)."""
 
@@ -328,6 +352,7 @@ class RapierTuned(SceneCallsAdapter):
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(
         Kind.AABB, Kind.SPHERE, Kind.SPHERE_RESPONSE, Kind.SPHERE_SCENE, Kind.SPHERE_TOI)
     conventions: ClassVar[Conventions] = TUNED
+    claims: ClassVar[tuple[Claim, ...]] = (F32_CLAIM, prediction_claim(0.0))
     prediction: ClassVar[float] = 0.0
     """Detection: the verdict's prediction distance (``normalized_prediction_distance``)."""
     parameters: ClassVar[tuple[tuple[str, float], ...]] = (
@@ -404,6 +429,7 @@ class RapierDefault(RapierTuned):
         "default (dt 1/60, friction 0.5, rotation free, sleeping, speed cap 400); "
         "2-D: z = 0, z locked")
     conventions: ClassVar[Conventions] = DEFAULT
+    claims: ClassVar[tuple[Claim, ...]] = (F32_CLAIM, prediction_claim(DEFAULT_PREDICTION))
     prediction: ClassVar[float] = DEFAULT_PREDICTION
     parameters: ClassVar[tuple[tuple[str, float], ...]] = ()
     scene_tuning: ClassVar[Tuning | None] = None
@@ -424,6 +450,7 @@ class RapierCcd(RapierTuned):
         "the rapier variant's settings (soft_ccd_prediction 1e30 among them); every body "
         "ccd_enabled(True)")
     capabilities: ClassVar[frozenset[Capability]] = all_capabilities(Kind.SPHERE_SCENE)
+    claims: ClassVar[tuple[Claim, ...]] = ()  # scenes only: no distance or verdict to claim
     scene_tuning: ClassVar[Tuning | None] = Tuning(RapierTuned.parameters, ccd=True)
     conventions: ClassVar[Conventions] = replace(
         RapierTuned.conventions,

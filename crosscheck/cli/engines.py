@@ -6,6 +6,11 @@ or plug-in, then a line per plug-in naming its distribution and version; one tha
 be used (its module fails to import, its class is not an Adapter, its name clashes, it
 raises) is listed with the reason, never a traceback.  Asking for it by name (``--engine``) is
 refused with that reason; running every engine skips it with a note.
+
+``crosscheck engines --claims`` lists every variant's published accuracy claims (bound, regime,
+source: :mod:`crosscheck.core.claims`); ``--claims RUN_DIR`` checks them on a stored run
+(:func:`crosscheck.report.claims.evaluate`): the claims the run recorded, and those of the
+variants it did not run (untested), each with the measured columns and its verdict.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ from __future__ import annotations
 import argparse
 import shutil
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from rich.padding import Padding
@@ -20,9 +26,10 @@ from rich.table import Table
 from rich.text import Text
 
 import adapters
-from crosscheck.cli.console import fit, stderr, stdout
+from crosscheck.cli.console import fail, fit, stderr, stdout
 
 if TYPE_CHECKING:
+    from crosscheck.core.claims import Claim
     from crosscheck.core.contract import Adapter
 
 UnknownEngine = adapters.UnknownEngine
@@ -170,6 +177,124 @@ def cmd_engines(args: argparse.Namespace) -> int:
     return 0
 
 
+VERDICT_STYLES = {"holds": "green", "fails": "red", "untested": "yellow"}
+"""Each claim verdict's colour in the table."""
+
+
+def declared_claims() -> dict[str, tuple[Claim, ...]]:
+    """Every usable variant's declared claims, by name in listing order (variants that
+    declare none, or cannot be loaded, left out)."""
+    found: dict[str, tuple[Claim, ...]] = {}
+    for entry in adapters.entries():
+        if entry.problem() is not None:
+            continue
+        try:
+            claims = tuple(entry.load().claims)
+        except Exception:
+            continue
+        if claims:
+            found[entry.name] = claims
+    return found
+
+
+def run_problem(directory: Path) -> str | None:
+    """Why ``directory`` is not a stored run folder (None: it is)."""
+    if not directory.is_dir():
+        return f"RUN_DIR: no such run folder: {directory}"
+    if not (directory / "run.json").is_file():
+        return (f"RUN_DIR: {directory} has no run.json: not a run folder (give the folder "
+                "crosscheck run wrote)")
+    return None
+
+
+def cmd_claims(args: argparse.Namespace) -> int:
+    """``engines --claims [RUN_DIR]``: the declared claims, or their checks on a run."""
+    from crosscheck.report.claims import cells, evaluate
+    from crosscheck.results.run import read_run
+    from crosscheck.results.runinfo import FormatError
+    from crosscheck.results.store import StoreError
+
+    if not args.claims:
+        return _list_claims(declared_claims())
+    directory = Path(args.claims)
+    problem = run_problem(directory)
+    if problem:
+        fail(problem)
+        return 2
+    try:
+        run = read_run(directory)
+        recorded = run.info.claims
+        declared = {**recorded, **{name: claims for name, claims in declared_claims().items()
+                                   if name not in recorded}}
+        checks = evaluate(run, declared)
+    except (OSError, StoreError, FormatError, ValueError, KeyError) as exc:
+        fail(f"RUN_DIR: cannot read {directory}: {exc}")
+        return 2
+    table = Table(title=f"published claims against {directory}")
+    for column in ("engine", "claim", "inside the regime", "outside", "verdict"):
+        table.add_column(column)
+    for check in checks:
+        c = cells(check)
+        verdict = Text(c["verdict"], style=VERDICT_STYLES[check.verdict])
+        if c["why"]:
+            verdict.append(f": {c['why']}", style="")
+        inside = _rows_words(c["inside"], c["worst_inside"], c["worst_inside_case"])
+        if c["unanswered"]:
+            inside += f"; unanswered: {c['unanswered']}"
+        outside = _rows_words(c["outside"], c["worst_outside"], c["worst_outside_case"])
+        table.add_row(c["engine"], _claim_words(check.claim), inside, outside, verdict)
+    stdout.print(fit(table))
+    if not any(recorded.values()):
+        stdout.print(Text(f"{directory} records no claim (a run before claims were recorded): "
+                          "the claims above are the variants' declared ones, their engines "
+                          "not in the run"), soft_wrap=False)
+    stdout.print(Text("inside: measured rows (agree, disagree) in the claim's regime; "
+                      "unanswered: rows inside without an error, by status (never read as "
+                      "0); outside: measured rows of the same kinds outside the regime; "
+                      "errors in the quantity's unit (m, rad; a verdict 0 or 1)."),
+                 soft_wrap=False)
+    return 0
+
+
+def _rows_words(count: str, worst: str, case_id: str) -> str:
+    """``12 rows, worst 3e-07 (case)``; ``0 rows``."""
+    return f"{count} rows" + (f", worst {worst} ({case_id})" if worst else "")
+
+
+def _claim_words(claim: Claim) -> str:
+    """A claim in one cell: quantity on its pairs, its bound, its regime."""
+    return (f"{claim.quantity} ({', '.join(claim.kinds)}) within {claim.bound_words()}; "
+            f"{claim.regime_words()}")
+
+
+def _list_claims(declared: dict[str, tuple[Claim, ...]]) -> int:
+    """The declared claims as a table, then each in its source's words."""
+    table = Table(title="published claims")
+    for column in ("engine", "quantity", "pairs", "bound", "regime", "source"):
+        table.add_column(column)
+    for name, claims in declared.items():
+        for claim in claims:
+            table.add_row(name, claim.quantity, ", ".join(claim.kinds), claim.bound_words(),
+                          claim.regime_words(), claim.source)
+    stdout.print(fit(table))
+    stdout.print(Text("each claim in its source's words:", style="bold"))
+    for name, claims in declared.items():
+        for claim in claims:
+            stdout.print(Text(f"{name}, {claim.quantity} ({', '.join(claim.kinds)})",
+                              style="bold"))
+            stdout.print(Padding(Text(f"{claim.statement}\n{claim.source}"), (0, 0, 0, 4),
+                                 expand=False), soft_wrap=False)
+    stdout.print(Text("crosscheck engines --claims RUN_DIR checks them on a stored run."),
+                 soft_wrap=False)
+    return 0
+
+
+def _engines_or_claims(args: argparse.Namespace) -> int:
+    if args.envs or args.clear_envs:
+        return cmd_envs(args)
+    return cmd_claims(args) if args.claims is not None else cmd_engines(args)
+
+
 def cmd_envs(args: argparse.Namespace) -> int:
     """List (or clear) the cached environments of pinned engine versions."""
     from crosscheck.run import envs
@@ -200,5 +325,8 @@ def register(sub: argparse._SubParsersAction[argparse.ArgumentParser]) -> None:
                         "(run --engine NAME@VERSION) and where they are")
     p.add_argument("--clear-envs", action="store_true",
                    help="delete every cached environment (each is built again on next use)")
-    p.set_defaults(func=lambda args: cmd_envs(args) if args.envs or args.clear_envs
-                   else cmd_engines(args))
+    p.add_argument("--claims", nargs="?", const="", default=None, metavar="RUN_DIR",
+                   help="list each variant's published accuracy claims (bound, regime, "
+                        "source); with a stored run folder, check them on its rows: the worst "
+                        "error inside and outside each claim's regime and whether it holds")
+    p.set_defaults(func=_engines_or_claims)

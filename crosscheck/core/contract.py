@@ -200,13 +200,15 @@ class Adapter(ABC):
 
 
 def engine_info(adapter: Adapter) -> dict[str, object]:
-    """Everything a run records about an adapter (run.json, the conventions table)."""
+    """Everything a run records about an adapter (run.json, the conventions table; ``claims``:
+    its published accuracy claims, :meth:`Claim.to_json` each)."""
     return {"name": adapter.name, "engine": adapter.engine, "version": adapter.version(),
             "settings": adapter.settings, "available": adapter.available() or "yes",
             "capabilities": describe(adapter.capabilities),
             "conventions": asdict(adapter.conventions),
             "touching_rule": adapter.conventions.touching_rule(),
-            "supersedes": adapter.supersedes}
+            "supersedes": adapter.supersedes,
+            "claims": [claim.to_json() for claim in adapter.claims]}
 
 
 Answer = Mapping[str, Any]

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from markupsafe import Markup
 
+from crosscheck.report import claims
 from crosscheck.report.parquet import write_parquet
 from crosscheck.report.sections import SECTIONS, RunView
 from crosscheck.report.style import packed_plotly_js, templates
@@ -28,9 +29,9 @@ __all__ = ["markdown_summary", "render", "render_html"]
 Progress = Callable[[int], None]
 """Told each step of the render done (a file written, a section built): :data:`STEPS` in all."""
 
-FILES = 7
-"""The files :func:`render` writes, a step each: the results as Parquet and as CSV, four CSV
-tables (summary, disagreements, asymmetries, metamorphic) and report.html."""
+FILES = 8
+"""The files :func:`render` writes, a step each: the results as Parquet and as CSV, five CSV
+tables (summary, disagreements, asymmetries, metamorphic, claims) and report.html."""
 STEPS = FILES + len(SECTIONS)
 """The steps of :func:`render` a progress bar counts."""
 
@@ -55,8 +56,8 @@ def render_html(view: RunView, progress: Progress | None = None) -> str:
 
 
 def render(run: Run | Path, progress: Progress | None = None) -> dict[str, Path]:
-    """Write results (CSV and typed Parquet), summary, disagreements, asymmetries and
-    metamorphic CSV files and report.html into the run's folder (a folder: read first).
+    """Write results (CSV and typed Parquet), summary, disagreements, asymmetries,
+    metamorphic and claims CSV files and report.html into the run's folder (a folder: read first).
     ``results.csv`` and ``results.parquet`` are written only when missing or stale: when the
     run's table was read from its up-to-date Parquet file
     (:attr:`~crosscheck.results.run.Run.from_stored`), neither is rewritten unless
@@ -74,7 +75,8 @@ def render(run: Run | Path, progress: Progress | None = None) -> dict[str, Path]
     tick(1)
     for name, table in (("summary", view.summary), ("disagreements", view.disagreements),
                         ("asymmetries", view.asymmetries),
-                        ("metamorphic", view.metamorphic)):
+                        ("metamorphic", view.metamorphic),
+                        ("claims", claims.frame(view.claim_checks))):
         paths[name] = directory / f"{name}.csv"
         table.to_csv(paths[name], index=False)
         tick(1)

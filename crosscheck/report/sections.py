@@ -25,6 +25,7 @@ from markupsafe import Markup
 from crosscheck.core.schema import AnyCase
 from crosscheck.report import (
     aside,
+    claims,
     coverage_page,
     dynamics,
     energy_chart,
@@ -126,6 +127,12 @@ class RunView:
         """Each cell of the configuration space the run's cases reach, per engine: its cases,
         the worst status and the largest error in bounds (``coverage.csv``)."""
         return run_map(self.cases, self.frame, self.order)
+
+    @functools.cached_property
+    def claim_checks(self) -> list[claims.ClaimCheck]:
+        """Each engine's recorded claims against the run (:func:`claims.evaluate`), for the
+        claims section and ``claims.csv``; empty when the run records none."""
+        return claims.evaluate(self.stored)
 
     @functools.cached_property
     def metamorphic(self) -> pd.DataFrame:
@@ -281,6 +288,19 @@ def _versions(view: RunView) -> Context | None:
     return versions.section(view.frame, view.info.engines, view.stored.directory)
 
 
+VERDICT_STYLES = {"holds": "agree", "fails": "disagree", "untested": "undefined"}
+"""The page's class of each claim verdict (its colour)."""
+
+
+def _claims(view: RunView) -> Context | None:
+    """Each recorded claim against the run, its cells written (None: the run records none)."""
+    if not view.claim_checks:
+        return None
+    rows = [{**claims.cells(c), "style": VERDICT_STYLES[c.verdict]} for c in view.claim_checks]
+    found = {v: sum(c.verdict == v for c in view.claim_checks) for v in VERDICT_STYLES}
+    return {"rows": rows, "counts": ", ".join(f"{n} {v}" for v, n in found.items() if n)}
+
+
 def _info(view: RunView) -> Context:
     return {"info": view.info}
 
@@ -311,6 +331,7 @@ SECTIONS: list[Section] = [
     Section("which engine for my scene", 75, "_advise.html.j2", _advise),
     Section("A/B symmetry", 80, "_symmetry.html.j2", _symmetry),
     Section("engine versions", 85, "_versions.html.j2", _versions),
+    Section("published claims", 88, "_claims.html.j2", _claims),
     Section("engines and conventions", 90, "_engines.html.j2", _info),
     Section("case details", 100, "_cases.html.j2", _cases),
     Section("environment", 110, "_environment.html.j2", _info),

@@ -43,6 +43,10 @@ Format history (in the manner of pyperf's ``_JSON_VERSION`` list and asv's
   report recomputes the facts of each scene case from its stored case (the same page).
   Nothing in run.json changes shape: the update only stamps the version.
 
+Within format 7, each engine's entry gained ``claims``, its published accuracy claims
+(:mod:`crosscheck.core.claims`): additive, so the version is unchanged, and an entry without
+them (a run written before) reads as an engine that claims nothing (:func:`claims_of`).
+
 A run.json of a later format (a newer crosscheck wrote it) is refused by
 :func:`migrate` with its version and how to upgrade; ``tests/data/format3-run`` and
 ``tests/data/format4-run`` are stored runs of formats 3 and 4 that ``report``, ``compare``
@@ -66,6 +70,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from crosscheck.cases.tiers import tier_of
+from crosscheck.core.claims import Claim
 from crosscheck.core.options import RunOptions
 
 FORMAT_VERSION = 7
@@ -91,7 +96,9 @@ class RunInfo:
     machine: dict[str, Any]
     """CPU, cores, Python, package versions, git commit (see crosscheck.run.environment)."""
     engines: tuple[dict[str, Any], ...]
-    """Per engine: name, engine, version, settings, capabilities, conventions."""
+    """Per engine: name, engine, version, settings, capabilities, conventions, and ``claims``
+    (its published accuracy claims as :meth:`~crosscheck.core.claims.Claim.to_json` wrote
+    them; absent in a run written before claims were recorded: none)."""
     started: str
     finished: str | None = None
     case_files: tuple[str, ...] = ()
@@ -126,6 +133,12 @@ class RunInfo:
         """The engines of the run, in run order."""
         return [str(e["name"]) for e in self.engines]
 
+    @property
+    def claims(self) -> dict[str, tuple[Claim, ...]]:
+        """Each engine's recorded claims, by name in run order (none for an engine whose
+        entry has no ``claims``: a run written before they were recorded)."""
+        return {str(e["name"]): claims_of(e) for e in self.engines}
+
     def finish(self) -> RunInfo:
         """This info, finished now."""
         return replace(self, finished=now())
@@ -156,6 +169,15 @@ class RunInfo:
                    cases_run=int(data["cases_run"]), case_errors=tuple(data["case_errors"]),
                    resumed=tuple(data["resumed"]), timing=data.get("timing"),
                    repeat_check=data.get("repeat_check"))
+
+
+def claims_of(engine: dict[str, Any]) -> tuple[Claim, ...]:
+    """The claims an engine's entry in run.json records (none when it has no ``claims``).
+
+    >>> claims_of({"name": "old"})
+    ()
+    """
+    return tuple(Claim.from_json(c) for c in engine.get("claims") or ())
 
 
 def _update_to_2(data: dict[str, Any]) -> dict[str, Any]:
