@@ -17,6 +17,7 @@ checked by.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
@@ -61,20 +62,37 @@ def counts(frame: pd.DataFrame, engine: str) -> dict[str, dict[str, int]]:
     return out
 
 
+def family(case_id: str, origin: str) -> str:
+    """A fast case's block: its sweep's (``origin``), else its id without the travel and
+    phase a block of single cases spells out (the walls' cases are not swept).
+
+    >>> family("fast-wall-x-travel-0.5-phase-0.3", ""), family("fast-head-on.dt=1", "fast-head-on")
+    ('fast-wall-x', 'fast-head-on')
+    """
+    return origin or re.sub(r"-travel-[^-]+-phase-[^-]+$", "", case_id)
+
+
 def missed_impacts(frame: pd.DataFrame, engines: Iterable[str]) -> list[dict[str, Any]]:
-    """Per fast-body block: its cases, and per engine the cases whose impact it missed."""
-    fast = frame[frame["origin"].fillna("").astype(str).str.startswith(FAST)]
+    """Per fast-body block: its cases, and per engine the cases whose impact it missed (a
+    row's reason says the bodies passed through each other) and the cases with an ``error``
+    row (a wall's pass-through among them: the tunnelling claim reads those)."""
+    ids = frame["case_id"].astype(str)
+    fast = frame[ids.str.startswith(FAST)]
     if fast.empty:
         return []
+    blocks = [family(c, o) for c, o in zip(fast["case_id"].astype(str),
+                                           fast["origin"].fillna("").astype(str), strict=True)]
     missed = fast["reason"].fillna("").astype(str).str.contains(PASSED_THROUGH, regex=False)
+    wrong = fast["category"].fillna("").astype(str) == "error"
     out = []
-    for block, rows in fast.groupby("origin", sort=True):
+    for block, rows in fast.groupby(pd.Series(blocks, index=fast.index), sort=True):
         entry: dict[str, Any] = {"block": str(block), "engines": {}}
         for engine in engines:
             mine = rows[rows["engine"] == engine]
             entry["engines"][engine] = {
                 "cases": int(mine["case_id"].nunique()),
-                "missed": int(mine.loc[missed.loc[mine.index], "case_id"].nunique())}
+                "missed": int(mine.loc[missed.loc[mine.index], "case_id"].nunique()),
+                "errors": int(mine.loc[wrong.loc[mine.index], "case_id"].nunique())}
         out.append(entry)
     return out
 

@@ -44,9 +44,21 @@ def test_pairs_need_both_versions_in_the_run() -> None:
 def test_missed_impacts_count_cases_per_block_and_version() -> None:
     found = versions.missed_impacts(fast_rows(), ("old", "new"))
     assert [f["block"] for f in found] == ["fast-a", "fast-b"]
-    assert found[0]["engines"] == {"old": {"cases": 3, "missed": 2},
-                                   "new": {"cases": 3, "missed": 1}}
-    assert found[1]["engines"]["old"] == {"cases": 1, "missed": 0}
+    assert found[0]["engines"] == {"old": {"cases": 3, "missed": 2, "errors": 0},
+                                   "new": {"cases": 3, "missed": 1, "errors": 0}}
+    assert found[1]["engines"]["old"] == {"cases": 1, "missed": 0, "errors": 0}
+
+
+def test_wall_cases_without_a_sweep_are_grouped_by_their_block() -> None:
+    rows = pd.DataFrame([
+        {"case_id": f"fast-wall-x-travel-{t}-phase-0.3", "origin": "", "engine": e,
+         "kind": "sphere_scene", "quantity": "velocities", "status": "disagree",
+         "category": "error" if (e, t) == ("old", 50) else "", "reason": ""}
+        for t in (2, 50) for e in ("old", "new")])
+    (found,) = versions.missed_impacts(rows, ("old", "new"))
+    assert found["block"] == "fast-wall-x"
+    assert found["engines"]["old"] == {"cases": 2, "missed": 0, "errors": 1}
+    assert found["engines"]["new"]["errors"] == 0
 
 
 def test_section_lists_the_changed_rows_by_failure_mode(tmp_path: Path) -> None:
