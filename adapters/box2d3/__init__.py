@@ -47,6 +47,26 @@ Conventions (each from Box2D v3.1.1's sources, ``SOURCES``; measured where said)
   skipped when ``relativeVelocity + threshold > 0`` (contact_solver.c), so an approach of
   exactly 1 m/s bounces: declared 1.0 (the textbook's strict "below" reading).  A speculative
   point that took no impulse gets no bounce either.
+- bounce at the step's end, from the approach at its start: the solver's stages run
+  prepare contacts (``relativeVelocity = dot(normal, vB - vA)`` from the velocities the step
+  starts with, contact_solver.c L1559-L1562, overflow L150-L153), then per sub-step integrate
+  velocities, solve, integrate positions and relax, and only after the sub-steps
+  ``b2ApplyRestitution`` (solver.c L731-L739 ``b2SolverStage``, L1075-L1089): a point gets
+  ``vn = -e relativeVelocity`` unless ``relativeVelocity + threshold > 0`` or its
+  ``totalNormalImpulse`` is 0 (contact_solver.c L1996-L2013, overflow L436-L451), once per
+  step, not iterated ("it is possible to get more accurate restitution by iterating",
+  L425).  So the step that meets a contact only stops the approach (the soft solve; an
+  overlap pushed out at most ``maxContactPushSpeed`` 3 m/s, types.c) and the bounce leaves
+  a step late: declared ``bounce_at_step_end`` (each centre up to its share of ``e`` x the
+  closing speed x dt behind the discrete run).  And the bounce is the approach stored at
+  the step start: a pair at rest when the step starts and pushed within it (a chain: a
+  Newton's cradle, a billiards rack within the 0.02 m speculative distance) gets none, and a
+  fall meets the threshold up to ``|g| dt`` slower than its impact: declared
+  ``bounce_from_step_start`` (energy lost, never gained).  A new pair's contact is made and
+  collided in the same step: ``b2World_Step`` runs ``b2UpdateBroadPhasePairs`` (which calls
+  ``b2CreateContact``, broad_phase.c L435, adding it to the awake set's contact sims,
+  contact.c L298) before ``b2Collide`` (world.c L738, L776), which updates those sims too
+  (world.c L535-L542): no contact is found a step late.
 - speed cap: ``maximumLinearSpeed`` (default 400 m/s, types.c) clamps each body's velocity in
   every sub-step's velocity integration, before the contact solve (solver.c), while the
   bounce, added after the sub-steps, takes the approach speed the step started with
@@ -67,22 +87,25 @@ Conventions (each from Box2D v3.1.1's sources, ``SOURCES``; measured where said)
 - continuous: ``enableContinuous`` true (types.c): a fast dynamic body (one step's travel above
   half its smallest extent) is swept against static bodies; bullets (``isBullet``) also against
   kinematic and non-bullet dynamic bodies, "but not other bullets" (simulation.md, solver.c).
-  So between two dynamic discs contacts are sampled at step starts in ``box2d3`` and
-  ``box2d3-default`` (``sampled_contacts`` True).  ``box2d3-bullet`` makes each scene's
-  fastest disc (the first of equal speeds) a bullet, the others plain dynamic bodies, so that
-  a pair holding it is swept (``sampled_contacts`` False): the release notes say bullets
-  against dynamic bodies are "not as robust" as dynamic against static, and its rows show how
-  robust.  Every disc a bullet would sweep nothing between discs.
+  So between two dynamic discs contacts are sampled at step starts in every variant, the
+  bullet one included (every disc a bullet, as ``box2d-bullet`` in v2; bullets are not swept
+  against bullets): ``sampled_contacts`` True everywhere.  One bullet among plain dynamic
+  discs is swept against where the other disc ends the step (solver.c: a non-fast body's
+  sweep starts at its end position), so it stops short and bounces a step late or misses a
+  disc that passed: measured, and modelled by no scene rule yet, so no variant declares it.
 
 Engine behaviour the report shows as ``error`` (from the sources above, not hidden): centres
 closer than ``FLT_EPSILON`` (sizes near 1e-9) give a zero normal, so such a pair neither gets a
-normal nor responds (math_functions.h); the bounce is added after the sub-steps have integrated
-the positions (``b2ApplyRestitution``, solver.c), so a pair found overlapping at a step start
-stays put for that step and flies apart a step later than the discrete run
-(``fast-head-on``/``fast-oblique`` at low travel, the cradle, billiards); the default
-variant's friction 0.6 and free rotation change oblique bounces off walls, which the scene
-rules do not model; a response at 1e12 from the origin never moves in float32 (a step's
-travel is below the spacing there) and runs to the step cap (``timeout``).
+normal nor responds (math_functions.h); a pair found at a step start with its centres nearly
+through each other (a deep overlap) has them cross within the soft step, and the bounce, taken
+along the step start's normal, sends them back into each other every step (caught inside
+each other to the end); restitution applied once per contact and not iterated can add energy
+where a body bounces off several contacts in one step (a billiards break at a small step);
+an oblique impact closing below the threshold, met at a speculative gap, is stopped along two
+normals over two steps, which no one-event run models; the default variant's friction 0.6
+and free rotation change oblique bounces, which the scene rules do not model; a response at
+1e12 from the origin never moves in float32 (a step's travel is below the spacing there) and
+runs to the step cap (``timeout``).
 
 Guarded inputs (``ValueError``, the reason in the message): pyb2d3 is a release build
 (``B2_ASSERT`` compiled out, base.h), so Box2D takes NaN centres and velocities, negative radii
@@ -125,8 +148,9 @@ SOURCES = (
     B3 + "src/manifold.c",  # b2CollideCircles / b2CollidePolygons: speculative reject
     B3 + "src/contact.c",  # b2UpdateContact: touching = pointCount > 0
     B3 + "src/world.c",  # b2World_Step (no collision at dt 0), mixing callbacks, softness
-    B3 + "src/solver.c",  # speed clamp in integrate velocities, continuous, bullets
-    B3 + "src/contact_solver.c",  # restitution: relativeVelocity + threshold > 0 skips
+    B3 + "src/solver.c",  # speed clamp, continuous, bullets; restitution after the sub-steps
+    B3 + "src/contact_solver.c",  # restitution from the step start's relativeVelocity, once
+    B3 + "src/broad_phase.c",  # b2UpdateBroadPhasePairs creates contacts before b2Collide
     B3 + "src/body.c",  # b2Body_SetMassData: invMass 0 for mass 0
     B3 + "include/box2d/base.h",  # B2_ASSERT compiled out without B2_ENABLE_ASSERT / NDEBUG
     B3 + "include/box2d/math_functions.h",  # b2GetLengthAndNormalize: zero below FLT_EPSILON
@@ -190,7 +214,10 @@ _NOTES = (
     "negative restitution, non-finite inputs (pyb2d3 is a release build: no B2_ASSERT). "
     "Between two dynamic discs contacts are found at step starts (speculative within 0.02 m "
     "only): sampled_contacts; continuous collision sweeps dynamic bodies against static ones "
-    "(enableContinuous), bullets also against non-bullet dynamic ones, never other bullets. ")
+    "(enableContinuous), bullets also against non-bullet dynamic ones, never other bullets. "
+    "The bounce is added once, after the sub-steps (b2ApplyRestitution), from the approach "
+    "stored at the step start, where it is at least the threshold and the point took an "
+    "impulse: bounce_at_step_end, bounce_from_step_start. ")
 
 
 def _conventions(variant: Variant, settings: str) -> Conventions:
@@ -212,6 +239,8 @@ def _conventions(variant: Variant, settings: str) -> Conventions:
         max_speed=cap,
         max_speed_at="before the contact solve",
         sampled_contacts=True,
+        bounce_at_step_end=True,
+        bounce_from_step_start=True,
         zero_mass="static",
         negative_extents="",
         no_value=("float32-textbook",),
@@ -336,24 +365,22 @@ class Box2d3Default(Box2d3Tuned):
 
 
 class Box2d3Bullet(Box2d3Tuned):
-    """Box2D v3 tuned with each scene's fastest disc a bullet (scenes only)."""
+    """Box2D v3 tuned with every disc a bullet (scenes only)."""
 
     name: ClassVar[str] = "box2d3-bullet"
     variant: ClassVar[Variant] = replace(Box2d3Tuned.variant, bullet=True)
     settings: ClassVar[str] = (
         "the box2d3 variant's settings (scenes: the scene's dt, 4 sub-steps, friction 0, "
-        "fixed rotation, sleeping off, no speed cap); the fastest disc a bullet (isBullet)")
+        "fixed rotation, sleeping off, no speed cap); every disc a bullet (isBullet)")
     capabilities: ClassVar[frozenset[Capability]] = frozenset({(Kind.SPHERE_SCENE, 2)})
     claims: ClassVar[tuple[Claim, ...]] = (TUNNELLING, SLOP)
     supersedes: ClassVar[str] = "box2d-bullet"
     scene_tuning: ClassVar[Variant | None] = variant
     conventions: ClassVar[Conventions] = replace(
         Box2d3Tuned.conventions,
-        sampled_contacts=False,
-        notes=("Scenes only (2-D). The fastest disc (the first of equal speeds) a bullet "
-               "(b2BodyDef.isBullet): swept against static, kinematic and non-bullet dynamic "
-               "bodies, \"not other bullets\" (simulation.md; b2ContinuousQueryCallback, "
-               "solver.c); the other discs plain dynamic bodies, so a pair holding the bullet "
-               "is swept (sampled_contacts False) and a pair of two others is sampled. The "
-               "box2d3 variant's notes follow (their sampled contacts: between two non-bullet "
-               "discs here). " + Box2d3Tuned.conventions.notes))
+        notes=("Scenes only (2-D). Every disc a bullet (b2BodyDef.isBullet): swept against "
+               "static, kinematic and non-bullet dynamic bodies, but \"not other bullets\" "
+               "(simulation.md; b2ContinuousQueryCallback skips bullets, solver.c): between "
+               "two discs contacts are still sampled at step starts (sampled_contacts), unlike "
+               "box2d-bullet in v2, whose bullets are swept against each other. "
+               + Box2d3Tuned.conventions.notes))

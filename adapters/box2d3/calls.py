@@ -31,13 +31,12 @@ changed a velocity, else None (no contact: passed by or through).
 Scene (2-D; a 3-D scene raises): a new world (the scene's gravity, the variant's settings); per
 wall a static body at the wall box's anchor with one box (``b2MakeOffsetBox`` in the body's
 frame: the surface at 0 there, exactly; :mod:`adapters.shared.wall_boxes`), restitution e,
-the variant's friction; per disc a dynamic body of restitution e (the bullet variant makes the
-fastest disc, the first of equal speeds, a bullet: ``isBullet`` sweeps it against the other,
-non-bullet, discs; bullets are not swept against bullets).  The ask times only
+the variant's friction; per disc a dynamic body of restitution e (the bullet variant makes every
+disc a bullet, as ``box2d-bullet`` does in v2: bullets are not swept against bullets, so
+between two discs contacts stay sampled).  The ask times only
 ``world.step(dt, sub_steps)`` and reads ``position`` / ``linear_velocity`` (float32, widened).
 """
 
-import math
 import time
 from collections.abc import Sequence
 from functools import partial
@@ -216,16 +215,6 @@ def _wall(world: Any, slab: Any, restitution: float, friction: float | None) -> 
     return body
 
 
-def bullet_index(bodies: Sequence[Any]) -> int:
-    """The disc a bullet scene makes a bullet: the fastest, the first of equal speeds (-1: none).
-
-    >>> bullet_index([((0, 0), 1, 1, (1.0, 0.0)), ((3, 0), 1, 1, (-2.0, 0.0))])
-    1
-    """
-    speeds = [math.hypot(*velocity) for _, _, _, velocity in bodies]
-    return speeds.index(max(speeds)) if speeds else -1
-
-
 def scene(bodies: tuple[Any, ...], dim: int, restitution: float, dt: float,
           iterations: int | None, gravity: tuple[float, ...], walls: tuple[Any, ...],
           steps: int, record_every: int, friction: float | None, fixed_rotation: bool,
@@ -238,10 +227,8 @@ def scene(bodies: tuple[Any, ...], dim: int, restitution: float, dt: float,
     check_surroundings(gravity, walls, dim)
     w = new_world(gravity, sleep, max_speed)
     planes = tuple(_wall(w, slab, restitution, friction) for slab in slabs(bodies, walls))
-    fastest = bullet_index(bodies) if bullet else -1
     discs = tuple(disc(w, center, velocity, radius, mass, restitution, friction,
-                       fixed_rotation, i == fastest)
-                  for i, (center, radius, mass, velocity) in enumerate(bodies))
+                       fixed_rotation, bullet) for center, radius, mass, velocity in bodies)
     return {"world": w, "discs": discs, "planes": planes, "dt": dt, "steps": steps,
             "record_every": record_every, "bodies": bodies, "gravity": gravity, "walls": walls,
             "sub_steps": sub_steps if iterations is None else max(1, iterations)}

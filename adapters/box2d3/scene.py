@@ -70,9 +70,8 @@ class Variant:
     max_speed: float | None
     sub_steps: int = 4
     bullet: bool = False
-    """A scene's fastest disc (the first of equal speeds) a bullet (``b2BodyDef.isBullet``):
-    swept against static, kinematic and non-bullet dynamic bodies; the others plain dynamic
-    bodies, because bullets are not swept against bullets (solver.c
+    """Every disc a bullet (``b2BodyDef.isBullet``): swept against static, kinematic and
+    non-bullet dynamic bodies, not against other bullets (solver.c
     ``b2ContinuousQueryCallback`` skips them; simulation.md)."""
 
 

@@ -112,6 +112,16 @@ class Conventions:
     for an engine that makes a contact at a step start for any gap the step's motion
     closes (Rapier's soft CCD): the impact is met at the start of the step that holds
     it, resolved along the line of centres there, before the bodies touch.
+    ``bounce_at_step_end`` is True for an engine that adds the bounce once, at the end of
+    the step that meets a contact, after that step's positions are integrated (Box2D v3's
+    ``b2ApplyRestitution``): the bodies part a step later than a run that resolves the
+    contact where the step starts, each centre up to its share of the bounce times the step
+    behind.  ``bounce_from_step_start`` is True for an engine that takes that bounce from
+    the approach at the start of the step (before the step's gravity and contact solve),
+    once per contact and step, and only where that approach is at least the restitution
+    threshold: an impact chained within a step (a pair touching at rest when the step
+    starts) gets no bounce, and a fall meets the threshold up to ``|g| dt`` slower than its
+    impact: energy is lost, never gained.
 
     Times of impact (:mod:`crosscheck.truth.toi`): ``toi_target`` is the separation of
     the surfaces at which the engine's time-of-impact query stops (negative: an
@@ -188,6 +198,13 @@ class Conventions:
     speculative_contacts: bool = field(default=False, metadata=_behaviour(
         "contacts made at a step start for the gap the step's motion closes: an impact is "
         "met where the step that holds it starts, its normal taken there"))
+    bounce_at_step_end: bool = field(default=False, metadata=_behaviour(
+        "the bounce is added at the end of the step that meets a contact, after that step's "
+        "positions are integrated: the bodies part a step late"))
+    bounce_from_step_start: bool = field(default=False, metadata=_behaviour(
+        "the bounce is taken from the approach at the step's start, once per contact: an "
+        "impact chained within a step, or a fall slower than the threshold when its step "
+        "starts, gets none: energy is lost"))
     toi_target: float = field(default=0.0, metadata=_definition(
         "what counts as the impact: the separation at which the engine's time-of-impact "
         "query calls the surfaces in contact (Box2D aims at a small overlap); its time is "

@@ -7,7 +7,9 @@ judged from the engine's *own* state before it, never against a sum over the run
 - **apex**: from the engine's previous apex ``H`` (the first: the exact drop height), the
   body hits the ground at ``v = min(sqrt(2 |g| H), cap)`` (``cap``: a declared speed cap,
   which acts at every step) and, bouncing with ``e`` (0 below a declared restitution
-  threshold), rises to ``A = (e v)**2 / (2 |g|)``.  Found up to one step late, it turns
+  threshold; an engine that compares it with the approach at the step's start, declared
+  ``bounce_from_step_start``, may also give none up to ``|g| dt`` above it), rises to
+  ``A = (e v)**2 / (2 |g|)``.  Found up to one step late, it turns
   back up to ``depth = v dt + |g| dt**2`` below the ground, so it may **lose** up to that
   much height (plus what sampling the apex every ``s`` steps hides, ``|g| (s dt)**2 / 2``);
   step lag never **adds** energy, so an apex above ``A`` beyond the precision (the float
@@ -57,6 +59,10 @@ class Event:
     """What the float tolerance and the engine's precision allow either way (m)."""
     inelastic: bool = False
     """The declared restitution threshold made this bounce inelastic."""
+    early: float = 0.0
+    """When the threshold met the approach at the step's start (declared
+    ``bounce_from_step_start``) above the impact's speed: how much slower it may be, one
+    step of gravity ``|g| dt`` (m/s)."""
 
     @property
     def change(self) -> float:
@@ -83,6 +89,9 @@ class Event:
                 f"it fell from (apex {self.engine:.4g} m against {self.expected:.4g} m"
                 + (", inelastic under the declared restitution threshold" if self.inelastic
                    else "")
+                + (f" met by the approach at the step's start, up to |g| dt = {self.early:.3g}"
+                   " m/s slower than the impact (declared bounce_from_step_start)"
+                   if self.inelastic and self.early > 0 else "")
                 + (f"; only the precision's {self.precision:.3g} m is allowed either way: "
                    "step lag never adds height)" if self.gain else
                    f"; one step's lag allows a loss of {self.bound:.3g}: v dt + |g| dt^2 = "
@@ -171,18 +180,36 @@ def apexes(case: SceneCase, conventions: Conventions, engine: Sequence[float],
     previous = drop_height(case)
     for k, apex in enumerate(engine, start=1):
         speed = min(math.sqrt(2 * g * max(previous, 0.0)), limit)
-        inelastic = 0.0 < speed < conventions.restitution_threshold
-        e = 0.0 if inelastic else case.restitution
-        expected = (e * speed) ** 2 / (2 * g)
+        threshold = conventions.restitution_threshold
+        inelastic = 0.0 < speed < threshold
         depth = speed * dt + g * dt * dt + sampled
-        r = conventions.response_rtol or 0.0
-        # a recorded previous apex may sit below the true one by what the stride hides, and
-        # the bounce it gives by e**2 of that (the first falls from the exact drop height)
-        hidden = e * e * sampled if k > 1 else 0.0
-        out.append(Event(k, previous, expected, apex, depth,
-                         slack + (2 * r + r * r) * expected + hidden, inelastic))
+        event = _event(case, conventions, k, previous, apex, speed, depth, slack, inelastic)
+        # an engine that compares the threshold with the approach at the step's start meets
+        # it with a fall up to |g| dt slower: a bounce in that band may be inelastic
+        early = g * dt if conventions.bounce_from_step_start else 0.0
+        if (not inelastic and not event.within and threshold <= speed < threshold + early
+                and case.restitution > 0):
+            event = _event(case, conventions, k, previous, apex, speed, depth, slack, True,
+                           early)
+        out.append(event)
         previous = apex
     return out
+
+
+def _event(case: SceneCase, conventions: Conventions, k: int, previous: float, apex: float,
+           speed: float, depth: float, slack: float, inelastic: bool,
+           early: float = 0.0) -> Event:
+    """Bounce ``k`` from ``previous`` at ``speed``: with the scene's e, or none."""
+    g, dt = norm(sm.gravity(case)), case.dt or DEFAULT_DT
+    sampled = g * (_stride(case) * dt) ** 2 / 2
+    e = 0.0 if inelastic else case.restitution
+    expected = (e * speed) ** 2 / (2 * g)
+    r = conventions.response_rtol or 0.0
+    # a recorded previous apex may sit below the true one by what the stride hides, and
+    # the bounce it gives by e**2 of that (the first falls from the exact drop height)
+    hidden = e * e * sampled if k > 1 else 0.0
+    return Event(k, previous, expected, apex, depth,
+                 slack + (2 * r + r * r) * expected + hidden, inelastic, early)
 
 
 def intervals(case: SceneCase, conventions: Conventions, times: Sequence[float],

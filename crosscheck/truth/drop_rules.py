@@ -13,7 +13,9 @@ apex, each bounce time from its own previous bounce.  :func:`sequence` judges th
 3. a bounce time beyond one step late at either end and the recording stride:
    ``convention`` for a soft contact (a contact lasting several steps), else ``error``;
 4. every event within its bound: ``convention`` when a declared speed cap or restitution
-   threshold shaped a bounce (named), else ``timestep``.
+   threshold shaped a bounce (named; with a declared ``bounce_from_step_start`` the
+   threshold meets the approach at the step's start, up to ``|g| dt`` slower than the
+   impact), else ``timestep``.
 
 The ``apex`` and ``bounce_time`` rows cite their own worst event; positions, velocities,
 momentum, energy, the energy drift and the divergence of the same run take the sequence's
@@ -129,11 +131,19 @@ def _verdict(case: SceneCase, conventions: Conventions, events: tuple[bounces.Ev
             f"capped at {limit:.4g} m/s (declared max_speed, acting {conventions.max_speed_at}"
             f" at every step; {len(capped)} bounce(s) hit it) ({detail}; {count})")
     inelastic = [e for e in events if e.inelastic]
+    early = [e for e in inelastic if e.early > 0]
     if inelastic:
+        g = norm(sm.gravity(case))
+        landing = math.sqrt(2 * g * max(early[0].previous, 0.0)) if early else 0.0
         return Category.CONVENTION, (
             f"every bounce within one step's lag; {len(inelastic)} close below the declared "
             f"restitution threshold {conventions.restitution_threshold:g} m/s and do not "
-            f"bounce ({detail}; {count})")
+            "bounce" + (f" ({len(early)} of them above it, within |g| dt = "
+                        f"{early[0].early:.3g} m/s: bounce {early[0].index} lands at "
+                        f"{landing:.4g} m/s, and the engine compares the threshold with the "
+                        "approach at the step's start, declared bounce_from_step_start)"
+                        if early else "")
+            + f" ({detail}; {count})")
     return Category.TIMESTEP, (f"every bounce within one step's lag of the bounce its fall "
                                f"gives ({detail}; {count})")
 

@@ -18,6 +18,10 @@ order:
    precision, the event's overlap (positions) and the declared damping;
 3. a resting scene's settle offsets (the ``settle`` row's category) or a drop's bounces,
    each judged against its own one-step bound (:mod:`crosscheck.truth.drop_rules`);
+   Scenes whose impacts chain (more bodies, or walls) are judged by what every run of their
+   impacts keeps (momentum, and the energy at e = 1), the energy only never gained where a
+   declared restitution threshold or a bounce taken at the step's start
+   (``bounce_from_step_start``, a chain within one step) takes a bounce;
 4. per quantity: the declared damping (``convention``: momentum, energy), the declared
    precision (``tolerance``), one step of gravity on a resting body, or one impact seen a
    step late (positions within one step's travel at the top speed: ``timestep``);
@@ -60,11 +64,12 @@ from crosscheck.truth.scenes import (
 __all__ = ["CONVENTIONS", "PASSED_THROUGH", "coarse", "judge"]
 
 CONVENTIONS = tuple(dict.fromkeys((
-    "max_speed", "restitution_threshold", "restitution_model", "damping",
-    *measure_rules.CONVENTIONS)))
+    "max_speed", "restitution_threshold", "bounce_from_step_start", "restitution_model",
+    "damping", *measure_rules.CONVENTIONS)))
 """The declared conventions whose rules make a scene quantity's disagreement a
-``convention``: the speed cap, the restitution threshold, a soft or predictive bounce, the
-damping, and the measures' (:data:`crosscheck.truth.measure_rules.CONVENTIONS`)."""
+``convention``: the speed cap, the restitution threshold, a bounce taken from the approach
+at the step's start, a soft or predictive bounce, the damping, and the measures'
+(:data:`crosscheck.truth.measure_rules.CONVENTIONS`)."""
 
 
 def _along(case: SceneCase, pair: object, first: float) -> float:
@@ -138,8 +143,11 @@ def _conserving(case: SceneCase, conventions: Conventions, quantity: str, what: 
     impacts after it, so the run is judged by what every run of its impacts keeps, whenever
     they are met: momentum (no walls) and, at e = 1, the kinetic energy (else no gain), each
     within the precision and the declared damping.  Kept: ``timestep``, or ``convention``
-    when the first impact closes below a declared restitution threshold (the energy may
-    then be lost, never gained); else None."""
+    when the first impact closes below a declared restitution threshold, or when an impact
+    of the exact run comes less than a step after another of the same body and the engine
+    takes its bounces from the approach at the step's start (declared
+    ``bounce_from_step_start``: :func:`~crosscheck.truth.motion_rules.chained`); the energy
+    may then be lost, never gained; else None."""
     if (quantity not in ("positions", "velocities") or case.gravity is not None
             or scene_runs.two_bodies_in_open_space(case) or not exact.impacts):
         return None
@@ -158,10 +166,12 @@ def _conserving(case: SceneCase, conventions: Conventions, quantity: str, what: 
     initial = math.fsum(0.5 * b.mass * norm(b.velocity) ** 2 for b in case.bodies)
     gained = (energy - initial) / initial if initial > 0 else 0.0
     below = motion_rules.below_threshold(case, conventions, exact)
-    if case.restitution >= 1 and not below:
-        pe = _off(case, "energy", energy, start)
-        if not pe <= allowed:
+    pe = _off(case, "energy", energy, start)
+    if case.restitution >= 1 and not below and not pe <= allowed:
+        below = motion_rules.chained(case, conventions)  # a bounce the engine may not give
+        if not below:
             return None
+    if case.restitution >= 1 and not below:
         kept.append(f"the kinetic energy to {pe:.3g}")
     elif gained > allowed:
         return None
@@ -264,11 +274,12 @@ def explain(case: SceneCase, conventions: Conventions, quantity: str, value: Val
              if isinstance(positions, tuple) and isinstance(exact.positions, tuple)
              else math.inf)
     category, reason = _category(case, conventions, quantity, err, what, moved)
-    below = motion_rules.below_threshold(case, conventions, exact)
-    if (category == Category.ERROR and below and quantity == "energy"
+    if (category == Category.ERROR and quantity == "energy"
             and isinstance(value, float) and isinstance(exact.energy, float)
             and value <= exact.energy):
-        return Category.CONVENTION, f"{what}, all of it lost: {below}"
+        below = motion_rules.unbounced(case, conventions, exact)
+        if below:
+            return Category.CONVENTION, f"{what}, all of it lost: {below}"
     if category == Category.ERROR:
         return (_conserving(case, conventions, quantity, what, observed, exact)
                 or _slowed_pass(case, what, observed, exact)

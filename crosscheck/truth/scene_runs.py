@@ -8,7 +8,9 @@ declared conventions say so (:func:`candidates`; :func:`find` picks the one it g
   bodies, in free flight, overlap while approaching, and resolved there along the line of
   centres, with the scene's e (what an engine that samples contacts at step starts does);
   the bodies then fly apart from where they were at ``k dt``.  The one event allows the
-  positions to differ by the overlap ``depth`` there (pushed out or not);
+  positions to differ by the overlap ``depth`` there (pushed out or not), and, for an engine
+  that declares ``bounce_at_step_end`` (the bounce added after the step's positions), by
+  the bounce's share of one step at the closing speed (:func:`step_end_lag`);
 - **speculative**: for an engine that declares ``speculative_contacts``, the impact met at
   the start of the step that holds the exact first touch and resolved along the line of
   centres there (the bodies may close the gap left there before they turn: ``depth``);
@@ -198,6 +200,8 @@ class Fit:
     state: Observation
     depth: float = 0.0
     """How far (m) the event lets a centre differ from ``state`` (a pushed-out overlap)."""
+    lag: float = 0.0
+    """Of which the declared bounce at the step's end (m; :func:`step_end_lag`)."""
 
     def slack(self, case: SceneCase, conventions: Conventions, quantity: str) -> float:
         """The allowance of ``quantity`` against ``state`` (the errors' units): the
@@ -237,6 +241,8 @@ class Fit:
         allowed = ("the precision"
                    + (", the overlap at the contact" if name == "positions" and self.depth
                       else "")
+                   + (f", the declared bounce at the step's end ({self.lag:.3g} m)"
+                      if name == "positions" and self.lag > 0 else "")
                    + (", the declared damping" if conventions.damping > 0 else ""))
         return self.category, (f"{what}; the engine's run is {self.cause}: against that run "
                                f"its {name}: off by {off:.3g}, within {slack:.3g} "
@@ -314,13 +320,54 @@ def _pass(start: SceneCase, conventions: Conventions, cap: str) -> Fit:
     return Fit(Category.ERROR, _words(cap, f"{head}: {where}{declared}"), free_flight(start))
 
 
-def _room(start: SceneCase, found: Overlap) -> float:
+def step_end_lag(start: SceneCase, conventions: Conventions, centres: tuple[Vec, Vec],
+                 restitution: float, gap: float = 0.0) -> float:
+    """How far (m) a centre may trail a run resolved at a step start when the engine adds
+    the bounce at the end of that step (declared ``bounce_at_step_end``; 0 otherwise): the
+    bodies close the ``gap`` left there and stop, and part with the bounce ``e`` x closing a
+    step late, each centre by its share ``m_other / (ma + mb)`` of
+    ``(1 + e) gap + e closing dt``.
+
+    >>> from crosscheck.core.schema import CASE_ADAPTER
+    >>> scene = CASE_ADAPTER.validate_python({"id": "s", "description": "d",
+    ...     "kind": "sphere_scene", "dim": 2, "duration": 1.0, "dt": 0.25, "bodies": [
+    ...     {"center": [0, 0], "radius": 0.5, "mass": 1, "velocity": [1, 0]},
+    ...     {"center": [1.6, 0], "radius": 0.5, "mass": 1, "velocity": [-1, 0]}]})
+    >>> step_end_lag(scene, Conventions(bounce_at_step_end=True), _at(scene, 2), 1.0)
+    0.25
+    """
+    if not conventions.bounce_at_step_end:
+        return 0.0
+    a, b = start.bodies[0], start.bodies[1]
+    share = max(a.mass, b.mass) / (a.mass + b.mass) if a.mass > 0 and b.mass > 0 else 1.0
+    closing = max(_closing(start, centres), 0.0)
+    return share * ((1.0 + restitution) * max(gap, 0.0)
+                    + restitution * closing * (start.dt or DEFAULT_DT))
+
+
+def _lag_words(start: SceneCase, centres: tuple[Vec, Vec], restitution: float, lag: float,
+               k: int) -> str:
+    """The reason's words for a declared bounce at the step's end (``lag`` m; '' if 0)."""
+    if not lag > 0:
+        return ""
+    closing = max(_closing(start, centres), 0.0)
+    return (f"the engine adds the bounce at the end of step {k}, after that step's positions "
+            f"(declared bounce_at_step_end): e x closing = {restitution:g} x {closing:.3g} "
+            f"m/s a step of {start.dt or DEFAULT_DT:.3g} s late, each centre up to {lag:.3g} "
+            "m behind")
+
+
+def _room(start: SceneCase, found: Overlap, conventions: Conventions,
+          restitution: float) -> float:
     """How far a centre may differ from the discrete run: the overlap pushed out, or, for a
     contact made within the declared verdict margin before the bodies touch, the gap left
-    plus one step at the closing speed (the solver may close it before it turns them)."""
+    plus one step at the closing speed (the solver may close it before it turns them); and
+    a declared bounce at the step's end (:func:`step_end_lag`)."""
     if found.depth >= 0:
-        return found.depth
-    return -found.depth + max(_closing(start, found.centres), 0.0) * (start.dt or DEFAULT_DT)
+        return found.depth + step_end_lag(start, conventions, found.centres, restitution)
+    gap = -found.depth
+    closes = gap + max(_closing(start, found.centres), 0.0) * (start.dt or DEFAULT_DT)
+    return max(closes, step_end_lag(start, conventions, found.centres, restitution, gap))
 
 
 def _speculative(start: SceneCase, conventions: Conventions, observed: Observation,
@@ -342,9 +389,10 @@ def _speculative(start: SceneCase, conventions: Conventions, observed: Observati
              f"holds the exact touch at {first:.4g} s; gap {gap:.3g} m) for the gap the step "
              "closes (declared speculative_contacts), resolved along the line of centres there")
     category = Category.CONVENTION if cap or bounce else Category.TIMESTEP
-    return Fit(category, _words(cap, bounce, where),
+    lag = step_end_lag(start, conventions, centres, e, gap)
+    return Fit(category, _words(cap, bounce, where, _lag_words(start, centres, e, lag, k)),
                final_state(start, k, centres, resolve(start, centres, e)),
-               gap + closing * dt)
+               max(gap + closing * dt, lag), lag)
 
 
 def flown(start: SceneCase, t0: float, centres: tuple[Vec, Vec],
@@ -508,7 +556,10 @@ def candidates(case: SceneCase, conventions: Conventions, observed: Observation,
                      f"of touching (overlap {found.depth:.3g} m) while approaching, and "
                      "resolved along the line of centres there")
             category = Category.CONVENTION if cap or bounce else Category.TIMESTEP
-            out.append(Fit(category, _words(cap, bounce, where), state, _room(start, found)))
+            lag = step_end_lag(start, conventions, found.centres, e, -found.depth)
+            out.append(Fit(category, _words(cap, bounce, where, _lag_words(
+                start, found.centres, e, lag, found.step)), state,
+                _room(start, found, conventions, e), lag))
         out.append(_pass(start, conventions, cap))
         if impacts:
             met = (impacts[0], centres_at(start, impacts[0]), 0.0,
@@ -516,7 +567,8 @@ def candidates(case: SceneCase, conventions: Conventions, observed: Observation,
             out += [f for f in (_rubbed(start, conventions, observed, met),) if f]
         if found is not None:
             dt = start.dt or DEFAULT_DT
-            at = (found.step * dt, found.centres, _room(start, found),
+            at = (found.step * dt, found.centres,
+                  _room(start, found, conventions, start.restitution),
                   _words(cap, f"the contact found at the start of step {found.step}"))
             out += [f for f in (_rubbed(start, conventions, observed, at),) if f]
     return out

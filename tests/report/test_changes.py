@@ -14,9 +14,9 @@ import pandas as pd
 import pytest
 
 from crosscheck.cli import main
-from crosscheck.results.changes import side, what_changed
 from crosscheck.core.model import Record, Status
 from crosscheck.core.options import RunOptions
+from crosscheck.results.changes import side, what_changed
 from crosscheck.results.runinfo import RunInfo
 from crosscheck.results.store import ResultsStore
 
