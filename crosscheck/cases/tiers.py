@@ -4,7 +4,8 @@ The **standard** tier (``cases/``, what ``make run`` and ``crosscheck run`` run)
 kind, family, engine and regime, each sweep trimmed to the levels where the engines break.
 The **deep** tier (``crosscheck run --deep``, ``make run-deep``) adds ``cases-deep/``: the
 scenes' time steps below 1e-3 (a convergence question: a million steps at 1e-5 s for a
-ten-second scene), the minute-long gases at 1/240 s, and the strength-3 covering designs.
+ten-second scene), the minute-long gases at 1/240 s, the strength-3 covering designs and
+the rest of the fast-disc-against-a-wall block.
 The tier is the folder a case file lies in: a run is ``deep`` when one of its case files
 lies in a folder named ``cases-deep``, and ``standard`` otherwise (run.json's ``tier``, and
 the report's header).

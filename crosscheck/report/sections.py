@@ -298,7 +298,12 @@ def _claims(view: RunView) -> Context | None:
         return None
     rows = [{**claims.cells(c), "style": VERDICT_STYLES[c.verdict]} for c in view.claim_checks]
     found = {v: sum(c.verdict == v for c in view.claim_checks) for v in VERDICT_STYLES}
-    return {"rows": rows, "counts": ", ".join(f"{n} {v}" for v, n in found.items() if n)}
+    engines: dict[str, dict[str, int]] = {}
+    for check in view.claim_checks:
+        per = engines.setdefault(check.engine, dict.fromkeys(VERDICT_STYLES, 0))
+        per[check.verdict] += 1
+    return {"rows": rows, "counts": ", ".join(f"{n} {v}" for v, n in found.items() if n),
+            "engines": engines, "verdicts": list(VERDICT_STYLES)}
 
 
 def _info(view: RunView) -> Context:
