@@ -303,7 +303,9 @@ def _claims(view: RunView) -> Context | None:
         per = engines.setdefault(check.engine, dict.fromkeys(VERDICT_STYLES, 0))
         per[check.verdict] += 1
     return {"rows": rows, "counts": ", ".join(f"{n} {v}" for v, n in found.items() if n),
-            "engines": engines, "verdicts": list(VERDICT_STYLES)}
+            "by_verdict": [{"verdict": v, "style": style, "engines": ", ".join(
+                f"{e} {per[v]}" for e, per in engines.items() if per[v])}
+                for v, style in VERDICT_STYLES.items() if found[v]]}
 
 
 def _info(view: RunView) -> Context:
