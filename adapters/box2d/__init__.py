@@ -172,6 +172,7 @@ from crosscheck.core.contract import (
     import_problem,
     pair_inputs,
     refused,
+    response_inputs,
 )
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import (
@@ -419,12 +420,10 @@ class Box2dTuned(SceneCallsAdapter):
 
     def response_call(self, case: ResponseCase) -> Call:
         """Two discs stepped until the contact (sleeping: not doSleep=, see the docstring)."""
-        v, a, b = self.variant, case.a, case.b
+        v = self.variant
         return Call("world", "respond", {
-            "a_center": a.center, "a_radius": a.radius, "a_mass": a.mass,
-            "a_velocity": a.velocity, "b_center": b.center, "b_radius": b.radius,
-            "b_mass": b.mass, "b_velocity": b.velocity, "restitution": case.restitution,
-            "dt": v.dt, "velocity_iterations": v.velocity_iterations,
+            **response_inputs(case), "dt": v.dt,
+            "velocity_iterations": v.velocity_iterations,
             "position_iterations": v.position_iterations, "friction": v.friction,
             "fixed_rotation": v.fixed_rotation, "sleep": v.sleep, "bullet": v.bullet,
             "max_steps": MAX_STEPS}, refusal=refused(refusal(case)))

@@ -132,6 +132,7 @@ from crosscheck.core.contract import (
     import_problem,
     pair_inputs,
     refused,
+    response_inputs,
 )
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import AabbCase, AnyCase, PairCase, ResponseCase, SceneCase, SphereCase
@@ -332,12 +333,10 @@ class Box2d3Tuned(SceneCallsAdapter):
 
     def response_call(self, case: ResponseCase) -> Call:
         """Two discs stepped until a velocity changes."""
-        v, a, b = self.variant, case.a, case.b
+        v = self.variant
         return Call("world", "respond", {
-            "a_center": a.center, "a_radius": a.radius, "a_mass": a.mass,
-            "a_velocity": a.velocity, "b_center": b.center, "b_radius": b.radius,
-            "b_mass": b.mass, "b_velocity": b.velocity, "restitution": case.restitution,
-            "dt": v.dt, "sub_steps": v.sub_steps, "friction": v.friction,
+            **response_inputs(case), "dt": v.dt, "sub_steps": v.sub_steps,
+            "friction": v.friction,
             "fixed_rotation": v.fixed_rotation, "sleep": v.sleep, "bullet": v.bullet,
             "max_speed": v.max_speed, "max_steps": MAX_STEPS}, refusal=refused(refusal(case)))
 

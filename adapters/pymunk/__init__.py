@@ -174,7 +174,14 @@ from typing import ClassVar
 import numpy as np
 
 from adapters.stepping import SceneCallsAdapter, scene_inputs
-from crosscheck.core.contract import Call, Capability, Conventions, all_capabilities, pair_inputs
+from crosscheck.core.contract import (
+    Call,
+    Capability,
+    Conventions,
+    all_capabilities,
+    pair_inputs,
+    response_inputs,
+)
 from crosscheck.core.model import Kind
 from crosscheck.core.schema import AabbCase, AnyCase, ResponseCase, SceneCase, SphereCase
 
@@ -318,12 +325,9 @@ class PymunkTuned(SceneCallsAdapter):
                     pair_inputs(case))
 
     def response_call(self, case: ResponseCase) -> Call:
-        a, b = case.a, case.b
         return Call("world", "respond", {
-            "a_center": a.center, "a_radius": a.radius, "a_mass": a.mass,
-            "a_velocity": a.velocity, "b_center": b.center, "b_radius": b.radius,
-            "b_mass": b.mass, "b_velocity": b.velocity, "restitution": case.restitution,
-            "dt": self.dt, "slop": self.slop, "bias": self.bias, "iterations": self.iterations,
+            **response_inputs(case), "dt": self.dt, "slop": self.slop, "bias": self.bias,
+            "iterations": self.iterations,
             "friction": self.friction, "moment": MOMENT, "max_steps": MAX_STEPS},
             release="release_world")
 

@@ -143,6 +143,7 @@ from crosscheck.core.contract import (
     all_capabilities,
     pair_inputs,
     refused,
+    response_inputs,
 )
 from crosscheck.core.geometry import to3
 from crosscheck.core.model import Kind
@@ -393,10 +394,7 @@ class RapierTuned(SceneCallsAdapter):
         a, b = case.a, case.b
         speeds = [abs(x) for x in (*a.velocity, *b.velocity)]
         return Call("response", "respond", {
-            "a_center": a.center, "a_radius": a.radius, "a_mass": a.mass,
-            "a_velocity": a.velocity, "b_center": b.center, "b_radius": b.radius,
-            "b_mass": b.mass, "b_velocity": b.velocity, "restitution": case.restitution,
-            "tuned": self.tuned, "parameters": self.parameters,
+            **response_inputs(case), "tuned": self.tuned, "parameters": self.parameters,
             "tol": APPROACH_RTOL * max(speeds, default=0.0), "max_steps": MAX_STEPS},
             refusal=refusal(case))
 

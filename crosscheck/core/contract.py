@@ -256,6 +256,15 @@ def pair_inputs(case: AabbCase | SphereCase) -> dict[str, Any]:
             "b_center": case.b.center, "b_radius": case.b.radius}
 
 
+def response_inputs(case: ResponseCase) -> dict[str, Any]:
+    """A response case's bodies and restitution as a call's plain inputs: A's centre, radius,
+    mass and velocity, then B's, then ``restitution``; an engine adds its own settings."""
+    a, b = case.a, case.b
+    return {"a_center": a.center, "a_radius": a.radius, "a_mass": a.mass,
+            "a_velocity": a.velocity, "b_center": b.center, "b_radius": b.radius,
+            "b_mass": b.mass, "b_velocity": b.velocity, "restitution": case.restitution}
+
+
 def refused(why: str | None) -> Exception | None:
     """A :class:`Call`'s ``refusal``: ``ValueError(why)``, or None when ``why`` is empty.
 

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
@@ -186,16 +186,11 @@ def _check(engine: str, claim: Claim, rows: pd.DataFrame | None) -> ClaimCheck:
     if worst_in is None:
         why = (f"every row inside the regime went unanswered ({_counts(unanswered)})"
                if unanswered else f"no case in the regime ({len(mine)} rows outside it)")
-        return _with(base, "untested", why)
+        return replace(base, verdict="untested", why=why)
     if _beyond(claim, worst_in):
-        return _with(base, "fails", f"error {text.error(worst_in.error)} > "
-                                    f"{text.error(worst_in.limit)}")
-    return _with(base, "holds", "")
-
-
-def _with(check: ClaimCheck, verdict: Verdict, why: str) -> ClaimCheck:
-    return ClaimCheck(check.engine, check.claim, verdict, why, check.inside, check.worst_inside,
-                      check.unanswered, check.outside, check.worst_outside)
+        why = f"error {text.error(worst_in.error)} > {text.error(worst_in.limit)}"
+        return replace(base, verdict="fails", why=why)
+    return replace(base, verdict="holds")
 
 
 def _inside(claim: Claim, rows: pd.DataFrame) -> np.ndarray:

@@ -35,10 +35,11 @@ from adapters.coal import (  # noqa: E402
 from crosscheck.core.contract import Adapter, Prepared  # noqa: E402
 from crosscheck.core.geometry import norm  # noqa: E402
 from crosscheck.core.model import Category, Status, Undefined  # noqa: E402
-from crosscheck.core.schema import CASE_ADAPTER, AnyCase, PairCase  # noqa: E402
+from crosscheck.core.schema import CASE_ADAPTER, AnyCase  # noqa: E402
 from crosscheck.truth import oracle  # noqa: E402
 from crosscheck.truth.categories import allowance  # noqa: E402
 from crosscheck.truth.score import judge  # noqa: E402
+from tests.adapters.random_pairs import random_box_pair  # noqa: E402
 from tests.conftest import aabb, sphere  # noqa: E402
 
 pytestmark = pytest.mark.engine
@@ -329,21 +330,6 @@ def test_tuned_variant_resolves_a_gap_the_default_reads_as_contact() -> None:
     assert obs.hit is False
     assert abs(obs.distance - truth.distance) <= allowance(case, TUNED.conventions,
                                                            "distance").total
-
-
-def random_box_pair(rng: random.Random, scale: float) -> PairCase:
-    """Two boxes near touching along 1-3 axes (relative gap or overlap 1e-8 to 1e-1)."""
-    ha = [rng.uniform(0.1, 2.0) * scale for _ in range(3)]
-    hb = [rng.uniform(0.1, 2.0) * scale for _ in range(3)]
-    ca = [rng.uniform(-1.0, 1.0) * scale for _ in range(3)]
-    axes = rng.sample(range(3), rng.choice([1, 1, 2, 3]))
-    rel = 10 ** rng.uniform(-8, -1) * rng.choice([-1.0, 1.0])
-    cb = [a + (rng.choice([-1.0, 1.0]) * (x + y) * (1 + rel) if i in axes
-               else rng.uniform(-0.9, 0.9) * (x + y))
-          for i, (a, x, y) in enumerate(zip(ca, ha, hb, strict=True))]
-    case = aabb(ca, ha, cb, hb)
-    assert isinstance(case, PairCase)
-    return case
 
 
 @pytest.mark.parametrize("scale", [1e-2, 1.0, 1e3])
